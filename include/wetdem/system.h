@@ -1,0 +1,70 @@
+// The GPU system: particle and contact state in Vulkan buffers, every pass of a step a compute shader.
+// See ARCHITECTURE.md for the passes and buffer ownership.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "wetdem/observables.h"
+#include "wetdem/params.h"
+#include "wetdem/state.h"
+
+namespace wetdem {
+
+namespace vk {
+class Context;
+}
+
+struct SystemOptions {
+  uint32_t steps_per_submit = 200;  // steps recorded into one command buffer
+  uint32_t initial_entries_per_particle = 16;  // neighbour-list capacity hint; grows on overflow
+  bool profile_passes = false;  // timestamp every pass (benchmarks)
+};
+
+struct PassTiming {
+  std::string name;
+  double seconds = 0.0;   // summed over the profiled steps
+  uint64_t dispatches = 0;
+};
+
+struct SystemCounters {
+  uint64_t rebuilds = 0;        // neighbour-list rebuilds so far
+  uint64_t regrows = 0;         // contact-buffer regrowths (overflow, step redone)
+  uint64_t entry_capacity = 0;  // current neighbour-entry capacity
+  uint64_t entries = 0;         // neighbour entries in the current list (both directions)
+  uint64_t lost_bridges = 0;    // bridges dropped with a pair leaving the list: must stay 0
+  uint64_t escaped = 0;         // particles found outside the cell grid at the last rebuild
+};
+
+class System {
+ public:
+  System(vk::Context& ctx, const SimParams& prm, size_t num_particles, SystemOptions opt = {});
+  ~System();
+  System(const System&) = delete;
+  System& operator=(const System&) = delete;
+
+  // Replaces the whole state (particles, pair and wall records, time) and rebuilds the neighbour list.
+  void upload(const SystemState& s);
+  // Reads the whole state back in stable-id order, canonical pair records.
+  SystemState download();
+  // Advances n steps; records them in as few submits as steps_per_submit allows. Grows buffers on overflow
+  // and redoes the affected steps, so nothing is dropped.
+  void step(uint64_t n);
+
+  Observables observables();
+  EventCounts read_events();  // formations/ruptures since the last call
+  SystemCounters counters() const;
+  std::vector<PassTiming> pass_timings() const;
+  void reset_pass_timings();
+
+  const SimParams& params() const;
+  size_t size() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace wetdem
