@@ -1,0 +1,38 @@
+#include "support/backend.h"
+
+#include <stdexcept>
+
+#include "reference/reference.h"
+
+namespace wetdem::test {
+
+namespace {
+
+class ReferenceBackend final : public Backend {
+ public:
+  explicit ReferenceBackend(const SimParams& prm) : sys_(prm) {}
+  std::string name() const override { return "reference"; }
+  void set_state(const SystemState& s) override { sys_.set_state(s); }
+  SystemState state() override { return sys_.state(); }
+  void step(uint64_t n) override {
+    for (uint64_t i = 0; i < n; ++i) sys_.step();
+  }
+  EventCounts read_events() override { return sys_.read_events(); }
+
+ private:
+  ref::ReferenceSystem sys_;
+};
+
+}  // namespace
+
+std::unique_ptr<Backend> make_backend(const std::string& which, const SimParams& prm, size_t) {
+  if (which == "reference") return std::make_unique<ReferenceBackend>(prm);
+  throw std::invalid_argument("unknown backend " + which);
+}
+
+const std::vector<std::string>& backends() {
+  static const std::vector<std::string> all{"reference"};
+  return all;
+}
+
+}  // namespace wetdem::test
