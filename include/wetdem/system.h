@@ -49,6 +49,11 @@ class System {
   void upload(const SystemState& s);
   // Reads the whole state back in stable-id order, canonical pair records.
   SystemState download();
+  // Raw image of every GPU buffer that carries state across steps, in the device's own particle order, for
+  // checkpoints: restore(snapshot()) on the same device continues bitwise as if never interrupted.
+  std::vector<uint8_t> snapshot();
+  void restore(const std::vector<uint8_t>& blob);
+
   // Advances n steps; records them in as few submits as steps_per_submit allows. Grows buffers on overflow
   // and redoes the affected steps, so nothing is dropped.
   void step(uint64_t n);
@@ -60,6 +65,7 @@ class System {
   void reset_pass_timings();
 
   const SimParams& params() const;
+  std::string device_name() const;
   size_t size() const;
 
  private:
