@@ -9,7 +9,7 @@
 // that the 32 invocations of a row of banks hit distinct banks (i -> i + i/32).
 #define SCAN_PAD(i) ((i) + ((i) >> 5))
 
-shared uint s_scan_part[WG];
+shared uint s_scan_part[SCAN_PAD(WG)];  // padded: the serial segment loop reads stride 16
 shared uint s_scan_seg[WG / 16];
 shared uint s_scan_total;
 
@@ -19,13 +19,13 @@ shared uint s_scan_total;
 // WG/16 segment sums. It ends with a barrier, so it can be called again at once.
 uint wg_exclusive_scan(uint v) {
   uint t = gl_LocalInvocationID.x;
-  s_scan_part[t] = v;
+  s_scan_part[SCAN_PAD(t)] = v;
   barrier();
   if (t < WG / 16) {
     uint sum = 0;
     for (uint i = 0; i < 16; ++i) {
-      uint x = s_scan_part[t * 16 + i];
-      s_scan_part[t * 16 + i] = sum;
+      uint x = s_scan_part[SCAN_PAD(t * 16 + i)];
+      s_scan_part[SCAN_PAD(t * 16 + i)] = sum;
       sum += x;
     }
     s_scan_seg[t] = sum;
@@ -41,7 +41,7 @@ uint wg_exclusive_scan(uint v) {
     s_scan_total = sum;
   }
   barrier();
-  uint r = s_scan_part[t] + s_scan_seg[t / 16];
+  uint r = s_scan_part[SCAN_PAD(t)] + s_scan_seg[t / 16];
   barrier();
   return r;
 }
