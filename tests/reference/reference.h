@@ -43,6 +43,27 @@ class ReferenceSystem {
   // Liquid-event rule switch for tests: the MercuryDPM-style sequential rule (events applied one pair
   // after another in (id_i, id_j) order, walls after pairs) instead of the two-phase rule.
   void set_sequential_events(bool on);
+
+ private:
+  using PairKey = std::pair<uint32_t, uint32_t>;  // (id_i, id_j), id_i < id_j
+
+  void kick(double half_dt);                        // §0 half kick with the stored F, T and gravity
+  void drift();                                     // §0 x += dt v, periodic wrap of z
+  void compute_forces();                            // §1-4 at the current x, all pairs and walls
+  void liquid_events();                             // §5 at the end of the step
+  std::vector<PairKey> touching_pairs() const;      // pairs with delta >= 0 (sweep along x)
+  glm::dvec3 separation(uint32_t i, uint32_t j) const;  // x_i - x_j, minimum image in periodic z
+
+  SimParams prm_;
+  ParticleArrays p_;
+  std::map<PairKey, PairRecord> pairs_;  // persistent pair history by stable ids
+  std::vector<double> pair_gap_;         // gap S of each examined pair at the last force pass
+  std::vector<PairKey> examined_;        // pairs examined at the last force pass, sorted
+  std::vector<double> wall_gap_;         // gap S per particle and wall (+inf when absent)
+  double time_ = 0.0;
+  uint64_t step_ = 0;
+  bool sequential_ = false;
+  EventCounts events_;
 };
 
 }  // namespace wetdem::ref
