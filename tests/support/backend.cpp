@@ -25,8 +25,11 @@ class ReferenceBackend final : public Backend {
 
 }  // namespace
 
-std::unique_ptr<Backend> make_backend(const std::string& which, const SimParams& prm, size_t) {
+std::unique_ptr<Backend> make_gpu_backend(const SimParams& prm, size_t n);  // support/gpu_backend.cpp
+
+std::unique_ptr<Backend> make_backend(const std::string& which, const SimParams& prm, size_t n) {
   if (which == "reference") return std::make_unique<ReferenceBackend>(prm);
+  if (which == "gpu") return make_gpu_backend(prm, n);
   throw std::invalid_argument("unknown backend " + which);
 }
 
