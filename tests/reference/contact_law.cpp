@@ -82,6 +82,23 @@ double capillary_force(double f0, double R_h, double volume_m3, double gap) {
 
 double harmonic_radius(double r_i, double r_j) { return 2.0 * r_i * r_j / (r_i + r_j); }
 
+ContactKinematics pair_kinematics(const glm::dvec3& d, double r_i, double r_j, double m_i, double m_j,
+                                  const glm::dvec3& v_i, const glm::dvec3& v_j, const glm::dvec3& w_i,
+                                  const glm::dvec3& w_j) {
+  ContactKinematics k;
+  const double dist = glm::length(d);
+  k.n = d / dist;  // §0: from j to i
+  k.delta = r_i + r_j - dist;
+  k.r_ci = -(r_i - 0.5 * k.delta) * k.n;  // c - x_i
+  k.r_cj = k.r_ci + d;                   // c - x_j
+  k.v_rel = v_i + glm::cross(w_i, k.r_ci) - v_j - glm::cross(w_j, k.r_cj);
+  k.w_rel = w_i - w_j;
+  k.R_star = r_i * r_j / (r_i + r_j);
+  k.m_star = m_i * m_j / (m_i + m_j);
+  k.R_h = harmonic_radius(r_i, r_j);
+  return k;
+}
+
 PairForce evaluate_contact(const ContactParams& cp, const LiquidParams& lp, double liquid_unit_m3, double range,
                            double dt, const ContactKinematics& k, ContactHistory& h) {
   PairForce out;

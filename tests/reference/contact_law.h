@@ -54,6 +54,12 @@ struct ContactKinematics {
   double R_star = 0.0, m_star = 0.0, R_h = 0.0;
 };
 
+// Kinematics of the pair (i, j), §0: d = x_i - x_j (x_j as its minimum image), n = d/|d|,
+// c = x_i - (r_i - delta/2) n, R* = r_i r_j/(r_i + r_j), m* = m_i m_j/(m_i + m_j), R_h harmonic. |d| > 0.
+ContactKinematics pair_kinematics(const glm::dvec3& d, double r_i, double r_j, double m_i, double m_j,
+                                  const glm::dvec3& v_i, const glm::dvec3& v_j, const glm::dvec3& w_i,
+                                  const glm::dvec3& w_j);
+
 // Persistent state the contact laws read and write.
 struct ContactHistory {
   glm::dvec3 spring_t{0.0}, spring_r{0.0};

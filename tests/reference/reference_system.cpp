@@ -127,19 +127,9 @@ void ReferenceSystem::compute_forces() {
   for (size_t e = 0; e < examined_.size(); ++e) {
     const auto [i, j] = examined_[e];
     const glm::dvec3 d = separation(i, j);
-    const double dist = glm::length(d);
-    if (dist == 0.0) continue;  // coincident centres: no normal, no force (never in a valid state)
-    const double ri = p_.radius[i], rj = p_.radius[j];
-    ContactKinematics k;
-    k.n = d / dist;  // §0: from j to i
-    k.delta = ri + rj - dist;
-    k.r_ci = -(ri - 0.5 * k.delta) * k.n;  // c - x_i, §0
-    k.r_cj = k.r_ci + d;                   // c - x_j (x_j as its minimum image)
-    k.v_rel = p_.v[i] + glm::cross(p_.w[i], k.r_ci) - p_.v[j] - glm::cross(p_.w[j], k.r_cj);
-    k.w_rel = p_.w[i] - p_.w[j];
-    k.R_star = ri * rj / (ri + rj);
-    k.m_star = p_.mass[i] * p_.mass[j] / (p_.mass[i] + p_.mass[j]);
-    k.R_h = harmonic_radius(ri, rj);
+    if (d == glm::dvec3(0.0)) continue;  // coincident centres: no normal, no force (never in a valid state)
+    const ContactKinematics k = pair_kinematics(d, p_.radius[i], p_.radius[j], p_.mass[i], p_.mass[j], p_.v[i],
+                                                p_.v[j], p_.w[i], p_.w[j]);
     pair_gap_[e] = -k.delta;
 
     PairRecord& rec = pairs_[examined_[e]];
