@@ -1,0 +1,152 @@
+// From a validated case and the inserted particles to SimParams (physics.md §1, §4, §6).
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "app/case.h"
+
+namespace wetdem::app {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kTwo40 = 1099511627776.0;  // 2^40: V-bar_S is 2^40 liquid units
+
+double sphere_volume(double r) { return 4.0 / 3.0 * kPi * r * r * r; }
+
+}  // namespace
+
+std::vector<int64_t> initial_films(const Case& c, const std::vector<double>& radii, double unit) {
+  std::vector<int64_t> films(radii.size(), 0);
+  if (!c.liquid.on()) return films;
+  double mean_v = 0;
+  for (double r : radii) mean_v += sphere_volume(r);
+  mean_v /= double(radii.size());
+  for (size_t k = 0; k < radii.size(); ++k) {
+    const double v = c.liquid.films == FilmMode::MeanVolume ? mean_v : sphere_volume(radii[k]);
+    films[k] = std::llround(c.liquid.content * v / unit);
+  }
+  return films;
+}
+
+SimParams make_sim_params(const Case& c, const std::vector<double>& radii, Derived* out) {
+  if (radii.empty()) throw CaseError("drum.fill", "no particle was inserted");
+  Derived d;
+  const MaterialSpec& m = c.material;
+  d.nu = m.nu;
+  d.E_star = m.E_star / m.stiffness_reduction;
+  d.G_star = m.G_star / m.stiffness_reduction;
+  d.r_min = *std::min_element(radii.begin(), radii.end());
+  d.r_max = *std::max_element(radii.begin(), radii.end());
+  double vs = 0;
+  for (double r : radii) vs += sphere_volume(r);
+  d.mean_solid_volume = vs / double(radii.size());
+
+  SimParams p;
+  // §6: t_R = pi r sqrt(rho/G) / (0.1631 nu + 0.8766), with the reduced G; dt = 0.2 t_R of the smallest particle.
+  d.t_rayleigh = rayleigh_time(d.r_min, m.density, m.G / m.stiffness_reduction, m.nu);
+  d.dt = c.run.dt ? *c.run.dt : c.run.dt_rayleigh_fraction * d.t_rayleigh;
+  if (c.run.dt && *c.run.dt > 0.2 * d.t_rayleigh)
+    d.notes.push_back(fmt::format("run.dt = {:.4g} s exceeds 0.2 t_R = {:.4g} s of the smallest particle", *c.run.dt,
+                                  0.2 * d.t_rayleigh));
+  p.dt = d.dt;
+  // Skin: the list is rebuilt when some particle has moved skin/2. 0.1 r_min keeps the extra neighbour shell
+  // thin (entries grow with (r + skin)^3) while a particle at the drum's fastest avalanche speeds (~0.3 m/s)
+  // still needs tens of steps to cross skin/2, so rebuilds stay a small fraction of the steps.
+  d.skin = c.run.skin ? *c.run.skin : 0.1 * d.r_min;
+  p.skin = d.skin;
+
+  ContactParams cp;
+  cp.E_star = d.E_star;
+  cp.G_star = d.G_star;
+  cp.restitution = m.restitution;
+  cp.mu_s = c.mu_s;
+  cp.mu_r = c.mu_r;
+  p.pp = cp;
+  // Walls: the same material law (the paper's walls are polycarbonate; it gives one set of moduli), their own
+  // friction coefficients.
+  for (uint32_t w = 0; w < kNumWalls; ++w) {
+    const WallSpec& ws = w == kWallCylinder ? c.cylinder : c.plates;
+    p.pw[w] = cp;
+    p.pw[w].mu_s = ws.mu_s;
+    p.pw[w].mu_r = ws.mu_r;
+  }
+
+  // Liquid: V-bar_S = 2^40 units, so V_min, V_max (fractions of V-bar_S) are exact multiples of 2^-40 V-bar_S.
+  d.liquid_unit_m3 = d.mean_solid_volume / kTwo40;
+  p.liquid_unit_m3 = d.liquid_unit_m3;
+  const LiquidSpec& l = c.liquid;
+  d.gamma_scaled = c.scaling * l.gamma;  // §4: gamma_scaled = l gamma
+  d.v_min_units = std::llround(l.v_min * kTwo40);
+  d.v_max_units = std::llround(l.v_max * kTwo40);
+  LiquidParams lp;
+  lp.enabled = l.on();
+  lp.gamma = d.gamma_scaled;
+  lp.theta = l.theta;
+  lp.v_min = d.v_min_units;
+  lp.v_max = d.v_max_units;
+  lp.d_c = l.d_c;
+  p.liq_pp = lp;
+  for (uint32_t w = 0; w < kNumWalls; ++w) {
+    p.liq_pw[w] = lp;
+    p.liq_pw[w].enabled = lp.enabled && (w == kWallCylinder ? c.cylinder : c.plates).liquid_bridges;
+  }
+
+  p.drum.radius = 0.5 * c.drum.diameter;
+  p.drum.length = c.drum.sim_length();
+  p.drum.omega = c.drum.omega;
+  p.drum.periodic_z = c.drum.periodic_slice;
+  p.drum.plate_lo.present = p.drum.plate_hi.present = !c.drum.periodic_slice;
+  p.drum.plate_lo.rotates = p.drum.plate_hi.rotates = c.drum.plates_rotate;
+
+  if (l.on()) {
+    // Total liquid must stay far inside int64 (every transfer is an integer move).
+    const std::vector<int64_t> films = initial_films(c, radii, d.liquid_unit_m3);
+    long double total = 0;
+    for (int64_t f : films) total += (long double)f;
+    if (total > 4.0e18L)
+      throw CaseError("liquid.content", "total liquid exceeds the int64 range of liquid units; reduce content");
+    // §6: capillary stiffness k_c = 1.05 f0 sqrt(R_h/V_b) at the smallest bridge the initial films can form
+    // (two smallest particles); warn when dt > 0.1 pi sqrt(m*/k_c).
+    const double vf = l.films == FilmMode::MeanVolume ? l.content * d.mean_solid_volume
+                                                      : l.content * sphere_volume(d.r_min);
+    const double vb = std::min(2.0 * vf, l.v_max * d.mean_solid_volume);
+    if (vb > 0) {
+      const double rh = d.r_min;  // harmonic mean 2 r r / (2 r)
+      const double f0 = 2.0 * kPi * rh * d.gamma_scaled * std::cos(l.theta);
+      const double kc = 1.05 * f0 * std::sqrt(rh / vb);
+      const double mstar = 0.5 * m.density * sphere_volume(d.r_min);
+      d.dt_capillary_limit = 0.1 * kPi * std::sqrt(mstar / kc);
+      if (d.dt > d.dt_capillary_limit)
+        d.notes.push_back(fmt::format("dt = {:.4g} s exceeds the capillary limit 0.1 pi sqrt(m*/k_c) = {:.4g} s at "
+                                      "the smallest initial bridge (physics.md §6)",
+                                      d.dt, d.dt_capillary_limit));
+    }
+  }
+  if (out) *out = d;
+  return p;
+}
+
+nlohmann::json derived_to_json(const Derived& d) {
+  nlohmann::json j;
+  j["nu"] = d.nu;
+  j["E_star_reduced_Pa"] = d.E_star;
+  j["G_star_reduced_Pa"] = d.G_star;
+  j["r_min_m"] = d.r_min;
+  j["r_max_m"] = d.r_max;
+  j["mean_solid_volume_m3"] = d.mean_solid_volume;
+  j["rayleigh_time_s"] = d.t_rayleigh;
+  j["dt_s"] = d.dt;
+  j["skin_m"] = d.skin;
+  j["gamma_scaled_N_per_m"] = d.gamma_scaled;
+  j["liquid_unit_m3"] = d.liquid_unit_m3;
+  j["v_min_units"] = d.v_min_units;
+  j["v_max_units"] = d.v_max_units;
+  j["dt_capillary_limit_s"] = d.dt_capillary_limit;
+  j["notes"] = d.notes;
+  return j;
+}
+
+}  // namespace wetdem::app
