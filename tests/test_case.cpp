@@ -6,9 +6,12 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <unistd.h>
 #include <nlohmann/json.hpp>
 
 #include "app/case.h"
+#include "app/run.h"
 #include "app/units.h"
 
 namespace wetdem::app {
@@ -130,6 +133,28 @@ TEST_P(Malformed, RejectedNamingTheKey) {
     EXPECT_EQ(std::string(e.what()).rfind(b.key + ": ", 0), 0u) << e.what();
     EXPECT_NE(std::string(e.what()).find(b.words), std::string::npos) << e.what();
   }
+}
+
+// The run driver rejects the same inputs before it creates the run folder or opens a device.
+TEST_P(Malformed, RunWritesNothing) {
+  const fs::path tmp = fs::temp_directory_path() / ("wetdem_malformed_" + std::to_string(::getpid()));
+  const fs::path out = tmp / "run";
+  fs::remove_all(tmp);
+  fs::create_directories(tmp);
+  std::ofstream(tmp / "case.toml") << kValid;
+  RunOptions o;
+  o.case_path = (tmp / "case.toml").string();
+  o.overrides = GetParam().set;
+  o.out_dir = out.string();
+  o.quiet = true;
+  try {
+    run_case(o);
+    FAIL() << "accepted";
+  } catch (const CaseError& e) {
+    EXPECT_EQ(e.key(), GetParam().key) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(out)) << out;
+  fs::remove_all(tmp);
 }
 
 INSTANTIATE_TEST_SUITE_P(

@@ -1,5 +1,6 @@
 // The resolved case written back in SI keys: the run log, `wetdem check` and summary.json show exactly what ran,
 // and the TOML form parses back to the same Case.
+#include <fmt/format.h>
 #include <toml++/toml.h>
 
 #include <nlohmann/json.hpp>
@@ -110,11 +111,41 @@ nlohmann::json to_json(const toml::node& n) {
   return nullptr;
 }
 
+// A value as TOML: numbers in their shortest exact form ("0.14", not "0.14000000000000001").
+std::string value_text(const toml::node& n) {
+  if (const auto* f = n.as_floating_point()) {
+    std::string t = fmt::format("{}", f->get());
+    if (t.find_first_of(".eEn") == std::string::npos) t += ".0";  // stay a float (inf/nan contain 'n')
+    return t;
+  }
+  if (const auto* a = n.as_array()) {
+    std::string t = "[";
+    for (const toml::node& e : *a) t += (t.size() > 1 ? ", " : "") + value_text(e);
+    return t + "]";
+  }
+  std::ostringstream os;
+  n.visit([&](const auto& v) { os << v; });
+  return os.str();
+}
+
+// Scalars of a table first, then its sub-tables as [a.b] sections.
+void emit(std::ostringstream& os, const toml::table& t, const std::string& path) {
+  bool any = false;
+  for (auto&& [k, v] : t)
+    if (!v.is_table()) {
+      if (!any && !path.empty()) os << "\n[" << path << "]\n";
+      any = true;
+      os << k.str() << " = " << value_text(v) << '\n';
+    }
+  for (auto&& [k, v] : t)
+    if (const auto* sub = v.as_table()) emit(os, *sub, path.empty() ? std::string(k.str()) : path + "." + std::string(k.str()));
+}
+
 }  // namespace
 
 std::string case_to_toml(const Case& c) {
   std::ostringstream os;
-  os << toml::toml_formatter(to_table(c)) << '\n';
+  emit(os, to_table(c), "");
   return os.str();
 }
 

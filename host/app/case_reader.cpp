@@ -92,7 +92,7 @@ std::optional<Q> Section::quantity(const std::string& base, Dim d, const std::ve
     if (which.factor == 0.0 && x != 0.0)
       throw CaseError(q.key, std::string("a plain number has no unit; write it with one (e.g. \"140 mm\") or use ") +
                                  key(base + "_" + si_unit(d)) + ", got " + q.raw);
-    q.v = which.factor == 0.0 ? 0.0 : x * which.factor;
+    q.v = which.factor == 0.0 ? 0.0 : apply_factor(x, which.factor);
   } else if (const auto* s = found->as_string()) {
     try {
       q.v = parse_quantity(s->get(), d);

@@ -99,6 +99,14 @@ std::vector<KeyUnit> key_units(Dim d) {
   return out;
 }
 
+double apply_factor(double v, double factor) {
+  if (factor < 1.0) {
+    const double inv = std::round(1.0 / factor);
+    if (std::fabs(inv * factor - 1.0) < 1e-12) return v / inv;
+  }
+  return v * factor;
+}
+
 double parse_quantity(const std::string& text, Dim d) {
   const char* begin = text.c_str();
   char* end = nullptr;
@@ -120,7 +128,7 @@ double parse_quantity(const std::string& text, Dim d) {
     throw std::invalid_argument("unknown unit \"" + unit + "\" for " + dim_name(d) + " (accepted: " + known +
                                 ")");
   }
-  return v * *f;
+  return apply_factor(v, *f);
 }
 
 }  // namespace wetdem::app

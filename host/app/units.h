@@ -38,6 +38,10 @@ struct KeyUnit {
 };
 std::vector<KeyUnit> key_units(Dim d);
 
+// v in a unit of the given factor, to SI. Decimal sub-units divide (506 um -> 506 / 1e6 = 0.000506 exactly
+// rounded) instead of multiplying by an inexact 1e-6, so SI echoes read as written.
+double apply_factor(double v, double factor);
+
 // Parses "140 mm", "21.7mN/m", "1.5e3 Pa", "30 deg", "5 %" into SI. A bare number in the string is accepted
 // only for Dimensionless and Fraction. Throws std::invalid_argument with a readable reason (no key name:
 // the caller adds it).

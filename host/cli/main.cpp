@@ -1,0 +1,96 @@
+// wetdem command line:
+//   wetdem run CASE.toml [--set key=value ...] [--out DIR] [--device NAME] [--resume DIR] [--quiet]
+//   wetdem check CASE.toml [--set key=value ...]    validate and print the resolved case; no run
+//   wetdem devices                                   list Vulkan devices
+// Exit codes: 0 done; 2 bad input (one line naming the key, nothing written); 1 the run or the device failed.
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include <cmath>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "app/case.h"
+#include "app/psd.h"
+#include "app/run.h"
+#include "vk/context.h"
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+int check(const std::string& path, const std::vector<std::string>& sets) {
+  using namespace wetdem;
+  const app::Case c = app::parse_case_file(path, sets);
+  for (const std::string& n : c.notes) std::printf("# note: %s\n", n.c_str());
+  // What the run will derive, estimated from the PSD model (the run uses the particles it draws).
+  const Psd psd(c.psd);
+  const double v = kPi * 0.25 * c.drum.diameter * c.drum.diameter * c.drum.sim_length();
+  const double n = c.drum.fill * v * c.drum.bed_solid_fraction / psd.mean_volume();
+  const double r_min = 0.5 * psd.d_min();
+  const double tr = rayleigh_time(r_min, c.material.density, c.material.G / c.material.stiffness_reduction, c.material.nu);
+  const double dt = c.run.dt ? *c.run.dt : c.run.dt_rayleigh_fraction * tr;
+  const double steps = std::round((c.run.settle + c.run.duration) / dt);
+  std::printf("# psd: %s\n", psd.describe().c_str());
+  std::printf("# about %.0f particles; r_min = %.4g m, Rayleigh time %.4g s, dt = %.4g s, %.0f steps (%.3g particle-steps)\n",
+              n, r_min, tr, dt, steps, n * steps);
+  std::printf("%s", app::case_to_toml(c).c_str());
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App cli{"wetdem: DEM of wet granular materials in a rotating drum (Vulkan compute)"};
+  cli.require_subcommand(1);
+  cli.set_version_flag("--version", std::string(WETDEM_VERSION) + "+" + WETDEM_GIT);
+
+  wetdem::app::RunOptions ro;
+  auto* run = cli.add_subcommand("run", "run a case; results in the run folder (summary.json written last)");
+  run->add_option("case", ro.case_path, "case file (TOML); optional with --resume");
+  run->add_option("--set", ro.overrides, "override a case key: dotted.key=value (value in TOML; repeatable)")
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  run->add_option("--out", ro.out_dir, "run folder (default runs/<name>-<time>)");
+  run->add_option("--device", ro.device, "device: index, name substring, \"gpu\" or \"cpu\" (default $WETDEM_DEVICE)");
+  run->add_option("--resume", ro.resume_dir, "continue the run in this folder from its last checkpoint");
+  run->add_flag("--quiet", ro.quiet, "no progress or log on stdout (run.log is still written)");
+  run->add_option("--stop-after-steps", ro.stop_after_steps, "stop as if killed after N steps (testing resume)")
+      ->group("");
+
+  std::string check_path;
+  std::vector<std::string> check_sets;
+  auto* chk = cli.add_subcommand("check", "validate a case and print it resolved in SI; nothing is run or written");
+  chk->add_option("case", check_path, "case file (TOML)")->required();
+  chk->add_option("--set", check_sets, "override a case key: dotted.key=value")
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+
+  auto* dev = cli.add_subcommand("devices", "list the Vulkan devices");
+
+  try {
+    cli.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return cli.exit(e) == 0 ? 0 : 2;
+  }
+
+  try {
+    if (*dev) {
+      for (const std::string& d : wetdem::vk::Context::list_devices()) std::printf("%s\n", d.c_str());
+      return 0;
+    }
+    if (*chk) return check(check_path, check_sets);
+    if (ro.case_path.empty() && ro.resume_dir.empty()) {
+      std::fprintf(stderr, "wetdem run: give a case file (or --resume DIR)\n");
+      return 2;
+    }
+    const wetdem::app::RunResult r = wetdem::app::run_case(ro);
+    return r.completed || ro.stop_after_steps ? 0 : 1;
+  } catch (const wetdem::app::CaseError& e) {
+    std::fprintf(stderr, "wetdem: error: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "wetdem: error: %s\n", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,201 @@
+// End-to-end drum runs on the GPU system (lavapipe in CI): outputs, AoR, failure handling, bitwise resume.
+// Small on purpose: ~350 particles in a 60 mm periodic slice, stiffness reduced 10^5 (dt ~ 3.8e-4 s) and a
+// fast drum, so a run is a few thousand steps.
+#ifdef WETDEM_HAVE_APP
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "app/run.h"
+#include "support/gpu.h"
+
+namespace wetdem::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+const char* kSmall = R"(
+name = "small"
+scaling = 5
+[material]
+E = "1325 MPa"
+G = "400 MPa"
+restitution = 0.5
+density = "900 kg/m3"
+stiffness_reduction = 1e5          # dt ~ 3.8e-4 s: a short test, not a calibrated run
+[friction]
+mu_s = 0.8
+mu_r = 0.3
+[psd]
+d10 = "506.0 um"
+d25 = "712.7 um"
+d50 = "904.6 um"
+d75 = "1123 um"
+d90 = "1345 um"
+[liquid]
+gamma = "21.7 mN/m"
+theta = "30 deg"
+content = "5 %"
+v_min = 0
+v_max = "1 %"
+[drum]
+diameter = "60 mm"
+rpm = 30
+fill = 0.36
+periodic_slice = true
+slice_thickness = "16 mm"
+[run]
+settle = "0.3 s"
+duration = "0.9 s"
+steady_state_start = "0.4 s"
+sample_interval = "0.025 s"
+seed = 3
+steps_per_submit = 50
+[output]
+checkpoint_interval = 1000
+)";
+
+std::string temp_dir(const std::string& name) {
+  const fs::path p = fs::temp_directory_path() / ("wetdem_test_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(p);
+  return p.string();
+}
+
+std::string write_case(const std::string& dir) {
+  fs::create_directories(dir);
+  const std::string path = dir + "/small.toml";
+  std::ofstream(path) << kSmall;
+  return path;
+}
+
+app::RunOptions options(const std::string& case_path, const std::string& out) {
+  app::RunOptions o;
+  o.case_path = case_path;
+  o.out_dir = out;
+  o.quiet = true;
+  o.context = &gpu();
+  return o;
+}
+
+class DrumRun : public GpuTest {};
+
+TEST_F(DrumRun, WritesSummaryTimeseriesAndFrames) {
+  const std::string base = temp_dir("outputs");
+  app::RunOptions o = options(write_case(base), base + "/run");
+  o.overrides = {"output.formats=[\"gltf\", \"vtk\"]", "output.snapshot_interval=\"0.3 s\""};
+  const app::RunResult r = app::run_case(o);
+  ASSERT_TRUE(r.completed);
+  ASSERT_TRUE(fs::exists(base + "/run/summary.json"));
+  std::ifstream in(base + "/run/summary.json");
+  const nlohmann::json s = nlohmann::json::parse(in);
+  for (const char* k : {"aor_deg_mean", "aor_deg_std", "aor_sem_block", "aor_window_s", "aor_samples", "aor_flag",
+                        "f_wet_mean", "f_wet_definition", "bridges_mean", "contacts_mean", "particles", "steps", "dt_s",
+                        "liquid_total_m3_start", "liquid_total_m3_end", "liquid_conserved", "particle_steps_per_s",
+                        "device", "case", "code_version", "seed", "inserted_psd_volume_basis_m"})
+    EXPECT_TRUE(s.contains(k)) << k;
+  EXPECT_TRUE(s["liquid_conserved"].get<bool>());  // exact integer equality (physics.md §5)
+  EXPECT_GT(s["particles"].get<int>(), 200);
+  EXPECT_LT(s["particles"].get<int>(), 600);
+  EXPECT_FALSE(s["aor_flag"].get<bool>());
+  // The drum turns about +z (omega > 0): its bottom moves to +x and drags the bed up on the +x side (app/aor.h).
+  EXPECT_GT(s["aor_signed_deg_mean"].get<double>(), 5.0);
+  EXPECT_LT(s["aor_deg_mean"].get<double>(), 80.0);
+  EXPECT_GT(s["contacts_mean"].get<double>(), 0.0);
+  EXPECT_GT(s["bridges_mean"].get<double>(), 0.0);  // V_min = 0: every touch forms a bridge
+  EXPECT_GT(s["f_wet_mean"].get<double>(), 0.0);
+  EXPECT_LE(s["f_wet_mean"].get<double>(), 1.0);
+  EXPECT_EQ(s["neighbour_list"]["lost_bridges"].get<uint64_t>(), 0u);
+
+  // timeseries.csv: header + one row per sample, at steps 0, k, 2k, ... <= steps.
+  std::ifstream ts(base + "/run/timeseries.csv");
+  std::string line;
+  std::getline(ts, line);
+  EXPECT_EQ(line, "time,aor_deg,com_x,com_y,contacts,bridges,f_wet,kinetic_energy");
+  size_t rows = 0;
+  while (std::getline(ts, line)) ++rows;
+  const double dt = s["dt_s"].get<double>();
+  const uint64_t every = uint64_t(std::llround(0.025 / dt)), steps = s["steps"].get<uint64_t>();
+  EXPECT_EQ(rows, steps / every + 1);
+  EXPECT_EQ(steps, uint64_t(std::llround(0.3 / dt)) + uint64_t(std::llround(0.9 / dt)));
+  EXPECT_TRUE(fs::exists(base + "/run/frames/frames.json"));
+  EXPECT_TRUE(fs::exists(base + "/run/frames/frames.pvd"));
+  EXPECT_TRUE(fs::exists(base + "/run/case.toml"));
+  EXPECT_FALSE(fs::exists(base + "/run/checkpoint"));  // dropped once the run is complete
+  EXPECT_FALSE(fs::exists(base + "/run/FAILED.txt"));
+  fs::remove_all(base);
+}
+
+TEST_F(DrumRun, FailingRunLeavesNoSummaryButFailedTxt) {
+  const std::string base = temp_dir("failing");
+  app::RunOptions o = options(write_case(base), base + "/run");
+  int n = 0;
+  o.on_sample = [&](const app::Sample&) {
+    if (++n == 3) throw std::runtime_error("injected failure at the third sample");
+  };
+  EXPECT_THROW(app::run_case(o), std::runtime_error);
+  EXPECT_FALSE(fs::exists(base + "/run/summary.json"));
+  ASSERT_TRUE(fs::exists(base + "/run/FAILED.txt"));
+  std::ifstream in(base + "/run/FAILED.txt");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  EXPECT_NE(ss.str().find("injected failure"), std::string::npos);
+  fs::remove_all(base);
+}
+
+TEST_F(DrumRun, ResumeReachesTheBitwiseSameFinalState) {
+  const std::string base = temp_dir("resume");
+  const std::string case_path = write_case(base);
+  const app::RunResult whole = app::run_case(options(case_path, base + "/whole"));
+  ASSERT_TRUE(whole.completed);
+
+  // Stop at the second checkpoint (step 2000: rotating, after the settle -> rotate switch at ~790).
+  app::RunOptions first = options(case_path, base + "/split");
+  first.stop_after_steps = 2000;
+  const app::RunResult stopped = app::run_case(first);
+  EXPECT_FALSE(stopped.completed);
+  EXPECT_FALSE(fs::exists(base + "/split/summary.json"));
+  ASSERT_TRUE(fs::exists(base + "/split/checkpoint/system.bin"));
+
+  app::RunOptions again;
+  again.resume_dir = base + "/split";
+  again.quiet = true;
+  again.context = &gpu();
+  const app::RunResult resumed = app::run_case(again);
+  ASSERT_TRUE(resumed.completed);
+
+  EXPECT_EQ(whole.summary["final_state_hash"], resumed.summary["final_state_hash"]);
+  const SystemState &a = whole.final_state, &b = resumed.final_state;
+  ASSERT_EQ(a.p.size(), b.p.size());
+  EXPECT_EQ(a.step, b.step);
+  for (size_t k = 0; k < a.p.size(); ++k) {
+    ASSERT_EQ(a.p.x[k], b.p.x[k]) << k;
+    ASSERT_EQ(a.p.v[k], b.p.v[k]) << k;
+    ASSERT_EQ(a.p.w[k], b.p.w[k]) << k;
+    ASSERT_EQ(a.p.film[k], b.p.film[k]) << k;
+  }
+  ASSERT_EQ(a.pairs.size(), b.pairs.size());
+  // The statistics are computed from the same samples, so they agree exactly too.
+  for (const char* k : {"aor_deg_mean", "aor_sem_block", "f_wet_mean", "bridges_mean", "contacts_mean"})
+    EXPECT_EQ(whole.summary[k], resumed.summary[k]) << k;
+  // Both timeseries files hold the same rows.
+  auto read = [](const std::string& p) {
+    std::ifstream in(p);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+  };
+  EXPECT_EQ(read(base + "/whole/timeseries.csv"), read(base + "/split/timeseries.csv"));
+  // A complete run cannot be resumed.
+  EXPECT_THROW(app::run_case(again), app::CaseError);
+  fs::remove_all(base);
+}
+
+}  // namespace
+}  // namespace wetdem::test
+
+#endif  // WETDEM_HAVE_APP
