@@ -66,6 +66,9 @@ class System {
 
   const SimParams& params() const;
   std::string device_name() const;
+  // Position quantum (m) of the fixed-point positions, valid after upload (ARCHITECTURE.md). Positions and
+  // radii that are whole multiples of it are represented exactly on the device.
+  double tick_size() const;
   size_t size() const;
 
  private:

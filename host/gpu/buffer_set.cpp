@@ -1,0 +1,78 @@
+#include "gpu/buffer_set.h"
+
+#include <algorithm>
+
+#include "gpu/gpu_layout.h"
+
+namespace wetdem::gpu {
+
+BufferSet::BufferSet(vk::Context& c, uint32_t num_particles, uint32_t num_cells)
+    : ctx(c), n(num_particles), cells(num_cells) {
+  const uint64_t N = std::max<uint32_t>(n, 1);
+  ctl = vk::Buffer(ctx, ctl::kWords * 4);
+  params = vk::Buffer(ctx, sizeof(GpuParams));
+  table_buf = vk::Buffer(ctx, sizeof(GpuTable));
+  for (int s = 0; s < 2; ++s)
+    for (uint32_t f = 0; f < kNumParticleFields; ++f) pset[s][f] = vk::Buffer(ctx, N * kParticleFieldBytes[f]);
+  ref_pos = vk::Buffer(ctx, N * 16);
+  cell_key = vk::Buffer(ctx, N * 4);
+  sort_val = vk::Buffer(ctx, N * 4);
+  cnt_scan = vk::Buffer(ctx, N * 4);
+  cell_start = vk::Buffer(ctx, uint64_t(std::max<uint32_t>(cells, 1)) * 4);
+  cell_end = vk::Buffer(ctx, uint64_t(std::max<uint32_t>(cells, 1)) * 4);
+  p_share = vk::Buffer(ctx, N * 8);
+  p_gain = vk::Buffer(ctx, N * 8);
+  p_full = vk::Buffer(ctx, N * 8);
+  p_offer = vk::Buffer(ctx, N * 8);
+}
+
+void BufferSet::grow_scratch(uint32_t entries) {
+  if (entries <= scratch_capacity_) return;
+  const uint64_t E = std::max<uint32_t>(entries, 1);
+  pair_f = vk::Buffer(ctx, E * 16);
+  pair_ti = vk::Buffer(ctx, E * 16);
+  pair_tj = vk::Buffer(ctx, E * 16);
+  ev_a = vk::Buffer(ctx, E * 8);
+  ev_b = vk::Buffer(ctx, E * 8);
+  scratch_capacity_ = entries;
+}
+
+void BufferSet::grow_entries(uint32_t set, uint32_t entries) {
+  const uint64_t E = std::max<uint32_t>(entries, 1);
+  for (uint32_t f = 0; f < kNumEntryFields; ++f) eset[set][f] = vk::Buffer(ctx, E * kEntryFieldBytes[f]);
+  capacity_[set] = entries;
+  grow_scratch(entries);
+}
+
+GpuTable BufferSet::table() const {
+  GpuTable t{};
+  t.ctl = ctl.address();
+  t.params = params.address();
+  for (int s = 0; s < 2; ++s) {
+    for (uint32_t f = 0; f < kNumParticleFields; ++f) t.pset[s][f] = pset[s][f].address();
+    for (uint32_t f = 0; f < kNumEntryFields; ++f) t.eset[s][f] = eset[s][f].address();
+  }
+  t.ref_pos = ref_pos.address();
+  t.cell_key = cell_key.address();
+  t.sort_val = sort_val.address();
+  t.cell_start = cell_start.address();
+  t.cell_end = cell_end.address();
+  t.cnt_scan = cnt_scan.address();
+  t.pair_f = pair_f.address();
+  t.pair_ti = pair_ti.address();
+  t.pair_tj = pair_tj.address();
+  t.ev_a = ev_a.address();
+  t.ev_b = ev_b.address();
+  t.p_share = p_share.address();
+  t.p_gain = p_gain.address();
+  t.p_full = p_full.address();
+  t.p_offer = p_offer.address();
+  return t;
+}
+
+void BufferSet::upload_table() {
+  GpuTable t = table();
+  table_buf.upload(&t, sizeof(t));
+}
+
+}  // namespace wetdem::gpu

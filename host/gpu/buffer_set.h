@@ -1,0 +1,60 @@
+// Every device buffer of a GPU system and the address table the shaders read (shaders/common/access.glsl).
+// Particle and pair buffers come in two sets (current / being built); ctl[kParity] says which is current.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "vk/buffer.h"
+#include "vk/context.h"
+
+namespace wetdem::gpu {
+
+// Particle fields of one set (order = PF_* in access.glsl).
+enum ParticleField : uint32_t {
+  kPos, kVel, kOmg, kProps, kForce, kTorque, kFilm, kWallSt, kWallSr, kWallLiq, kWallFlags, kNbrCount, kNbrOffset,
+  kFrac, kNumParticleFields
+};
+// Entry (neighbour-list) fields of one set (order = EF_* in access.glsl).
+enum EntryField : uint32_t { kNbr, kSelf, kMirror, kSt, kSr, kLiq, kFlags, kNumEntryFields };
+
+// Bytes per element of each field.
+inline constexpr std::array<uint32_t, kNumParticleFields> kParticleFieldBytes = {16, 16, 16, 16, 16, 16, 8,
+                                                                                 48, 48, 24, 12, 4, 4, 16};
+inline constexpr std::array<uint32_t, kNumEntryFields> kEntryFieldBytes = {4, 4, 4, 16, 16, 8, 4};
+
+// Address table, std430 (all uint64), mirror of `Table` in access.glsl.
+struct GpuTable {
+  uint64_t ctl, params;
+  uint64_t pset[2][kNumParticleFields];
+  uint64_t eset[2][kNumEntryFields];
+  uint64_t ref_pos, cell_key, sort_val, cell_start, cell_end, cnt_scan;
+  uint64_t pair_f, pair_ti, pair_tj, ev_a, ev_b;
+  uint64_t p_share, p_gain, p_full, p_offer;
+};
+
+struct BufferSet {
+  BufferSet(vk::Context& ctx, uint32_t num_particles, uint32_t num_cells);
+
+  // Reallocates pair set `set` (contents lost) and the per-entry scratch for at least `entries` entries.
+  void grow_entries(uint32_t set, uint32_t entries);
+  uint32_t capacity(uint32_t set) const { return capacity_[set]; }
+  GpuTable table() const;
+  void upload_table();
+
+  vk::Context& ctx;
+  uint32_t n, cells;
+  vk::Buffer ctl, params, table_buf;
+  vk::Buffer pset[2][kNumParticleFields];
+  vk::Buffer eset[2][kNumEntryFields];
+  vk::Buffer ref_pos, cell_key, sort_val, cell_start, cell_end, cnt_scan;
+  vk::Buffer pair_f, pair_ti, pair_tj, ev_a, ev_b;
+  vk::Buffer p_share, p_gain, p_full, p_offer;
+
+ private:
+  void grow_scratch(uint32_t entries);
+  uint32_t capacity_[2] = {0, 0};
+  uint32_t scratch_capacity_ = 0;
+};
+
+}  // namespace wetdem::gpu

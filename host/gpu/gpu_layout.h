@@ -1,0 +1,85 @@
+// Host mirrors of the GPU-side layouts in shaders/common/{params,ctl,table}.glsl (std430). Any change here
+// must be made there too; the static_asserts catch size drift.
+#pragma once
+
+#include <cstdint>
+
+namespace wetdem::gpu {
+
+// Contact-law coefficients of one interaction type (physics.md §1-3), float32 on the device.
+struct GpuContact {
+  float E_star, G_star, phi_n, mu_s;
+  float mu_r, phi_t, eta_r, pad;
+};
+static_assert(sizeof(GpuContact) == 32);
+
+// Liquid coefficients of one interaction type (§4-5). Volumes in integer units.
+struct GpuLiquid {
+  int64_t v_min, v_max;
+  float f0_per_Rh;     // 2 pi gamma cos(theta): f0 = f0_per_Rh * R_h
+  float rupture_coef;  // 1 + theta/2: S_c = rupture_coef * V^(1/3)
+  float unit_m3;       // volume of one liquid unit
+  float range;         // interaction range beyond contact (m): S_c,max for this type
+  uint32_t enabled;
+  uint32_t dc_q16;     // distribution coefficient d_c in 1/65536
+  uint32_t pad0, pad1;
+};
+static_assert(sizeof(GpuLiquid) == 48);
+
+struct GpuParams {
+  GpuContact pp;
+  GpuContact pw[3];
+  GpuLiquid lpp;
+  GpuLiquid lpw[3];
+  int64_t drum_r2_ticks;  // (R/h)^2, for exact cylinder gaps
+  int32_t drum_r_ticks;
+  int32_t plate_z_ticks;  // L/2 in ticks (plates at +-)
+  int32_t period_ticks;   // periodic z period in ticks (0 = not periodic)
+  int32_t cell_ticks;     // cell edge in ticks
+  int32_t grid_origin[3]; // lowest corner of the cell grid, ticks
+  int32_t grid_dims[3];
+  uint32_t plate_present[2];
+  uint32_t plate_rotates[2];
+  uint32_t num_particles;
+  uint32_t liquid_on;     // any liquid interaction enabled: run the liquid passes
+  float dt, h, inv_h, omega;
+  float gravity[3];
+  float skin;             // neighbour skin (m)
+  float cutoff_extra;     // list keeps pairs with gap < cutoff_extra = S_c,max + skin (m)
+  float drum_r;           // m
+  uint32_t hash_mask;     // 0: dense cell grid; else cells are hashed into hash_mask + 1 buckets
+  float drum_r_frac;     // R/h - drum_r_ticks
+};
+static_assert(sizeof(GpuParams) == 32 * 4 + 48 * 4 + 8 + 4 * 4 + 12 * 2 + 8 * 2 + 8 + 16 + 12 + 12 + 8);
+
+// Control block (uint32 words); see shaders/common/ctl.glsl.
+namespace ctl {
+enum : uint32_t {
+  kHalt = 0,
+  kRebuild = 1,
+  kForceRebuild = 2,
+  kMaxDispBits = 3,
+  kEntries = 4,
+  kEntriesNeeded = 5,
+  kUnused6 = 6,
+  kParity = 7,
+  kLostBridges = 8,
+  kEscaped = 9,
+  kFormations = 10,
+  kRuptures = 11,
+  kRebuilds = 12,
+  kStepsDone = 13,
+  kOverflows = 14,
+  kMirrorErrors = 15,
+  kEntryArgs = 16,   // uvec4: dispatch over the current list's entries
+  kBuildArgs = 20,   // uvec4: dispatch over the list being built (written after its scan)
+  kLostArgs = 24,    // uvec4: lost-bridge check over the old list (rebuild steps only)
+  kCapacity0 = 28,   // entry capacity of pair set 0 (kCapacity0 + 1: set 1)
+  kGateArgs = 32,    // kMaxGates uvec4 slots: rebuild-gated dispatch sizes
+  kMaxGates = 48,
+  kGateGroups = kGateArgs + 4 * kMaxGates,  // kMaxGates uints: nominal group counts of the gated slots
+  kWords = kGateGroups + kMaxGates,
+};
+}
+
+}  // namespace wetdem::gpu

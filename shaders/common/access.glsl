@@ -1,0 +1,63 @@
+// The buffer table: device addresses of every buffer (mirror of GpuTable in host/gpu/buffer_set.h).
+// Particle and pair buffers come in two sets; ctl[CTL_PARITY] says which set is current. A rebuild
+// writes the reordered particles and the new list into the other set, then flips the parity.
+#ifndef WETDEM_ACCESS_GLSL
+#define WETDEM_ACCESS_GLSL
+#include "ctl.glsl"
+#include "params.glsl"
+
+#define PF_POS 0
+#define PF_VEL 1
+#define PF_OMG 2
+#define PF_PROPS 3
+#define PF_FORCE 4
+#define PF_TORQUE 5
+#define PF_FILM 6
+#define PF_WST 7
+#define PF_WSR 8
+#define PF_WLIQ 9
+#define PF_WFLAGS 10
+#define PF_NCOUNT 11
+#define PF_NOFFSET 12
+#define PF_FRAC 13  // vec4: sub-tick position fraction (xyz) and radius fraction (w), in ticks
+#define PF_COUNT 14
+
+#define EF_NBR 0
+#define EF_SELF 1
+#define EF_MIRROR 2
+#define EF_ST 3
+#define EF_SR 4
+#define EF_LIQ 5
+#define EF_FLAGS 6
+#define EF_COUNT 7
+
+layout(buffer_reference, std430, buffer_reference_align = 8) readonly buffer Table {
+  uint64_t ctl;
+  uint64_t params;
+  uint64_t pset[2 * PF_COUNT];
+  uint64_t eset[2 * EF_COUNT];
+  uint64_t ref_pos, cell_key, sort_val, cell_start, cell_end, cnt_scan;
+  uint64_t pair_f, pair_ti, pair_tj, ev_a, ev_b;
+  uint64_t p_share, p_gain, p_full, p_offer;
+};
+
+layout(push_constant) uniform Push {
+  uint64_t table;
+  uint arg0;
+  uint arg1;
+} pc;
+
+// Pair and wall flag bits (ContactFlags in include/wetdem/state.h for bit 0).
+#define FLAG_WIC 1u      // was_in_contact, §5
+#define FLAG_RUPT 2u     // bridge ruptures at the end of this step
+#define FLAG_FORM 4u     // first touch this step: formation attempt
+#define FLAG_MAPPED 8u   // old-list entry carried into the new list (rebuild only)
+
+Table T() { return Table(pc.table); }
+Uints CTL() { return Uints(T().ctl); }
+Params PRM() { return Params(T().params); }
+bool halted() { return CTL().v[CTL_HALT] != 0u; }
+uint parity() { return CTL().v[CTL_PARITY]; }
+uint64_t paddr(uint set, uint field) { return T().pset[set * PF_COUNT + field]; }
+uint64_t eaddr(uint set, uint field) { return T().eset[set * EF_COUNT + field]; }
+#endif

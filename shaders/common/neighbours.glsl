@@ -1,0 +1,48 @@
+// The neighbour loop shared by the count and fill passes of a rebuild: every particle j != i in the 27
+// cells around i (periodic in z) whose surface gap is below cutoff_extra = S_c,max + skin. The order is
+// deterministic (cells in fixed order, particles in sorted order), and the test is symmetric in i, j
+// (r_i + r_j is commutative in floating point; d - r_i - r_j is not).
+#ifndef WETDEM_NEIGHBOURS_GLSL
+#define WETDEM_NEIGHBOURS_GLSL
+#include "geom.glsl"
+
+// Calls VISIT(j) for every neighbour j of sorted particle i in the set s.
+#define FOR_EACH_NEIGHBOUR(i, s, P, VISIT)                                                        \
+  {                                                                                               \
+    IVec4s pos_ = IVec4s(paddr(s, PF_POS));                                                       \
+    Vec4s props_ = Vec4s(paddr(s, PF_PROPS));                                                     \
+    Uints cs_ = Uints(T().cell_start), ce_ = Uints(T().cell_end);                                 \
+    ivec3 pi_ = pos_.v[i].xyz;                                                                    \
+    Vec4s fr_ = Vec4s(paddr(s, PF_FRAC));                                                         \
+    vec3 fi_ = fr_.v[i].xyz;                                                                      \
+    float ri_ = props_.v[i].x;                                                                    \
+    bool esc_;                                                                                    \
+    ivec3 c0_ = cell_of(pi_, P, esc_);                                                            \
+    ivec3 dims_ = ivec3(P.grid_dims[0], P.grid_dims[1], P.grid_dims[2]);                          \
+    int zspan_ = (P.period_ticks > 0 && dims_.z < 3) ? dims_.z : 3;                              \
+    uint seen_[27];                                                                               \
+    uint nseen_ = 0u;                                                                             \
+    for (int dz_ = -1; dz_ < zspan_ - 1; ++dz_)                                                   \
+      for (int dy_ = -1; dy_ <= 1; ++dy_)                                                         \
+        for (int dx_ = -1; dx_ <= 1; ++dx_) {                                                     \
+          ivec3 c_ = c0_ + ivec3(dx_, dy_, dz_);                                                  \
+          if (P.period_ticks > 0) c_.z = (c_.z + dims_.z) % dims_.z;                              \
+          if (P.hash_mask == 0u &&                                                                \
+              (any(lessThan(c_, ivec3(0))) || any(greaterThanEqual(c_, dims_)))) continue;        \
+          uint k_ = cell_index(c_, P);                                                            \
+          /* hashed grid: two neighbour cells may share a bucket; visit each bucket once */       \
+          bool dup_ = false;                                                                      \
+          for (uint q_ = 0u; q_ < nseen_; ++q_) dup_ = dup_ || seen_[q_] == k_;                   \
+          if (dup_) continue;                                                                     \
+          seen_[nseen_++] = k_;                                                                   \
+          uint b_ = cs_.v[k_];                                                                    \
+          if (b_ == 0xFFFFFFFFu) continue;                                                        \
+          uint e_ = ce_.v[k_];                                                                    \
+          for (uint j = b_; j < e_; ++j) {                                                        \
+            if (j == i) continue;                                                                 \
+            vec3 d_ = (vec3(tick_delta(pi_, pos_.v[j].xyz, P.period_ticks)) + (fi_ - fr_.v[j].xyz)) * P.h; \
+            if (length(d_) - (ri_ + props_.v[j].x) < P.cutoff_extra) { VISIT; }                     \
+          }                                                                                       \
+        }                                                                                         \
+  }
+#endif

@@ -1,0 +1,39 @@
+// Simulation parameters on the device (mirror of GpuParams in host/gpu/gpu_layout.h).
+#ifndef WETDEM_PARAMS_GLSL
+#define WETDEM_PARAMS_GLSL
+#include "table.glsl"
+
+struct Contact {
+  float E_star, G_star, phi_n, mu_s;
+  float mu_r, phi_t, eta_r, pad;
+};
+struct Liquid {
+  int64_t v_min, v_max;
+  float f0_per_Rh, rupture_coef, unit_m3, range;
+  uint enabled, dc_q16, pad0, pad1;
+};
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Params {
+  Contact pp;
+  Contact pw[3];
+  Liquid lpp;
+  Liquid lpw[3];
+  int64_t drum_r2_ticks;
+  int drum_r_ticks;
+  int plate_z_ticks;
+  int period_ticks;
+  int cell_ticks;
+  int grid_origin[3];
+  int grid_dims[3];
+  uint plate_present[2];
+  uint plate_rotates[2];
+  uint num_particles;
+  uint liquid_on;
+  float dt, h, inv_h, omega;
+  float gravity[3];
+  float skin;
+  float cutoff_extra;
+  float drum_r;
+  uint hash_mask;
+  float drum_r_frac;
+};
+#endif

@@ -1,0 +1,14 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// Rebuild 6k (one invocation): the new set becomes current.
+#include "access.glsl"
+layout(local_size_x = 1) in;
+void main() {
+  Uints C = CTL();
+  if (C.v[CTL_HALT] != 0u) return;
+  C.v[CTL_PARITY] = 1u - C.v[CTL_PARITY];
+  C.v[CTL_ENTRIES] = C.v[CTL_ENTRIES_NEEDED];
+  C.v[CTL_ENTRY_ARGS] = C.v[CTL_BUILD_ARGS];
+  C.v[CTL_ENTRY_ARGS + 1u] = 1u;
+  C.v[CTL_ENTRY_ARGS + 2u] = 1u;
+}

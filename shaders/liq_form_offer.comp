@@ -1,0 +1,47 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// Liquid pass 4c (per particle), §5 two-phase rule, phase 2 set-up: the film after ruptures (received
+// remainders + overflow returned by its bridges) is the "full film" of the threshold; a particle with k
+// forming contacts (pairs and walls) offers floor(V_f / k) to each. Wall bridges form here (film only).
+#include "liquid.glsl"
+layout(local_size_x = 256) in;
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  Params P = PRM();
+  if (i >= P.num_particles || halted()) return;
+  uint s = parity();
+  Uints off = Uints(paddr(s, PF_NOFFSET)), cnt = Uints(paddr(s, PF_NCOUNT));
+  Uints mirror = Uints(eaddr(s, EF_MIRROR)), flags = Uints(eaddr(s, EF_FLAGS));
+  Int64s ev_a = Int64s(T().ev_a), ev_b = Int64s(T().ev_b);
+  Int64s film = Int64s(paddr(s, PF_FILM));
+  int64_t f = film.v[i] + Int64s(T().p_gain).v[i];
+  uint k = 0u;
+  uint b = off.v[i], c = cnt.v[i];
+  for (uint e = b; e < b + c; ++e) {
+    uint o = mirror.v[e];
+    f += (o == e) ? ev_a.v[o] : ev_b.v[o];
+    if ((flags.v[o] & FLAG_FORM) != 0u) k++;
+  }
+  Int64s wliq = Int64s(paddr(s, PF_WLIQ));
+  Uints wfl = Uints(paddr(s, PF_WFLAGS));
+  for (uint w = 0u; w < 3u; ++w)
+    if ((wfl.v[3u * i + w] & FLAG_FORM) != 0u) k++;
+  int64_t offer = k > 0u ? f / int64_t(k) : 0;
+  const int64_t full = f;
+  Int64s(T().p_full).v[i] = full;
+  Int64s(T().p_offer).v[i] = offer;
+  for (uint w = 0u; w < 3u; ++w) {
+    uint kk = 3u * i + w;
+    if ((wfl.v[kk] & FLAG_FORM) == 0u) continue;
+    wfl.v[kk] = (wfl.v[kk] & ~FLAG_FORM) | FLAG_WIC;
+    if (full >= P.lpw[w].v_min) {  // §5: a wall bridge needs V_f,i >= V_min
+      int64_t take = min(offer, P.lpw[w].v_max);
+      if (take > 0) {
+        wliq.v[kk] = take;
+        f -= take;
+        atomicAdd(CTL().v[CTL_FORMATIONS], 1u);
+      }
+    }
+  }
+  film.v[i] = f;
+}

@@ -1,0 +1,68 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// Pass 2: every owner entry of the neighbour list evaluates its pair (physics.md §1-4) and writes the
+// force on i and the torques on i and j; the per-particle gather sums them in list order (no atomics).
+// Also flags the liquid events the end-of-step passes will apply (§5), from the same positions.
+#include "geom.glsl"
+#include "contact_law.glsl"
+layout(local_size_x = 256) in;
+void main() {
+  uint e = gl_GlobalInvocationID.x;
+  if (halted()) return;
+  Uints C = CTL();
+  if (e >= C.v[CTL_ENTRIES]) return;
+  uint s = parity();
+  Uints mirror = Uints(eaddr(s, EF_MIRROR));
+  if (mirror.v[e] != e) return;  // not the owner: the other side computes this pair
+  Params P = PRM();
+  uint i = Uints(eaddr(s, EF_SELF)).v[e], j = Uints(eaddr(s, EF_NBR)).v[e];
+  IVec4s pos = IVec4s(paddr(s, PF_POS));
+  Vec4s vel = Vec4s(paddr(s, PF_VEL)), omg = Vec4s(paddr(s, PF_OMG)), props = Vec4s(paddr(s, PF_PROPS));
+  Vec4s stb = Vec4s(eaddr(s, EF_ST)), srb = Vec4s(eaddr(s, EF_SR));
+  Int64s liq = Int64s(eaddr(s, EF_LIQ));
+  Uints flags = Uints(eaddr(s, EF_FLAGS));
+
+  vec4 pi = props.v[i], pj = props.v[j];
+  Vec4s frac = Vec4s(paddr(s, PF_FRAC));
+  vec4 fi = frac.v[i], fj = frac.v[j];
+  ivec3 D = tick_delta(pos.v[i].xyz, pos.v[j].xyz, P.period_ticks);
+  vec3 n;
+  float dist;
+  float delta = pair_overlap_ticks(D, fi.xyz - fj.xyz, floatBitsToInt(pi.w) + floatBitsToInt(pj.w), fi.w + fj.w, n,
+                                   dist) * P.h;
+  float S = -delta;
+  vec3 st = stb.v[e].xyz, sr = srb.v[e].xyz;
+  int64_t vb = liq.v[e];
+  uint fl = flags.v[e] & FLAG_WIC;
+
+  vec3 F = vec3(0.0), t = vec3(0.0);
+  vec3 ci = -(pi.x - 0.5 * delta) * n;  // c - x_i
+  vec3 cj = (pj.x - 0.5 * delta) * n;   // c - x_j
+  if (S > P.lpp.range) {  // beyond the interaction range: springs dropped (§2)
+    st = vec3(0.0);
+    sr = vec3(0.0);
+  }
+  if (delta > 0.0) {
+    float Rs = pi.x * pj.x / (pi.x + pj.x);
+    float ms = pi.y * pj.y / (pi.y + pj.y);
+    vec3 wi = omg.v[i].xyz, wj = omg.v[j].xyz;
+    vec3 vrel = vel.v[i].xyz + cross(wi, ci) - vel.v[j].xyz - cross(wj, cj);
+    contact_force(P.pp, P.dt, n, delta, Rs, ms, vrel, wi - wj, st, sr, F, t);
+  }
+  if (vb > 0) {  // capillary force after friction (§0 order, §4)
+    float Rh = 2.0 * pi.x * pj.x / (pi.x + pj.x);
+    float f = capillary_force(S, Rh, float(vb) * P.lpp.unit_m3, P.lpp.f0_per_Rh * Rh);
+    F -= f * n;
+  }
+  if (P.lpp.enabled != 0u) {  // §5 event flags at the end-of-step positions
+    if (vb > 0 && S >= rupture_gap(P.lpp, vb)) fl |= FLAG_RUPT;
+    if (vb == 0 && (fl & FLAG_WIC) == 0u && delta >= 0.0) fl |= FLAG_FORM;
+    if (vb == 0 && S > 0.0) fl &= ~FLAG_WIC;
+  }
+  stb.v[e] = vec4(st, 0.0);
+  srb.v[e] = vec4(sr, 0.0);
+  flags.v[e] = fl;
+  Vec4s(T().pair_f).v[e] = vec4(F, 0.0);
+  Vec4s(T().pair_ti).v[e] = vec4(t + cross(ci, F), 0.0);
+  Vec4s(T().pair_tj).v[e] = vec4(-t - cross(cj, F), 0.0);
+}
