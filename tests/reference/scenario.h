@@ -22,6 +22,10 @@ struct BackendName {
   }
 };
 
+// Unit round-off of a backend's arithmetic, for tolerances of conservation tests: the reference computes in
+// double precision, the GPU system in float32.
+inline double unit_roundoff(const std::string& backend) { return backend == "reference" ? 0x1p-52 : 0x1p-23; }
+
 // One material for particles and all walls: E*, G* given directly (§1 allows it), no friction, no gravity,
 // a large drum with no plates so that nothing touches a wall unless a test puts it there.
 inline SimParams dry_params(double E_star = 5e6, double G_star = 2e6, double restitution = 0.5, double dt = 1e-6) {
