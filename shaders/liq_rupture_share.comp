@@ -14,7 +14,7 @@ void main() {
   Uints off = Uints(paddr(s, PF_NOFFSET)), cnt = Uints(paddr(s, PF_NCOUNT));
   Uints mirror = Uints(eaddr(s, EF_MIRROR)), flags = Uints(eaddr(s, EF_FLAGS));
   Int64s liq = Int64s(eaddr(s, EF_LIQ));
-  int64_t recv_pp = 0, recv_w = 0, give_w = 0;
+  int64_t recv_pp = 0, recv_w[3] = {0, 0, 0};
   uint npp = 0u, nw = 0u;
   uint b = off.v[i], c = cnt.v[i];
   for (uint e = b; e < b + c; ++e) {
@@ -31,8 +31,7 @@ void main() {
     int64_t vb = wliq.v[k];
     if (vb <= 0) continue;
     if ((wfl.v[k] & FLAG_RUPT) != 0u) {
-      recv_w += vb;
-      give_w += mul_q16(vb, P.lpw[w].dc_q16);
+      recv_w[w] = vb;
       wliq.v[k] = 0;
       wfl.v[k] &= ~(FLAG_RUPT | FLAG_WIC);
       atomicAdd(CTL().v[CTL_RUPTURES], 1u);
@@ -49,14 +48,19 @@ void main() {
       gain += recv_pp;
     }
   }
-  if (recv_w > 0) {
-    uint nt = npp + nw;
+  // Each ruptured wall bridge is shared on its own (its wall's d_c) over surviving pair and wall bridges.
+  uint nt = npp + nw;
+  for (uint w = 0u; w < 3u; ++w) {
+    if (recv_w[w] == 0) continue;
     if (nt > 0u) {
-      share_w = give_w / int64_t(nt);
-      gain += recv_w - share_w * int64_t(nt);
+      int64_t per = mul_q16(recv_w[w], P.lpw[w].dc_q16) / int64_t(nt);
+      share_w += per;
+      gain += recv_w[w] - per * int64_t(nt);
     } else {
-      gain += recv_w;
+      gain += recv_w[w];
     }
+  }
+  if (share_w > 0) {
     // Surviving wall bridges belong to this particle alone: apply their share and cap here.
     for (uint w = 0u; w < 3u; ++w) {
       uint k = 3u * i + w;

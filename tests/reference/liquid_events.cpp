@@ -25,8 +25,14 @@ double rupture_gap(const LiquidParams& lp, int64_t bridge, double unit) {
   return rupture_distance(lp.theta, double(bridge) * unit);
 }
 
-// §5: d_c h computed as an integer, floor(h d_c); what is not given stays with the giver.
-int64_t give_of(int64_t h, double d_c) { return int64_t(std::floor(double(h) * d_c)); }
+// §5: d_c h computed as an integer. [ours] d_c is applied in steps of 1/65536 (q = round(65536 d_c)), so
+// that every device computes the same integer: give = floor(h q / 65536), here in exact 128-bit arithmetic.
+// What is not given stays with the giver.
+__extension__ typedef __int128 int128;
+int64_t give_of(int64_t h, double d_c) {
+  const int128 q = std::llround(std::clamp(d_c, 0.0, 1.0) * 65536.0);
+  return int64_t((int128(h) * q) >> 16);
+}
 
 // Amount above the cap that a bridge holding `b` after receiving `received` must hand back: never more than
 // it received this step ([ours]: a bridge already above its cap, e.g. after a parameter change, keeps its

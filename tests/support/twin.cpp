@@ -23,7 +23,8 @@ SimParams twin_drum_params(double radius, double length, double r_min, bool peri
   return prm;
 }
 
-SystemState random_drum_packing(const SimParams& prm, size_t n, double r_lo, double r_hi, uint64_t seed) {
+SystemState random_drum_packing(const SimParams& prm, size_t n, double r_lo, double r_hi, uint64_t seed,
+                                double speed) {
   std::mt19937_64 rng(seed);
   auto uni = [&](double a, double b) { return a + (b - a) * (double(rng() >> 11) * 0x1.0p-53); };
   SystemState s;
@@ -43,7 +44,7 @@ SystemState random_drum_packing(const SimParams& prm, size_t n, double r_lo, dou
         if (!prm.drum.periodic_z && (x.z < -0.5 * L + 0.99 * r || x.z > 0.5 * L - 0.99 * r)) continue;
         x += glm::dvec3(uni(-1, 1), uni(-1, 1), uni(-1, 1)) * (0.003 * r);
         set_sphere(s.p, k, x, r, 900.0);
-        s.p.v[k] = glm::dvec3(uni(-1, 1), uni(-1, 1), uni(-1, 1)) * 0.02;
+        s.p.v[k] = glm::dvec3(uni(-1, 1), uni(-1, 1), uni(-1, 1)) * speed;
         s.p.w[k] = glm::dvec3(uni(-1, 1), uni(-1, 1), uni(-1, 1)) * 20.0;
         ++k;
       }

@@ -20,7 +20,8 @@ SimParams twin_drum_params(double radius, double length, double r_min, bool peri
 // n particles of radius in [r_lo, r_hi] on a jittered cubic lattice of spacing 0.99 (r_lo + r_hi), filled
 // from the bottom of the drum, so that about half the neighbours overlap, with random velocities and spins. Some touch the
 // cylinder and the plates.
-SystemState random_drum_packing(const SimParams& prm, size_t n, double r_lo, double r_hi, uint64_t seed);
+SystemState random_drum_packing(const SimParams& prm, size_t n, double r_lo, double r_hi, uint64_t seed,
+                                double speed = 0.02);
 
 // Rounds positions and radii to whole multiples of the GPU's tick so that both backends see the same
 // geometry (the device stores positions in fixed point).
