@@ -176,11 +176,17 @@ TEST_P(Liquid, ChainMigrationSection7Item7) {
     EXPECT_EQ(r.st.p.film[0], 2 * V / 10);
     EXPECT_EQ(r.st.total_liquid(), r.total_before);
   }
-  {  // d_c = 0.8: A has no other bridge (all to its film); B gives 0.8 of its 0.2 V_max to BC, keeps the rest.
+  {  // d_c = 0.8: A has no other bridge (all to its film); B gives 0.8 of its 0.2 V_max to BC, keeps the rest:
+     // BC = 0.56 V_max, B's film 0.04 V_max, to the integer rule of "d_c h" (distribution_give: d_c in
+     // steps of 2^-16, so within 2^-17 h + 1 unit of 0.8 h).
     const ChainResult r = run_chain(GetParam(), 0.8, 4 * V / 10, 4 * V / 10);
-    EXPECT_EQ(r.st.p.film[0], 2 * V / 10);
-    EXPECT_EQ(bridge_of(r.st, 1, 2), 56 * V / 100);
-    EXPECT_EQ(r.st.p.film[1], 4 * V / 100);
+    const int64_t h = 2 * V / 10, give = ref::distribution_give(h, 0.8);
+    EXPECT_NEAR(double(give), 0.8 * double(h), std::ldexp(double(h), -17) + 1.0);
+    EXPECT_EQ(r.st.p.film[0], h);
+    EXPECT_EQ(bridge_of(r.st, 1, 2), 4 * V / 10 + give);
+    EXPECT_EQ(r.st.p.film[1], h - give);
+    EXPECT_NEAR(double(bridge_of(r.st, 1, 2)), 0.56 * double(V), 1e-5 * double(V));
+    EXPECT_NEAR(double(r.st.p.film[1]), 0.04 * double(V), 1e-5 * double(V));
     EXPECT_EQ(r.st.total_liquid(), r.total_before);
   }
 }

@@ -16,6 +16,16 @@ int64_t split_proportional(int64_t V, int64_t a, int64_t b, int64_t a_cap, int64
   return part_a;
 }
 
+// §5: d_c h computed as an integer. [ours] d_c is applied in steps of 1/65536 (q = round(65536 d_c)), so
+// that every device computes the same integer: give = floor(h q / 65536), here in exact 128-bit arithmetic.
+// (The GPU system's mul_q16 does the same; for d_c = 0.8, q/65536 = 0.80000305.) What is not given stays
+// with the giver.
+__extension__ typedef __int128 int128;
+int64_t distribution_give(int64_t h, double d_c) {
+  const int128 q = std::llround(std::clamp(d_c, 0.0, 1.0) * 65536.0);
+  return int64_t((int128(h) * q) >> 16);
+}
+
 namespace {
 
 constexpr uint32_t kWas = kFlagWasInContact;
@@ -23,15 +33,6 @@ constexpr uint32_t kWas = kFlagWasInContact;
 // §4: S_c = (1 + theta/2) V^(1/3).
 double rupture_gap(const LiquidParams& lp, int64_t bridge, double unit) {
   return rupture_distance(lp.theta, double(bridge) * unit);
-}
-
-// §5: d_c h computed as an integer. [ours] d_c is applied in steps of 1/65536 (q = round(65536 d_c)), so
-// that every device computes the same integer: give = floor(h q / 65536), here in exact 128-bit arithmetic.
-// What is not given stays with the giver.
-__extension__ typedef __int128 int128;
-int64_t give_of(int64_t h, double d_c) {
-  const int128 q = std::llround(std::clamp(d_c, 0.0, 1.0) * 65536.0);
-  return int64_t((int128(h) * q) >> 16);
 }
 
 // Amount above the cap that a bridge holding `b` after receiving `received` must hand back: never more than
@@ -48,7 +49,7 @@ int64_t overflow_of(int64_t b, int64_t received, int64_t cap) {
 // - A particle keeps two kinds of receipts: halves of ruptured particle-particle bridges (one sum, shared with
 //   liq_pp.d_c over its surviving particle-particle bridges only) and whole volumes of ruptured wall bridges
 //   (one receipt per wall, shared with that wall's d_c over its surviving particle-particle AND wall bridges).
-//   Each receipt gives floor(h d_c) / N to each bridge; the remainder stays in the particle's film.
+//   Each receipt gives distribution_give(h, d_c) / N to each bridge; the remainder stays in the particle's film.
 // - Shares arriving at a bridge add up; the cap (liq_pp.v_max, or the wall's v_max) then applies once, and the
 //   overflow returns to the two films by split_proportional of the two shares.
 // - Flags: a pair without bridge and S > 0 loses kFlagWasInContact; a pair or wall with delta >= 0 and no flag
@@ -106,7 +107,7 @@ EventCounts liquid_events_two_phase(LiquidView& L) {
       if (n_pp[k] == 0) {
         film[k] += recv_pp[k];
       } else {
-        const int64_t per = give_of(recv_pp[k], prm.liq_pp.d_c) / n_pp[k];
+        const int64_t per = distribution_give(recv_pp[k], prm.liq_pp.d_c) / n_pp[k];
         share_pp[k] += per;
         film[k] += recv_pp[k] - per * n_pp[k];
       }
@@ -118,7 +119,7 @@ EventCounts liquid_events_two_phase(LiquidView& L) {
       if (nb == 0) {
         film[k] += h;
       } else {
-        const int64_t per = give_of(h, prm.liq_pw[w].d_c) / nb;
+        const int64_t per = distribution_give(h, prm.liq_pw[w].d_c) / nb;
         share_pp[k] += per;
         share_w[k] += per;
         film[k] += h - per * nb;
@@ -241,7 +242,7 @@ struct Sequential {
       film[x] += h;
       return;
     }
-    const int64_t per = give_of(h, d_c) / nb;
+    const int64_t per = distribution_give(h, d_c) / nb;
     film[x] += h - per * nb;
     if (per == 0) return;
     for (PairSlot* s : adj[x]) {
