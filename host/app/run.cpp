@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <csignal>
 #include <cmath>
 #include <ctime>
 #include <filesystem>
@@ -28,7 +29,7 @@ namespace wetdem::app {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+volatile std::sig_atomic_t g_interrupt = 0;
 
 // run.log and (unless quiet) stdout. Lines before the run folder exists are kept and written once it does.
 class Log {
@@ -91,6 +92,8 @@ std::vector<double> liquid_m3(const SystemState& s, double unit) {
 }
 
 }  // namespace
+
+void request_interrupt() { g_interrupt = 1; }
 
 Case resolve_case(const RunOptions& opt) {
   if (opt.resume_dir.empty()) {
@@ -361,6 +364,9 @@ RunResult run_case(const RunOptions& opt) {
         return result;
       }
       if (step >= sch.total) break;
+      if (g_interrupt)
+        throw std::runtime_error(fmt::format("interrupted at step {}; continue from the last checkpoint with "
+                                             "wetdem run --resume {}", step, dir.string()));
       const uint64_t next = sch.next_stop(step);
       sys->step(next - step);
       step = next;

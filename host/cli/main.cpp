@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
@@ -49,8 +50,7 @@ int main(int argc, char** argv) {
   auto* run = cli.add_subcommand("run", "run a case; results in the run folder (summary.json written last)");
   run->add_option("case", ro.case_path, "case file (TOML); optional with --resume");
   run->add_option("--set", ro.overrides, "override a case key: dotted.key=value (value in TOML; repeatable)")
-      ->expected(1)
-      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+      ->allow_extra_args(false);  // one value per --set, so `--set a=1 case.toml` keeps the case
   run->add_option("--out", ro.out_dir, "run folder (default runs/<name>-<time>)");
   run->add_option("--device", ro.device, "device: index, name substring, \"gpu\" or \"cpu\" (default $WETDEM_DEVICE)");
   run->add_option("--resume", ro.resume_dir, "continue the run in this folder from its last checkpoint");
@@ -63,8 +63,7 @@ int main(int argc, char** argv) {
   auto* chk = cli.add_subcommand("check", "validate a case and print it resolved in SI; nothing is run or written");
   chk->add_option("case", check_path, "case file (TOML)")->required();
   chk->add_option("--set", check_sets, "override a case key: dotted.key=value")
-      ->expected(1)
-      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+      ->allow_extra_args(false);  // one value per --set, so `--set a=1 case.toml` keeps the case
 
   auto* dev = cli.add_subcommand("devices", "list the Vulkan devices");
 
@@ -84,6 +83,12 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "wetdem run: give a case file (or --resume DIR)\n");
       return 2;
     }
+    // First Ctrl-C: stop at the next step boundary (FAILED.txt says so, the checkpoint stays); second: default.
+    for (int sig : {SIGINT, SIGTERM})
+      std::signal(sig, [](int s) {
+        wetdem::app::request_interrupt();
+        std::signal(s, SIG_DFL);
+      });
     const wetdem::app::RunResult r = wetdem::app::run_case(ro);
     return r.completed || ro.stop_after_steps ? 0 : 1;
   } catch (const wetdem::app::CaseError& e) {
