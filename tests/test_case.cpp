@@ -1,13 +1,13 @@
-// Case files: unit parsing, validation (every bad input rejected naming its key), --set overrides, the resolved
-// echo, and the shipped assets.
+// Case files: unit parsing, validation (every bad input rejected naming its key), --set overrides, the
+// resolved echo, and the shipped assets.
 #ifdef WETDEM_HAVE_APP
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <unistd.h>
 #include <nlohmann/json.hpp>
 
 #include "app/case.h"
@@ -78,10 +78,10 @@ TEST(Units, ParsesSuffixedStrings) {
 }
 
 TEST(Units, RejectsMissingWrongAndUnknownUnits) {
-  EXPECT_THROW(parse_quantity("140", Dim::Length), std::invalid_argument);        // no unit
-  EXPECT_THROW(parse_quantity("140 kg", Dim::Length), std::invalid_argument);     // wrong dimension
+  EXPECT_THROW(parse_quantity("140", Dim::Length), std::invalid_argument);     // no unit
+  EXPECT_THROW(parse_quantity("140 kg", Dim::Length), std::invalid_argument);  // wrong dimension
   EXPECT_THROW(parse_quantity("21.7 mN", Dim::SurfaceTension), std::invalid_argument);
-  EXPECT_THROW(parse_quantity("mm", Dim::Length), std::invalid_argument);         // no number
+  EXPECT_THROW(parse_quantity("mm", Dim::Length), std::invalid_argument);  // no number
   EXPECT_THROW(parse_quantity("5 %", Dim::Dimensionless), std::invalid_argument);
 }
 
@@ -108,8 +108,9 @@ TEST(Case, ValidCaseResolvesToSi) {
 
 TEST(Case, KeysWithUnitsEqualSuffixedStrings) {
   const Case a = parse_case_string(kValid);
-  const Case b = parse_case_string(kValid, {"drum.diameter_mm=140", "liquid.theta_deg=30", "liquid.gamma_N_per_m=0.0217",
-                                            "material.E_MPa=1325", "drum.rotation_rpm=5", "liquid.v_max_pct=1"});
+  const Case b =
+      parse_case_string(kValid, {"drum.diameter_mm=140", "liquid.theta_deg=30", "liquid.gamma_N_per_m=0.0217",
+                                 "material.E_MPa=1325", "drum.rotation_rpm=5", "liquid.v_max_pct=1"});
   EXPECT_EQ(case_to_json(a), case_to_json(b));
 }
 
@@ -119,7 +120,9 @@ struct Bad {
   std::string key, words;
 };
 
-void PrintTo(const Bad& b, std::ostream* os) { *os << ::testing::PrintToString(b.set); }
+void PrintTo(const Bad& b, std::ostream* os) {
+  *os << ::testing::PrintToString(b.set);
+}
 
 class Malformed : public ::testing::TestWithParam<Bad> {};
 
@@ -192,8 +195,7 @@ INSTANTIATE_TEST_SUITE_P(
         Bad{{"material.stiffness_reduction=0.5"}, "material.stiffness_reduction", ">= 1"},
         Bad{{"friction.mu_s=-0.1"}, "friction.mu_s", "must be >= 0"},
         Bad{{"walls.cylinder.mu_r=-1"}, "walls.cylinder.mu_r", "must be >= 0"},
-        Bad{{"walls.lid.mu_s=0.1"}, "walls.lid", "unknown key"},
-        Bad{{"scaling=0"}, "scaling", "must be > 0"},
+        Bad{{"walls.lid.mu_s=0.1"}, "walls.lid", "unknown key"}, Bad{{"scaling=0"}, "scaling", "must be > 0"},
         Bad{{"scaling=60"}, "scaling", "does not fit the drum"},
         Bad{{"run.duration=\"1 s\""}, "run.steady_state_start", "must be < run.duration"},
         Bad{{"run.sample_interval=0"}, "run.sample_interval", "must be > 0"},
@@ -203,11 +205,13 @@ INSTANTIATE_TEST_SUITE_P(
         Bad{{"run.dt=\"0 s\""}, "run.dt", "must be > 0"},
         Bad{{"output.formats=[\"obj\"]"}, "output.formats", "\"gltf\" or \"vtk\""},
         Bad{{"output.checkpoint_interval=-1"}, "output.checkpoint_interval", "must be >= 0"},
-        Bad{{"foo=1"}, "foo", "unknown key"},
-        Bad{{"drum=5"}, "drum", "must be a table"},
-        Bad{{"drum.periodic_slice=true", "drum.slice_thickness=\"5 mm\""}, "drum.slice_thickness", "twice the largest"},
+        Bad{{"foo=1"}, "foo", "unknown key"}, Bad{{"drum=5"}, "drum", "must be a table"},
+        Bad{{"drum.periodic_slice=true", "drum.slice_thickness=\"5 mm\""},
+            "drum.slice_thickness",
+            "twice the largest"},
         Bad{{"drum.periodic_slice=true", "drum.slice_thickness=\"20 mm\"", "drum.end_plates=\"fixed\""},
-            "drum.end_plates", "no end plates"}));
+            "drum.end_plates",
+            "no end plates"}));
 
 TEST(Case, GivenTwiceIsRejected) {
   std::string text = kValid;
@@ -240,9 +244,9 @@ TEST(Case, MissingTableAndSyntaxErrors) {
 }
 
 TEST(Case, SetOverridesReplaceOtherSpellingsAndTakePlainStrings) {
-  const Case c = parse_case_string(kValid, {"drum.diameter_m=0.2", "drum.rpm=10", "liquid.films=mean_volume",
-                                            "run.seed=42", "output.formats=[\"gltf\", \"vtk\"]",
-                                            "drum.length=200mm", "liquid.v_min_pct=2.5"});
+  const Case c = parse_case_string(
+      kValid, {"drum.diameter_m=0.2", "drum.rpm=10", "liquid.films=mean_volume", "run.seed=42",
+               "output.formats=[\"gltf\", \"vtk\"]", "drum.length=200mm", "liquid.v_min_pct=2.5"});
   EXPECT_DOUBLE_EQ(c.drum.diameter, 0.2);
   EXPECT_DOUBLE_EQ(c.drum.omega, 10.0 * 2.0 * kPi / 60.0);
   EXPECT_EQ(c.liquid.films, FilmMode::MeanVolume);

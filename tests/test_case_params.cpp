@@ -6,8 +6,8 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "app/case.h"
 #include "app/psd.h"
@@ -19,7 +19,9 @@ namespace fs = std::filesystem;
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kTwo40 = 1099511627776.0;
 
-std::string asset(const std::string& name) { return std::string(WETDEM_SOURCE_DIR) + "/assets/" + name; }
+std::string asset(const std::string& name) {
+  return std::string(WETDEM_SOURCE_DIR) + "/assets/" + name;
+}
 
 TEST(CaseParams, RayleighTimeOfPhysicsSection7) {
   // §7.6: r = 1 mm, rho = 2500, E = 1e7 Pa, nu = 0.3: t_R = 8.654e-5 s. Stiffness not reduced here.
@@ -28,8 +30,8 @@ TEST(CaseParams, RayleighTimeOfPhysicsSection7) {
   ss << in.rdbuf();
   std::string text = ss.str();
   text.replace(text.find("G = \"400 MPa\""), 13, "nu = 0.3");
-  const Case c = parse_case_string(text, {"material.E=\"10 MPa\"", "material.density=\"2500 kg/m3\"",
-                                          "material.stiffness_reduction=1"});
+  const Case c = parse_case_string(
+      text, {"material.E=\"10 MPa\"", "material.density=\"2500 kg/m3\"", "material.stiffness_reduction=1"});
   Derived d;
   make_sim_params(c, {1e-3, 2e-3}, &d);
   EXPECT_NEAR(d.t_rayleigh, 8.654e-5, 5e-9);

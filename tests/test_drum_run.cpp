@@ -93,16 +93,35 @@ TEST_F(DrumRun, WritesSummaryTimeseriesAndFrames) {
   ASSERT_TRUE(fs::exists(base + "/run/summary.json"));
   std::ifstream in(base + "/run/summary.json");
   const nlohmann::json s = nlohmann::json::parse(in);
-  for (const char* k : {"aor_deg_mean", "aor_deg_std", "aor_sem_block", "aor_window_s", "aor_samples", "aor_flag",
-                        "f_wet_mean", "f_wet_definition", "bridges_mean", "contacts_mean", "particles", "steps", "dt_s",
-                        "liquid_total_m3_start", "liquid_total_m3_end", "liquid_conserved", "particle_steps_per_s",
-                        "device", "case", "code_version", "seed", "inserted_psd_volume_basis_m"})
+  for (const char* k : {"aor_deg_mean",
+                        "aor_deg_std",
+                        "aor_sem_block",
+                        "aor_window_s",
+                        "aor_samples",
+                        "aor_flag",
+                        "f_wet_mean",
+                        "f_wet_definition",
+                        "bridges_mean",
+                        "contacts_mean",
+                        "particles",
+                        "steps",
+                        "dt_s",
+                        "liquid_total_m3_start",
+                        "liquid_total_m3_end",
+                        "liquid_conserved",
+                        "particle_steps_per_s",
+                        "device",
+                        "case",
+                        "code_version",
+                        "seed",
+                        "inserted_psd_volume_basis_m"})
     EXPECT_TRUE(s.contains(k)) << k;
   EXPECT_TRUE(s["liquid_conserved"].get<bool>());  // exact integer equality (physics.md §5)
   EXPECT_GT(s["particles"].get<int>(), 200);
   EXPECT_LT(s["particles"].get<int>(), 600);
   EXPECT_FALSE(s["aor_flag"].get<bool>());
-  // The drum turns about +z (omega > 0): its bottom moves to +x and drags the bed up on the +x side (app/aor.h).
+  // The drum turns about +z (omega > 0): its bottom moves to +x and drags the bed up on the +x side
+  // (app/aor.h).
   EXPECT_GT(s["aor_signed_deg_mean"].get<double>(), 5.0);
   EXPECT_LT(s["aor_deg_mean"].get<double>(), 80.0);
   EXPECT_GT(s["contacts_mean"].get<double>(), 0.0);

@@ -33,7 +33,9 @@ std::string base_of(const std::string& k) {
 }
 
 // `rpm` is the short spelling of drum.rotation_rpm: compare keys in that form.
-std::string canonical_key(const std::string& k) { return k == "rpm" ? "rotation_rpm" : k; }
+std::string canonical_key(const std::string& k) {
+  return k == "rpm" ? "rotation_rpm" : k;
+}
 
 // True when a and b are two spellings of one quantity (x, x_m, x_mm, ...), so that an override of one
 // replaces the other instead of making the case give it twice.
@@ -60,8 +62,8 @@ void apply_override(toml::table& root, const std::string& assignment) {
     if (p.empty()) throw CaseError(path, "--set: empty segment in key");
     parts.push_back(p);
   }
-  // The value is TOML ("0.3", "\"140 mm\"", "true", "[\"vtk\"]"); anything else is taken as a plain string, so
-  // that `--set drum.diameter=140mm` works without shell quoting.
+  // The value is TOML ("0.3", "\"140 mm\"", "true", "[\"vtk\"]"); anything else is taken as a plain string,
+  // so that `--set drum.diameter=140mm` works without shell quoting.
   toml::table parsed;
   try {
     parsed = toml::parse("v = " + text);
@@ -102,23 +104,29 @@ void read_material(Section s, Case& c) {
     if (*q) present.push_back(&**q);
   const std::string pairs = "give exactly one pair: (E, G), (E, nu), (G, nu) or (E_star, G_star)";
   if (present.size() > 2) throw CaseError(present[2]->key, "one modulus too many; " + pairs);
-  if (present.size() < 2) throw CaseError(present.empty() ? s.key("E") : present[0]->key, "needs a partner; " + pairs);
+  if (present.size() < 2)
+    throw CaseError(present.empty() ? s.key("E") : present[0]->key, "needs a partner; " + pairs);
   if (bool(Es) != bool(Gs)) throw CaseError((Es ? Es : Gs)->key, "E_star and G_star go together; " + pairs);
   if (Es) {
     m.input = MaterialInput::EStarGStar;
     m.E_star = Es->v;
     m.G_star = Gs->v;
-    // E* = G/(1 - nu), G* = G/(2(2 - nu)) (single material, E = 2G(1 + nu)) => nu = (4 - r)/(2 - r), r = E*/G*.
+    // E* = G/(1 - nu), G* = G/(2(2 - nu)) (single material, E = 2G(1 + nu)) => nu = (4 - r)/(2 - r), r =
+    // E*/G*.
     const double r = m.E_star / m.G_star;
     if (!(r > 3.0)) fail(*Gs, fmt::format("E_star/G_star = {:.4g} must be > 3 (that is nu in (-1, 1))", r));
     m.nu = (4.0 - r) / (2.0 - r);
     m.G = m.E_star * (1.0 - m.nu);
     m.E = 2.0 * m.G * (1.0 + m.nu);
   } else {
-    if (E && G) m.input = MaterialInput::EG, m.E = E->v, m.G = G->v, m.nu = m.E / (2.0 * m.G) - 1.0;
-    else if (E && nu) m.input = MaterialInput::ENu, m.E = E->v, m.nu = nu->v, m.G = m.E / (2.0 * (1.0 + m.nu));
-    else if (G && nu) m.input = MaterialInput::GNu, m.G = G->v, m.nu = nu->v, m.E = 2.0 * m.G * (1.0 + m.nu);
-    else throw CaseError(s.key("E"), pairs);
+    if (E && G)
+      m.input = MaterialInput::EG, m.E = E->v, m.G = G->v, m.nu = m.E / (2.0 * m.G) - 1.0;
+    else if (E && nu)
+      m.input = MaterialInput::ENu, m.E = E->v, m.nu = nu->v, m.G = m.E / (2.0 * (1.0 + m.nu));
+    else if (G && nu)
+      m.input = MaterialInput::GNu, m.G = G->v, m.nu = nu->v, m.E = 2.0 * m.G * (1.0 + m.nu);
+    else
+      throw CaseError(s.key("E"), pairs);
     // E* = E/(2(1 - nu^2)) and G* = G/(2(2 - nu)) (physics.md §1) are positive only for nu in (-1, 1).
     const Q& k = nu ? *nu : *G;
     if (!(m.nu > -1.0 && m.nu < 1.0))
@@ -176,12 +184,14 @@ void read_psd(Section s, Case& c) {
     if (auto q = s.quantity(name, Dim::Length)) {
       require_positive(*q);
       if (!given.empty() && !(q->v > given.back().v))
-        fail(*q, "must be larger than " + given.back().key + " (" + given.back().raw + "): the table must increase");
+        fail(*q, "must be larger than " + given.back().key + " (" + given.back().raw +
+                     "): the table must increase");
       given.push_back(*q);
       p.table.push_back({frac, q->v});
     }
   if (ln) {
-    if (!given.empty()) throw CaseError(given.front().key, "give either quantiles d10..d90 or psd.lognormal, not both");
+    if (!given.empty())
+      throw CaseError(given.front().key, "give either quantiles d10..d90 or psd.lognormal, not both");
     p.kind = wetdem::PsdSpec::Kind::kLogNormal;
     Section l(ln, s.key("lognormal"));
     Q med = l.required("median", Dim::Length), sig = l.required("sigma", Dim::Dimensionless);
@@ -194,15 +204,21 @@ void read_psd(Section s, Case& c) {
     p.kind = wetdem::PsdSpec::Kind::kTable;
     for (const auto& [name, frac] : kQuantiles)
       if ((frac == 0.10 || frac == 0.50 || frac == 0.90) &&
-          std::none_of(p.table.begin(), p.table.end(), [f = frac](const PsdPoint& pt) { return pt.fraction == f; }))
-        throw CaseError(s.key(name), "required: a quantile table needs d10, d50 and d90 (or give psd.lognormal)");
+          std::none_of(p.table.begin(), p.table.end(),
+                       [f = frac](const PsdPoint& pt) { return pt.fraction == f; }))
+        throw CaseError(s.key(name),
+                        "required: a quantile table needs d10, d50 and d90 (or give psd.lognormal)");
   }
   // Where "lognormal" tails are cut: quantiles of the fitted log-normal (app/psd.h), D1 and D99 by default.
   std::optional<Q> lo = s.quantity("tail_lo", Dim::Fraction), hi = s.quantity("tail_hi", Dim::Fraction);
-  if (lo) require_in(*lo, 0, true, p.kind == wetdem::PsdSpec::Kind::kTable ? p.table.front().fraction : 0.5, true,
-                     "(0, first table fraction)"), p.tail_lo = lo->v;
-  if (hi) require_in(*hi, p.kind == wetdem::PsdSpec::Kind::kTable ? p.table.back().fraction : 0.5, true, 1, true,
-                     "(last table fraction, 1)"), p.tail_hi = hi->v;
+  if (lo)
+    require_in(*lo, 0, true, p.kind == wetdem::PsdSpec::Kind::kTable ? p.table.front().fraction : 0.5, true,
+               "(0, first table fraction)"),
+        p.tail_lo = lo->v;
+  if (hi)
+    require_in(*hi, p.kind == wetdem::PsdSpec::Kind::kTable ? p.table.back().fraction : 0.5, true, 1, true,
+               "(last table fraction, 1)"),
+        p.tail_hi = hi->v;
   s.finish();
 }
 
@@ -211,7 +227,8 @@ void read_liquid(Section s, Case& c) {
   l.present = s.present();
   if (!l.present) return;
   Q content = s.required("content", Dim::Fraction);
-  // Liquid is counted in units of V-bar_S 2^-40 in int64: phi_L <= 1 keeps the total below 2^63 for 4M particles.
+  // Liquid is counted in units of V-bar_S 2^-40 in int64: phi_L <= 1 keeps the total below 2^63 for 4M
+  // particles.
   require_in(content, 0, false, 1, false, "[0, 1] (0 to 100 vol %)");
   l.content = content.v;
   Q gamma = s.required("gamma", Dim::SurfaceTension);
@@ -225,13 +242,15 @@ void read_liquid(Section s, Case& c) {
   if (auto q = s.quantity("v_max", Dim::Fraction)) {
     if (l.on()) require_positive(*q);
     require_nonnegative(*q);
-    // A bridge of V_max = V-bar_S would already be a funicular cluster; 1 (100 %) bounds the integer range too.
+    // A bridge of V_max = V-bar_S would already be a funicular cluster; 1 (100 %) bounds the integer range
+    // too.
     require_in(*q, 0, false, 1, false, "[0, 1] of the mean solid volume");
     l.v_max = q->v;
   } else if (l.on()) {
     throw CaseError(s.key("v_max"), "required when liquid.content > 0");
   }
-  if (auto q = s.quantity("d_c", Dim::Dimensionless)) require_in(*q, 0, false, 1, false, "[0, 1]"), l.d_c = q->v;
+  if (auto q = s.quantity("d_c", Dim::Dimensionless))
+    require_in(*q, 0, false, 1, false, "[0, 1]"), l.d_c = q->v;
   if (auto f = s.choice("films", {"per_particle_volume", "mean_volume"}))
     l.films = *f == "mean_volume" ? FilmMode::MeanVolume : FilmMode::PerParticleVolume;
   s.finish();
@@ -287,7 +306,8 @@ void read_run(Section s, Case& c) {
   r.steady_state_start = ss.v;
   Q si = s.required("sample_interval", Dim::Time);
   require_positive(si);
-  if (!(si.v <= dur.v - ss.v)) fail(si, "must fit in the steady window run.duration - run.steady_state_start");
+  if (!(si.v <= dur.v - ss.v))
+    fail(si, "must fit in the steady window run.duration - run.steady_state_start");
   r.sample_interval = si.v;
   if (auto seed = s.integer("seed")) {
     if (*seed < 0) throw CaseError(s.key("seed"), fmt::format("must be >= 0, got {}", *seed));
@@ -301,7 +321,8 @@ void read_run(Section s, Case& c) {
   }
   if (auto q = s.quantity("skin", Dim::Length)) require_positive(*q), r.skin = q->v;
   if (auto n = s.integer("steps_per_submit")) {
-    if (*n < 1 || *n > 100000) throw CaseError(s.key("steps_per_submit"), fmt::format("must be in [1, 100000], got {}", *n));
+    if (*n < 1 || *n > 100000)
+      throw CaseError(s.key("steps_per_submit"), fmt::format("must be in [1, 100000], got {}", *n));
     r.steps_per_submit = uint32_t(*n);
   }
   s.finish();
@@ -309,14 +330,17 @@ void read_run(Section s, Case& c) {
 
 void read_output(Section s, Case& c) {
   OutputSpec& o = c.output;
-  if (auto q = s.quantity("snapshot_interval", Dim::Time)) require_nonnegative(*q), o.snapshot_interval = q->v;
+  if (auto q = s.quantity("snapshot_interval", Dim::Time))
+    require_nonnegative(*q), o.snapshot_interval = q->v;
   if (auto f = s.strings("formats")) {
     for (const std::string& x : *f)
-      if (x != "gltf" && x != "vtk") throw CaseError(s.key("formats"), "entries must be \"gltf\" or \"vtk\", got \"" + x + "\"");
+      if (x != "gltf" && x != "vtk")
+        throw CaseError(s.key("formats"), "entries must be \"gltf\" or \"vtk\", got \"" + x + "\"");
     o.formats = *f;
   }
   if (auto n = s.integer("checkpoint_interval")) {
-    if (*n < 0) throw CaseError(s.key("checkpoint_interval"), fmt::format("must be >= 0 (steps), got {}", *n));
+    if (*n < 0)
+      throw CaseError(s.key("checkpoint_interval"), fmt::format("must be >= 0 (steps), got {}", *n));
     o.checkpoint_interval = uint64_t(*n);
   }
   s.finish();
@@ -338,7 +362,8 @@ Case read_case(const toml::table& root, const std::string& source) {
   read_psd(Section(top.table("psd"), "psd"), c);
   read_liquid(Section(top.table("liquid"), "liquid"), c);
   read_drum(Section(top.table("drum"), "drum"), c);
-  if (c.drum.periodic_slice && walls.has("plates")) throw CaseError("walls.plates", "a periodic slice has no end plates");
+  if (c.drum.periodic_slice && walls.has("plates"))
+    throw CaseError("walls.plates", "a periodic slice has no end plates");
   read_run(Section(top.table("run"), "run"), c);
   read_output(Section(top.table("output"), "output"), c);
   top.finish();
@@ -351,12 +376,15 @@ Case read_case(const toml::table& root, const std::string& source) {
     throw CaseError("psd", e.what());
   }
   if (!(d_largest < 0.5 * c.drum.diameter))
-    throw CaseError("scaling", fmt::format("the largest scaled particle ({:.4g} m) does not fit the drum ({:.4g} m)", d_largest,
-                                           c.drum.diameter));
+    throw CaseError("scaling",
+                    fmt::format("the largest scaled particle ({:.4g} m) does not fit the drum ({:.4g} m)",
+                                d_largest, c.drum.diameter));
   if (c.drum.periodic_slice && !(d_largest < 0.5 * c.drum.slice_thickness))
-    throw CaseError("drum.slice_thickness",
-                    fmt::format("must exceed twice the largest scaled particle ({:.4g} m) for the periodic image, got "
-                                "{:.4g} m", d_largest, c.drum.slice_thickness));
+    throw CaseError(
+        "drum.slice_thickness",
+        fmt::format("must exceed twice the largest scaled particle ({:.4g} m) for the periodic image, got "
+                    "{:.4g} m",
+                    d_largest, c.drum.slice_thickness));
   if ((c.cylinder.liquid_bridges || c.plates.liquid_bridges) && !c.liquid.on())
     c.notes.push_back("walls: liquid_bridges = true has no effect without liquid (liquid.content = 0)");
   return c;
@@ -364,7 +392,8 @@ Case read_case(const toml::table& root, const std::string& source) {
 
 }  // namespace
 
-Case parse_case_string(const std::string& text, const std::vector<std::string>& overrides, const std::string& source) {
+Case parse_case_string(const std::string& text, const std::vector<std::string>& overrides,
+                       const std::string& source) {
   toml::table root;
   try {
     root = toml::parse(text, source);

@@ -57,10 +57,10 @@ struct LiquidSpec {
 };
 
 struct DrumSpec {
-  double diameter = 0;  // m
-  double length = 0;    // m (the real drum; a periodic slice simulates slice_thickness of it)
-  double omega = 0;     // rad/s about +z
-  double fill = 0;      // bed volume / drum volume
+  double diameter = 0;              // m
+  double length = 0;                // m (the real drum; a periodic slice simulates slice_thickness of it)
+  double omega = 0;                 // rad/s about +z
+  double fill = 0;                  // bed volume / drum volume
   double bed_solid_fraction = 0.6;  // solid volume inserted = fill * drum volume * bed_solid_fraction
   bool plates_rotate = true;
   bool periodic_slice = false;
@@ -74,23 +74,23 @@ struct RunSpec {
   double steady_state_start = 0;  // s after rotation starts; AoR averaged over [this, duration]
   double sample_interval = 0;     // s between samples
   uint64_t seed = 1;
-  std::optional<double> dt;       // s; default dt_rayleigh_fraction * Rayleigh time of the smallest particle
+  std::optional<double> dt;  // s; default dt_rayleigh_fraction * Rayleigh time of the smallest particle
   double dt_rayleigh_fraction = 0.2;
-  std::optional<double> skin;     // m; default 0.1 * smallest radius
+  std::optional<double> skin;  // m; default 0.1 * smallest radius
   uint32_t steps_per_submit = 200;
 };
 
 struct OutputSpec {
-  double snapshot_interval = 0;        // s, 0 = no snapshots
-  std::vector<std::string> formats;    // "gltf", "vtk"
-  uint64_t checkpoint_interval = 0;    // steps, 0 = no checkpoints
+  double snapshot_interval = 0;      // s, 0 = no snapshots
+  std::vector<std::string> formats;  // "gltf", "vtk"
+  uint64_t checkpoint_interval = 0;  // steps, 0 = no checkpoints
 };
 
 struct Case {
   std::string name, description, source;  // source: the file it came from
   double scaling = 1.0;                   // particle size factor l (physics.md §4)
   MaterialSpec material;
-  double mu_s = 0, mu_r = 0;              // particle-particle
+  double mu_s = 0, mu_r = 0;  // particle-particle
   WallSpec cylinder, plates;
   // The powder (app/psd.h: tails and bases explained there). Table diameters are the unscaled powder sizes;
   // psd.scale = scaling, so Psd(psd) is the distribution actually inserted.
@@ -99,7 +99,7 @@ struct Case {
   DrumSpec drum;
   RunSpec run;
   OutputSpec output;
-  std::vector<std::string> notes;         // assumptions and warnings found while resolving (logged)
+  std::vector<std::string> notes;  // assumptions and warnings found while resolving (logged)
 };
 
 // Parses and validates. `overrides` are "dotted.key=value" strings (value parsed as TOML, else taken as a
@@ -116,13 +116,13 @@ nlohmann::json case_to_json(const Case& c);
 
 // What follows from the case and the inserted particles: SimParams and the derived numbers worth logging.
 struct Derived {
-  double nu = 0, E_star = 0, G_star = 0;     // reduced moduli that enter the contact laws
+  double nu = 0, E_star = 0, G_star = 0;  // reduced moduli that enter the contact laws
   double r_min = 0, r_max = 0, mean_solid_volume = 0;
   double t_rayleigh = 0, dt = 0, skin = 0;
-  double gamma_scaled = 0;                   // l * gamma
-  double liquid_unit_m3 = 0;                 // V-bar_S * 2^-40
+  double gamma_scaled = 0;    // l * gamma
+  double liquid_unit_m3 = 0;  // V-bar_S * 2^-40
   int64_t v_min_units = 0, v_max_units = 0;
-  double dt_capillary_limit = 0;             // 0.1 pi sqrt(m*/k_c) at the smallest initial bridge (0: dry)
+  double dt_capillary_limit = 0;  // 0.1 pi sqrt(m*/k_c) at the smallest initial bridge (0: dry)
   std::vector<std::string> notes;
 };
 // radii: the inserted particles (m). Fills every SimParams field from the case (physics.md §1, §4, §6).

@@ -1,5 +1,5 @@
-// The resolved case written back in SI keys: the run log, `wetdem check` and summary.json show exactly what ran,
-// and the TOML form parses back to the same Case.
+// The resolved case written back in SI keys: the run log, `wetdem check` and summary.json show exactly what
+// ran, and the TOML form parses back to the same Case.
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
@@ -25,10 +25,18 @@ toml::table to_table(const Case& c) {
   const MaterialSpec& m = c.material;
   toml::table mat;
   switch (m.input) {
-    case MaterialInput::EG: mat.insert("E_Pa", m.E), mat.insert("G_Pa", m.G); break;
-    case MaterialInput::ENu: mat.insert("E_Pa", m.E), mat.insert("nu", m.nu); break;
-    case MaterialInput::GNu: mat.insert("G_Pa", m.G), mat.insert("nu", m.nu); break;
-    case MaterialInput::EStarGStar: mat.insert("E_star_Pa", m.E_star), mat.insert("G_star_Pa", m.G_star); break;
+    case MaterialInput::EG:
+      mat.insert("E_Pa", m.E), mat.insert("G_Pa", m.G);
+      break;
+    case MaterialInput::ENu:
+      mat.insert("E_Pa", m.E), mat.insert("nu", m.nu);
+      break;
+    case MaterialInput::GNu:
+      mat.insert("G_Pa", m.G), mat.insert("nu", m.nu);
+      break;
+    case MaterialInput::EStarGStar:
+      mat.insert("E_star_Pa", m.E_star), mat.insert("G_star_Pa", m.G_star);
+      break;
   }
   mat.insert("restitution", m.restitution);
   mat.insert("density_kg_per_m3", m.density);
@@ -40,7 +48,9 @@ toml::table to_table(const Case& c) {
   root.insert("walls", std::move(walls));
 
   const wetdem::PsdSpec& p = c.psd;
-  toml::table psd{{"basis", to_string(p.basis)}, {"tails", to_string(p.tails)}, {"tail_lo", p.tail_lo},
+  toml::table psd{{"basis", to_string(p.basis)},
+                  {"tails", to_string(p.tails)},
+                  {"tail_lo", p.tail_lo},
                   {"tail_hi", p.tail_hi}};
   if (p.kind == wetdem::PsdSpec::Kind::kLogNormal) {
     psd.insert("lognormal", toml::table{{"median_m", p.median}, {"sigma", p.sigma}});
@@ -60,7 +70,8 @@ toml::table to_table(const Case& c) {
                                       {"v_min", l.v_min},
                                       {"v_max", l.v_max},
                                       {"d_c", l.d_c},
-                                      {"films", l.films == FilmMode::MeanVolume ? "mean_volume" : "per_particle_volume"}});
+                                      {"films", l.films == FilmMode::MeanVolume ? "mean_volume"
+                                                                                : "per_particle_volume"}});
 
   const DrumSpec& d = c.drum;
   toml::table drum{{"diameter_m", d.diameter},
@@ -69,8 +80,10 @@ toml::table to_table(const Case& c) {
                    {"bed_solid_fraction", d.bed_solid_fraction},
                    {"periodic_slice", d.periodic_slice}};
   if (d.length > 0) drum.insert("length_m", d.length);
-  if (d.periodic_slice) drum.insert("slice_thickness_m", d.slice_thickness);
-  else drum.insert("end_plates", d.plates_rotate ? "rotating" : "fixed");
+  if (d.periodic_slice)
+    drum.insert("slice_thickness_m", d.slice_thickness);
+  else
+    drum.insert("end_plates", d.plates_rotate ? "rotating" : "fixed");
   root.insert("drum", std::move(drum));
 
   const RunSpec& r = c.run;
@@ -80,8 +93,10 @@ toml::table to_table(const Case& c) {
                   {"sample_interval_s", r.sample_interval},
                   {"seed", int64_t(r.seed)},
                   {"steps_per_submit", int64_t(r.steps_per_submit)}};
-  if (r.dt) run.insert("dt_s", *r.dt);
-  else run.insert("dt_rayleigh_fraction", r.dt_rayleigh_fraction);
+  if (r.dt)
+    run.insert("dt_s", *r.dt);
+  else
+    run.insert("dt_rayleigh_fraction", r.dt_rayleigh_fraction);
   if (r.skin) run.insert("skin_m", *r.skin);
   root.insert("run", std::move(run));
 
@@ -138,7 +153,8 @@ void emit(std::ostringstream& os, const toml::table& t, const std::string& path)
       os << k.str() << " = " << value_text(v) << '\n';
     }
   for (auto&& [k, v] : t)
-    if (const auto* sub = v.as_table()) emit(os, *sub, path.empty() ? std::string(k.str()) : path + "." + std::string(k.str()));
+    if (const auto* sub = v.as_table())
+      emit(os, *sub, path.empty() ? std::string(k.str()) : path + "." + std::string(k.str()));
 }
 
 }  // namespace
@@ -149,6 +165,8 @@ std::string case_to_toml(const Case& c) {
   return os.str();
 }
 
-nlohmann::json case_to_json(const Case& c) { return to_json(to_table(c)); }
+nlohmann::json case_to_json(const Case& c) {
+  return to_json(to_table(c));
+}
 
 }  // namespace wetdem::app

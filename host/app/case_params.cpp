@@ -14,7 +14,9 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kTwo40 = 1099511627776.0;  // 2^40: V-bar_S is 2^40 liquid units
 
-double sphere_volume(double r) { return 4.0 / 3.0 * kPi * r * r * r; }
+double sphere_volume(double r) {
+  return 4.0 / 3.0 * kPi * r * r * r;
+}
 
 }  // namespace
 
@@ -45,12 +47,13 @@ SimParams make_sim_params(const Case& c, const std::vector<double>& radii, Deriv
   d.mean_solid_volume = vs / double(radii.size());
 
   SimParams p;
-  // §6: t_R = pi r sqrt(rho/G) / (0.1631 nu + 0.8766), with the reduced G; dt = 0.2 t_R of the smallest particle.
+  // §6: t_R = pi r sqrt(rho/G) / (0.1631 nu + 0.8766), with the reduced G; dt = 0.2 t_R of the smallest
+  // particle.
   d.t_rayleigh = rayleigh_time(d.r_min, m.density, m.G / m.stiffness_reduction, m.nu);
   d.dt = c.run.dt ? *c.run.dt : c.run.dt_rayleigh_fraction * d.t_rayleigh;
   if (c.run.dt && *c.run.dt > 0.2 * d.t_rayleigh)
-    d.notes.push_back(fmt::format("run.dt = {:.4g} s exceeds 0.2 t_R = {:.4g} s of the smallest particle", *c.run.dt,
-                                  0.2 * d.t_rayleigh));
+    d.notes.push_back(fmt::format("run.dt = {:.4g} s exceeds 0.2 t_R = {:.4g} s of the smallest particle",
+                                  *c.run.dt, 0.2 * d.t_rayleigh));
   p.dt = d.dt;
   // Skin: the list is rebuilt when some particle has moved skin/2. 0.1 r_min keeps the extra neighbour shell
   // thin (entries grow with (r + skin)^3) while a particle at the drum's fastest avalanche speeds (~0.3 m/s)
@@ -74,7 +77,8 @@ SimParams make_sim_params(const Case& c, const std::vector<double>& radii, Deriv
     p.pw[w].mu_r = ws.mu_r;
   }
 
-  // Liquid: V-bar_S = 2^40 units, so V_min, V_max (fractions of V-bar_S) are exact multiples of 2^-40 V-bar_S.
+  // Liquid: V-bar_S = 2^40 units, so V_min, V_max (fractions of V-bar_S) are exact multiples of 2^-40
+  // V-bar_S.
   d.liquid_unit_m3 = d.mean_solid_volume / kTwo40;
   p.liquid_unit_m3 = d.liquid_unit_m3;
   const LiquidSpec& l = c.liquid;
@@ -107,7 +111,8 @@ SimParams make_sim_params(const Case& c, const std::vector<double>& radii, Deriv
     long double total = 0;
     for (int64_t f : films) total += (long double)f;
     if (total > 4.0e18L)
-      throw CaseError("liquid.content", "total liquid exceeds the int64 range of liquid units; reduce content");
+      throw CaseError("liquid.content",
+                      "total liquid exceeds the int64 range of liquid units; reduce content");
     // §6: capillary stiffness k_c = 1.05 f0 sqrt(R_h/V_b) at the smallest bridge the initial films can form
     // (two smallest particles); warn when dt > 0.1 pi sqrt(m*/k_c).
     const double vf = l.films == FilmMode::MeanVolume ? l.content * d.mean_solid_volume
@@ -120,9 +125,10 @@ SimParams make_sim_params(const Case& c, const std::vector<double>& radii, Deriv
       const double mstar = 0.5 * m.density * sphere_volume(d.r_min);
       d.dt_capillary_limit = 0.1 * kPi * std::sqrt(mstar / kc);
       if (d.dt > d.dt_capillary_limit)
-        d.notes.push_back(fmt::format("dt = {:.4g} s exceeds the capillary limit 0.1 pi sqrt(m*/k_c) = {:.4g} s at "
-                                      "the smallest initial bridge (physics.md §6)",
-                                      d.dt, d.dt_capillary_limit));
+        d.notes.push_back(
+            fmt::format("dt = {:.4g} s exceeds the capillary limit 0.1 pi sqrt(m*/k_c) = {:.4g} s at "
+                        "the smallest initial bridge (physics.md §6)",
+                        d.dt, d.dt_capillary_limit));
     }
   }
   if (out) *out = d;

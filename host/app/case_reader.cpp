@@ -22,17 +22,26 @@ std::string node_text(const toml::node& n) {
 
 std::string type_text(const toml::node& n) {
   switch (n.type()) {
-    case toml::node_type::string: return "a string";
-    case toml::node_type::integer: return "an integer";
-    case toml::node_type::floating_point: return "a float";
-    case toml::node_type::boolean: return "a boolean";
-    case toml::node_type::table: return "a table";
-    case toml::node_type::array: return "an array";
-    default: return "a date/time";
+    case toml::node_type::string:
+      return "a string";
+    case toml::node_type::integer:
+      return "an integer";
+    case toml::node_type::floating_point:
+      return "a float";
+    case toml::node_type::boolean:
+      return "a boolean";
+    case toml::node_type::table:
+      return "a table";
+    case toml::node_type::array:
+      return "an array";
+    default:
+      return "a date/time";
   }
 }
 
-void fail(const Q& q, const std::string& why) { throw CaseError(q.key, why + ", got " + q.raw); }
+void fail(const Q& q, const std::string& why) {
+  throw CaseError(q.key, why + ", got " + q.raw);
+}
 
 void require_positive(const Q& q) {
   if (!(q.v > 0)) fail(q, "must be > 0");
@@ -56,7 +65,9 @@ const toml::node* Section::get(const std::string& k, bool hint) {
   return t_ ? t_->get(k) : nullptr;
 }
 
-bool Section::has(const std::string& k) const { return t_ && t_->get(k) != nullptr; }
+bool Section::has(const std::string& k) const {
+  return t_ && t_->get(k) != nullptr;
+}
 
 std::optional<Q> Section::quantity(const std::string& base, Dim d, const std::vector<KeyUnit>& aliases) {
   // Candidate spellings with the factor a plain number under them carries (0: no plain number allowed).
@@ -87,11 +98,13 @@ std::optional<Q> Section::quantity(const std::string& base, Dim d, const std::ve
   q.key = key(which.name);
   q.raw = node_text(*found);
   if (found->is_integer() || found->is_floating_point()) {
-    const double x = found->is_integer() ? double(found->as_integer()->get()) : found->as_floating_point()->get();
+    const double x =
+        found->is_integer() ? double(found->as_integer()->get()) : found->as_floating_point()->get();
     // Zero is zero in every unit: `snapshot_interval = 0` needs none.
     if (which.factor == 0.0 && x != 0.0)
-      throw CaseError(q.key, std::string("a plain number has no unit; write it with one (e.g. \"140 mm\") or use ") +
-                                 key(base + "_" + si_unit(d)) + ", got " + q.raw);
+      throw CaseError(q.key,
+                      std::string("a plain number has no unit; write it with one (e.g. \"140 mm\") or use ") +
+                          key(base + "_" + si_unit(d)) + ", got " + q.raw);
     q.v = which.factor == 0.0 ? 0.0 : apply_factor(x, which.factor);
   } else if (const auto* s = found->as_string()) {
     try {

@@ -42,8 +42,9 @@ std::string Progress::line(const ProgressInfo& p, bool bar) const {
     const int width = 24, filled = int(std::floor(frac * width));
     head = "[" + std::string(size_t(filled), '#') + std::string(size_t(width - filled), '.') + "] ";
   }
-  return fmt::format("{}{:5.1f}%  {} step {}/{}  t = {:.3f} s  {:.0f} steps/s  {}  ETA {}", head, 100.0 * frac,
-                     p.phase, p.step, p.total_steps, p.sim_time, rate, aor, format_duration(eta));
+  return fmt::format("{}{:5.1f}%  {} step {}/{}  t = {:.3f} s  {:.0f} steps/s  {}  ETA {}", head,
+                     100.0 * frac, p.phase, p.step, p.total_steps, p.sim_time, rate, aor,
+                     format_duration(eta));
 }
 
 void Progress::update(const ProgressInfo& p) {
@@ -54,16 +55,20 @@ void Progress::update(const ProgressInfo& p) {
   if (printed_ && since < (tty_ ? 0.2 : interval_)) return;
   last_print_ = now;
   printed_ = true;
-  if (tty_) std::fprintf(out_, "\r%s\x1b[K", line(p, true).c_str());
-  else std::fprintf(out_, "%s\n", line(p, false).c_str());
+  if (tty_)
+    std::fprintf(out_, "\r%s\x1b[K", line(p, true).c_str());
+  else
+    std::fprintf(out_, "%s\n", line(p, false).c_str());
   std::fflush(out_);
 }
 
 void Progress::finish(const ProgressInfo& p) {
   last_step_ = p.step;
   if (quiet_) return;
-  if (tty_) std::fprintf(out_, "\r%s\x1b[K\n", line(p, true).c_str());
-  else std::fprintf(out_, "%s\n", line(p, false).c_str());
+  if (tty_)
+    std::fprintf(out_, "\r%s\x1b[K\n", line(p, true).c_str());
+  else
+    std::fprintf(out_, "%s\n", line(p, false).c_str());
   std::fflush(out_);
 }
 

@@ -11,16 +11,17 @@ namespace wetdem::app {
 
 struct ProgressInfo {
   uint64_t step = 0, total_steps = 0;
-  double sim_time = 0;           // s since the start of the run (settling included)
-  const char* phase = "";        // "settle" / "rotate"
-  double aor_deg = -1;           // last sample's |AoR| (< 0: none or flagged)
-  double aor_mean_deg = -1;      // mean over the steady window so far (< 0: none yet)
+  double sim_time = 0;       // s since the start of the run (settling included)
+  const char* phase = "";    // "settle" / "rotate"
+  double aor_deg = -1;       // last sample's |AoR| (< 0: none or flagged)
+  double aor_mean_deg = -1;  // mean over the steady window so far (< 0: none yet)
 };
 
 class Progress {
  public:
   // tty < 0: detect with isatty(fileno(out)). quiet: print nothing.
-  Progress(std::FILE* out, uint64_t first_step, bool quiet = false, int tty = -1, double line_interval_s = 10.0);
+  Progress(std::FILE* out, uint64_t first_step, bool quiet = false, int tty = -1,
+           double line_interval_s = 10.0);
   void update(const ProgressInfo& p);  // rate-limited; call as often as convenient
   void finish(const ProgressInfo& p);  // final line (ends the bar with a newline)
   double steps_per_s() const;          // over this session

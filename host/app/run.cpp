@@ -4,8 +4,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <csignal>
 #include <cmath>
+#include <csignal>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
@@ -43,8 +43,10 @@ class Log {
   }
   void operator()(const std::string& line) {
     if (!quiet_) std::printf("%s\n", line.c_str()), std::fflush(stdout);
-    if (out_.is_open()) out_ << line << '\n', out_.flush();
-    else pending_.push_back(line);
+    if (out_.is_open())
+      out_ << line << '\n', out_.flush();
+    else
+      pending_.push_back(line);
   }
 
  private:
@@ -93,7 +95,9 @@ std::vector<double> liquid_m3(const SystemState& s, double unit) {
 
 }  // namespace
 
-void request_interrupt() { g_interrupt = 1; }
+void request_interrupt() {
+  g_interrupt = 1;
+}
 
 Case resolve_case(const RunOptions& opt) {
   if (opt.resume_dir.empty()) {
@@ -101,12 +105,14 @@ Case resolve_case(const RunOptions& opt) {
     return parse_case_file(opt.case_path, opt.overrides);
   }
   const fs::path own = fs::path(opt.resume_dir) / "case.toml";
-  if (!fs::exists(own)) throw CaseError("", "--resume " + opt.resume_dir + ": no case.toml there (not a run folder)");
+  if (!fs::exists(own))
+    throw CaseError("", "--resume " + opt.resume_dir + ": no case.toml there (not a run folder)");
   Case c = parse_case_file(own.string());
   if (!opt.case_path.empty()) {
     const Case given = parse_case_file(opt.case_path, opt.overrides);
     if (case_to_json(given) != case_to_json(c))
-      throw CaseError("", "--resume: " + opt.case_path + " (with --set) differs from the case of " + opt.resume_dir);
+      throw CaseError(
+          "", "--resume: " + opt.case_path + " (with --set) differs from the case of " + opt.resume_dir);
   } else if (!opt.overrides.empty()) {
     throw CaseError("", "--resume continues the run's own case; --set is not allowed");
   }
@@ -136,9 +142,11 @@ Prepared prepare_run(const Case& c) {
   if (c.drum.periodic_slice) {
     const double reach = 2.0 * p.derived.r_max + p.prm.bridge_range_pp() + p.derived.skin;
     if (!(reach < 0.5 * c.drum.slice_thickness))
-      throw CaseError("drum.slice_thickness",
-                      fmt::format("must exceed twice the neighbour reach 2 r_max + S_c,max + skin = {:.4g} m, got {:.4g} m",
-                                  reach, c.drum.slice_thickness));
+      throw CaseError(
+          "drum.slice_thickness",
+          fmt::format(
+              "must exceed twice the neighbour reach 2 r_max + S_c,max + skin = {:.4g} m, got {:.4g} m",
+              reach, c.drum.slice_thickness));
   }
   const size_t n = fill.radius.size();
   SystemState& s = p.state;
@@ -175,19 +183,23 @@ RunResult run_case(const RunOptions& opt) {
   fs::path dir;
   if (resume) {
     dir = opt.resume_dir;
-    if (fs::exists(dir / "summary.json")) throw CaseError("", "--resume " + dir.string() + ": the run is complete");
+    if (fs::exists(dir / "summary.json"))
+      throw CaseError("", "--resume " + dir.string() + ": the run is complete");
     ckpt = load_checkpoint(dir.string());
     if (ckpt->host.value("radii_hash", "") != prep.radii_hash)
-      throw CaseError("", "--resume: the checkpoint's particles differ from the case's fill (different build or case)");
+      throw CaseError(
+          "", "--resume: the checkpoint's particles differ from the case's fill (different build or case)");
   } else {
-    dir = opt.out_dir.empty() ? fs::path("runs") / ((c.name.empty() ? fs::path(c.source).stem().string() : c.name) +
-                                                    "-" + local_time("%Y%m%d-%H%M%S"))
-                              : fs::path(opt.out_dir);
+    dir = opt.out_dir.empty()
+              ? fs::path("runs") / ((c.name.empty() ? fs::path(c.source).stem().string() : c.name) + "-" +
+                                    local_time("%Y%m%d-%H%M%S"))
+              : fs::path(opt.out_dir);
     for (const char* f : {"summary.json", "case.toml", "checkpoint"})
       if (fs::exists(dir / f))
         throw CaseError("", "--out " + dir.string() + " already holds a run (use --resume or another --out)");
     fs::create_directories(dir);
-    write_file_atomic((dir / "case.toml").string(), "# resolved case (SI), written by wetdem run\n" + case_to_toml(c));
+    write_file_atomic((dir / "case.toml").string(),
+                      "# resolved case (SI), written by wetdem run\n" + case_to_toml(c));
   }
   fs::remove(dir / "FAILED.txt");
   log.open(dir / "run.log");
@@ -200,33 +212,39 @@ RunResult run_case(const RunOptions& opt) {
     sch.total = sch.n_settle + Schedule::steps(c.run.duration, d.dt);
     sch.sample = std::max<uint64_t>(1, Schedule::steps(c.run.sample_interval, d.dt));
     if (!c.output.formats.empty())
-      sch.snapshot = c.output.snapshot_interval > 0 ? std::max<uint64_t>(1, Schedule::steps(c.output.snapshot_interval, d.dt))
-                                                    : 0;
+      sch.snapshot = c.output.snapshot_interval > 0
+                         ? std::max<uint64_t>(1, Schedule::steps(c.output.snapshot_interval, d.dt))
+                         : 0;
     sch.checkpoint = c.output.checkpoint_interval;
     sch.chunk = 5ull * c.run.steps_per_submit;  // progress and ETA at least every 5 submits
 
-    log(fmt::format("wetdem {}+{} | {} | {} | case {}", WETDEM_VERSION, WETDEM_GIT, local_time("%Y-%m-%d %H:%M:%S"),
-                    resume ? "resume" : "run", c.source));
+    log(fmt::format("wetdem {}+{} | {} | {} | case {}", WETDEM_VERSION, WETDEM_GIT,
+                    local_time("%Y-%m-%d %H:%M:%S"), resume ? "resume" : "run", c.source));
     for (const std::string& note : c.notes) log("note: " + note);
     for (const std::string& note : d.notes) log("note: " + note);
     log("psd: " + prep.psd_description);
     const PsdQuantiles q = sample_quantiles(prep.diameters, PsdBasis::kVolume);
-    log(fmt::format("inserted: {} particles, volume-basis D10/D25/D50/D75/D90 = {:.1f}/{:.1f}/{:.1f}/{:.1f}/{:.1f} µm "
-                    "(scaled, l = {})",
-                    n, q.d10 * 1e6, q.d25 * 1e6, q.d50 * 1e6, q.d75 * 1e6, q.d90 * 1e6, c.scaling));
-    log(fmt::format("material: density {} kg/m³ (particle density: an assumption, the paper gives bulk densities), "
-                    "nu = {:.4g}, reduced E* = {:.4g} Pa, G* = {:.4g} Pa",
-                    c.material.density, d.nu, d.E_star, d.G_star));
-    log(fmt::format("time step: dt = {:.4g} s ({} x Rayleigh time {:.4g} s of r_min = {:.4g} m){}; skin {:.4g} m{}",
-                    d.dt, c.run.dt ? d.dt / d.t_rayleigh : c.run.dt_rayleigh_fraction, d.t_rayleigh, d.r_min,
-                    c.run.dt ? " (run.dt)" : "", d.skin, c.run.skin ? "" : " (0.1 r_min)"));
+    log(fmt::format(
+        "inserted: {} particles, volume-basis D10/D25/D50/D75/D90 = {:.1f}/{:.1f}/{:.1f}/{:.1f}/{:.1f} µm "
+        "(scaled, l = {})",
+        n, q.d10 * 1e6, q.d25 * 1e6, q.d50 * 1e6, q.d75 * 1e6, q.d90 * 1e6, c.scaling));
+    log(fmt::format(
+        "material: density {} kg/m³ (particle density: an assumption, the paper gives bulk densities), "
+        "nu = {:.4g}, reduced E* = {:.4g} Pa, G* = {:.4g} Pa",
+        c.material.density, d.nu, d.E_star, d.G_star));
+    log(fmt::format(
+        "time step: dt = {:.4g} s ({} x Rayleigh time {:.4g} s of r_min = {:.4g} m){}; skin {:.4g} m{}", d.dt,
+        c.run.dt ? d.dt / d.t_rayleigh : c.run.dt_rayleigh_fraction, d.t_rayleigh, d.r_min,
+        c.run.dt ? " (run.dt)" : "", d.skin, c.run.skin ? "" : " (0.1 r_min)"));
     if (c.liquid.on())
-      log(fmt::format("liquid: gamma x l = {:.4g} N/m, unit = V-bar_S 2^-40 = {:.4g} m³, V_min = {} units, V_max = {} "
-                      "units, films {}",
-                      d.gamma_scaled, d.liquid_unit_m3, d.v_min_units, d.v_max_units,
-                      c.liquid.films == FilmMode::MeanVolume ? "phi_L x V-bar_S" : "phi_L x own volume"));
-    log(fmt::format("schedule: {} settle + {} rotating steps, sample every {}, snapshot every {}, checkpoint every {}",
-                    sch.n_settle, sch.total - sch.n_settle, sch.sample, sch.snapshot, sch.checkpoint));
+      log(fmt::format(
+          "liquid: gamma x l = {:.4g} N/m, unit = V-bar_S 2^-40 = {:.4g} m³, V_min = {} units, V_max = {} "
+          "units, films {}",
+          d.gamma_scaled, d.liquid_unit_m3, d.v_min_units, d.v_max_units,
+          c.liquid.films == FilmMode::MeanVolume ? "phi_L x V-bar_S" : "phi_L x own volume"));
+    log(fmt::format(
+        "schedule: {} settle + {} rotating steps, sample every {}, snapshot every {}, checkpoint every {}",
+        sch.n_settle, sch.total - sch.n_settle, sch.sample, sch.snapshot, sch.checkpoint));
 
     SystemOptions so;
     so.steps_per_submit = c.run.steps_per_submit;
@@ -269,9 +287,12 @@ RunResult run_case(const RunOptions& opt) {
     std::unique_ptr<PvdSeries> vtk;
     for (const std::string& f : c.output.formats) {
       fs::create_directories(dir / "frames");
-      if (f == "gltf") gltf = std::make_unique<GltfSeries>((dir / "frames").string(), "frame", GltfOptions{color_max, false});
-      if (f == "vtk") vtk = std::make_unique<PvdSeries>((dir / "frames").string(), "frame",
-                                                        VtkOptions{VtkEncoding::kBase64, color_max});
+      if (f == "gltf")
+        gltf =
+            std::make_unique<GltfSeries>((dir / "frames").string(), "frame", GltfOptions{color_max, false});
+      if (f == "vtk")
+        vtk = std::make_unique<PvdSeries>((dir / "frames").string(), "frame",
+                                          VtkOptions{VtkEncoding::kBase64, color_max});
     }
     auto snapshot = [&](uint64_t s) {
       if (!gltf && !vtk) return;
@@ -292,10 +313,13 @@ RunResult run_case(const RunOptions& opt) {
       const Observables o = sys->observables();
       const SystemCounters k = sys->counters();
       if (!std::isfinite(o.kinetic_energy))
-        throw std::runtime_error(fmt::format("kinetic energy is not finite at step {}: the run blew up (dt too large?)", s));
+        throw std::runtime_error(
+            fmt::format("kinetic energy is not finite at step {}: the run blew up (dt too large?)", s));
       if (k.lost_bridges > 0)
-        throw std::runtime_error(fmt::format("{} liquid bridges were lost with pairs leaving the neighbour list", k.lost_bridges));
-      if (k.escaped > 0) throw std::runtime_error(fmt::format("{} particles escaped the drum by step {}", k.escaped, s));
+        throw std::runtime_error(
+            fmt::format("{} liquid bridges were lost with pairs leaving the neighbour list", k.lost_bridges));
+      if (k.escaped > 0)
+        throw std::runtime_error(fmt::format("{} particles escaped the drum by step {}", k.escaped, s));
       const AorSample a = dynamic_aor(std::vector<glm::dvec3>{o.com}, {}, prm.drum.radius);
       Sample x;
       x.step = s;
@@ -317,7 +341,9 @@ RunResult run_case(const RunOptions& opt) {
 
     Progress progress(stdout, first_step, opt.quiet, opt.progress_tty);
     const auto t0 = std::chrono::steady_clock::now();
-    auto wall_now = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+    auto wall_now = [&] {
+      return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    };
     auto info = [&](uint64_t s) {
       ProgressInfo p;
       p.step = s;
@@ -338,7 +364,8 @@ RunResult run_case(const RunOptions& opt) {
         SystemState st = sys->download();
         sys = std::make_unique<System>(*ctx, phase_params(prm, true), n, so);
         sys->upload(st);
-        log(fmt::format("settled at t = {:.4g} s: drum starts turning at {:.4g} rad/s", double(step) * d.dt, prm.drum.omega));
+        log(fmt::format("settled at t = {:.4g} s: drum starts turning at {:.4g} rad/s", double(step) * d.dt,
+                        prm.drum.omega));
       }
       const bool fresh = !(ckpt && step == first_step);
       if (fresh && sch.due(step, sch.sample)) take_sample(step);
@@ -365,8 +392,10 @@ RunResult run_case(const RunOptions& opt) {
       }
       if (step >= sch.total) break;
       if (g_interrupt)
-        throw std::runtime_error(fmt::format("interrupted at step {}; continue from the last checkpoint with "
-                                             "wetdem run --resume {}", step, dir.string()));
+        throw std::runtime_error(
+            fmt::format("interrupted at step {}; continue from the last checkpoint with "
+                        "wetdem run --resume {}",
+                        step, dir.string()));
       const uint64_t next = sch.next_stop(step);
       sys->step(next - step);
       step = next;
@@ -396,7 +425,8 @@ RunResult run_case(const RunOptions& opt) {
     t.resumed_from_step = resume ? first_step : 0;
     result.summary = make_summary(c, d, samples, t);
     if (t.liquid_start != t.liquid_end)
-      log(fmt::format("WARNING: liquid not conserved: {} units at the start, {} at the end", t.liquid_start, t.liquid_end));
+      log(fmt::format("WARNING: liquid not conserved: {} units at the start, {} at the end", t.liquid_start,
+                      t.liquid_end));
     write_file_atomic((dir / "summary.json").string(), result.summary.dump(2) + "\n");
     // A complete run cannot be resumed: its checkpoint (device buffers, large) is dropped.
     fs::remove_all(dir / "checkpoint");
@@ -405,9 +435,10 @@ RunResult run_case(const RunOptions& opt) {
     if (s["aor_flag"].get<bool>())
       log("AoR: flagged (bed near the drum centre: no angle reported)");
     else
-      log(fmt::format("AoR = {:.2f}° ± {:.2f}° (sd {:.2f}°, {} samples over {:.4g}-{:.4g} s)", s["aor_deg_mean"].get<double>(),
-                      s["aor_sem_block"].get<double>(), s["aor_deg_std"].get<double>(), s["aor_samples"].get<size_t>(),
-                      t_from, c.run.settle + c.run.duration));
+      log(fmt::format("AoR = {:.2f}° ± {:.2f}° (sd {:.2f}°, {} samples over {:.4g}-{:.4g} s)",
+                      s["aor_deg_mean"].get<double>(), s["aor_sem_block"].get<double>(),
+                      s["aor_deg_std"].get<double>(), s["aor_samples"].get<size_t>(), t_from,
+                      c.run.settle + c.run.duration));
     log(fmt::format("f_wet = {}, bridges {}, contacts {}; {:.3g} particle-steps/s; summary: {}",
                     s["f_wet_mean"].dump(), s["bridges_mean"].dump(), s["contacts_mean"].dump(),
                     t.particle_steps_per_s, (dir / "summary.json").string()));
@@ -422,7 +453,8 @@ RunResult run_case(const RunOptions& opt) {
     } catch (...) {
     }
     log(std::string("FAILED: ") + e.what());
-    throw std::runtime_error(std::string("run failed: ") + e.what() + " (see " + (dir / "FAILED.txt").string() + ")");
+    throw std::runtime_error(std::string("run failed: ") + e.what() + " (see " +
+                             (dir / "FAILED.txt").string() + ")");
   }
 }
 

@@ -35,14 +35,14 @@ struct RunOptions {
   uint64_t stop_after_steps = 0;
   // Called after every sample; an exception thrown here fails the run (tests use it to make a run fail).
   std::function<void(const Sample&)> on_sample;
-  vk::Context* context = nullptr;      // use this Vulkan context (tests); otherwise one is created
+  vk::Context* context = nullptr;  // use this Vulkan context (tests); otherwise one is created
 };
 
 struct RunResult {
   std::string dir;
-  bool completed = false;     // false: stopped by stop_after_steps
-  nlohmann::json summary;     // what summary.json holds (empty when not completed)
-  SystemState final_state;    // downloaded at the end or at the stop
+  bool completed = false;   // false: stopped by stop_after_steps
+  nlohmann::json summary;   // what summary.json holds (empty when not completed)
+  SystemState final_state;  // downloaded at the end or at the stop
 };
 
 // Runs a case. Throws CaseError on bad input (nothing written), std::runtime_error when the run fails
@@ -54,8 +54,8 @@ RunResult run_case(const RunOptions& opt);
 struct Prepared {
   Case c;
   Derived derived;
-  SimParams prm;          // rotating drum (the run uses omega = 0 while settling)
-  SystemState state;      // at rest, films as the case says
+  SimParams prm;      // rotating drum (the run uses omega = 0 while settling)
+  SystemState state;  // at rest, films as the case says
   std::vector<double> diameters;
   std::string radii_hash;  // identifies the fill, checked on resume
   std::string psd_description;

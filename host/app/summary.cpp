@@ -43,20 +43,22 @@ void write_file_atomic(const std::string& path, const std::string& content) {
     throw std::runtime_error("cannot rename " + tmp + " to " + path + ": " + std::strerror(errno));
 }
 
-std::string timeseries_header() { return "time,aor_deg,com_x,com_y,contacts,bridges,f_wet,kinetic_energy\n"; }
+std::string timeseries_header() {
+  return "time,aor_deg,com_x,com_y,contacts,bridges,f_wet,kinetic_energy\n";
+}
 
 std::string timeseries_row(const Sample& s) {
   // aor_deg is |angle|, empty when the bed is flagged (near-centred: no angle reported, drum.md).
   const std::string aor = s.flagged ? "" : fmt::format("{:.9g}", std::fabs(s.aor_signed_deg));
-  return fmt::format("{:.9g},{},{:.9g},{:.9g},{},{},{:.9g},{:.9g}\n", s.time, aor, s.com_x, s.com_y, s.contacts,
-                     s.bridges, s.f_wet, s.kinetic_energy);
+  return fmt::format("{:.9g},{},{:.9g},{:.9g},{},{},{:.9g},{:.9g}\n", s.time, aor, s.com_x, s.com_y,
+                     s.contacts, s.bridges, s.f_wet, s.kinetic_energy);
 }
 
 nlohmann::json samples_to_json(const std::vector<Sample>& v) {
   nlohmann::json j = nlohmann::json::array();
   for (const Sample& s : v)
-    j.push_back({s.step, s.time, s.aor_signed_deg, s.com_x, s.com_y, s.flagged, s.contacts, s.bridges, s.f_wet,
-                 s.kinetic_energy});
+    j.push_back({s.step, s.time, s.aor_signed_deg, s.com_x, s.com_y, s.flagged, s.contacts, s.bridges,
+                 s.f_wet, s.kinetic_energy});
   return j;
 }
 
@@ -103,17 +105,21 @@ double window_mean(const std::vector<Sample>& s, double t_from, F f) {
   return n ? sum / double(n) : std::nan("");
 }
 
-nlohmann::json number_or_null(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
+nlohmann::json number_or_null(double x) {
+  return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
+}
 
 }  // namespace
 
 std::string state_hash(const SystemState& s) {
   Fnv f;
   const ParticleArrays& p = s.p;
-  f.vec(p.x), f.vec(p.v), f.vec(p.w), f.vec(p.f), f.vec(p.t), f.vec(p.radius), f.vec(p.mass), f.vec(p.inertia);
+  f.vec(p.x), f.vec(p.v), f.vec(p.w), f.vec(p.f), f.vec(p.t), f.vec(p.radius), f.vec(p.mass),
+      f.vec(p.inertia);
   f.vec(p.film);
-  for (const WallRecord& w : p.wall) f.bytes(&w.spring_t, sizeof(w.spring_t)), f.bytes(&w.spring_r, sizeof(w.spring_r)),
-      f.bytes(&w.bridge, sizeof(w.bridge)), f.bytes(&w.flags, sizeof(w.flags));
+  for (const WallRecord& w : p.wall)
+    f.bytes(&w.spring_t, sizeof(w.spring_t)), f.bytes(&w.spring_r, sizeof(w.spring_r)),
+        f.bytes(&w.bridge, sizeof(w.bridge)), f.bytes(&w.flags, sizeof(w.flags));
   for (const PairRecord& r : s.pairs) {
     f.bytes(&r.id_i, sizeof(r.id_i)), f.bytes(&r.id_j, sizeof(r.id_j));
     f.bytes(&r.spring_t, sizeof(r.spring_t)), f.bytes(&r.spring_r, sizeof(r.spring_r));
@@ -124,7 +130,8 @@ std::string state_hash(const SystemState& s) {
   return fmt::format("{:016x}", f.h);
 }
 
-nlohmann::json make_summary(const Case& c, const Derived& d, const std::vector<Sample>& samples, const RunTotals& t) {
+nlohmann::json make_summary(const Case& c, const Derived& d, const std::vector<Sample>& samples,
+                            const RunTotals& t) {
   using nlohmann::json;
   const double t_from = c.run.settle + c.run.steady_state_start;
   std::vector<double> times;
@@ -159,11 +166,13 @@ nlohmann::json make_summary(const Case& c, const Derived& d, const std::vector<S
   j["aor_flagged_samples"] = as.flagged;
   j["aor_flag"] = flag;
   j["aor_definition"] =
-      "|atan2(com_x, -com_y)|: angle between the downward vertical and the line from the drum axis to the bed's "
+      "|atan2(com_x, -com_y)|: angle between the downward vertical and the line from the drum axis to the "
+      "bed's "
       "centre of mass, in the plane normal to the axis; samples with |COM| < 0.2 R are flagged and excluded";
   j["f_wet_mean"] = number_or_null(window_mean(samples, t_from, [](const Sample& s) { return s.f_wet; }));
   j["f_wet_definition"] = kFwetDefinition;
-  j["bridges_mean"] = number_or_null(window_mean(samples, t_from, [](const Sample& s) { return double(s.bridges); }));
+  j["bridges_mean"] =
+      number_or_null(window_mean(samples, t_from, [](const Sample& s) { return double(s.bridges); }));
   j["contacts_mean"] =
       number_or_null(window_mean(samples, t_from, [](const Sample& s) { return double(s.contacts); }));
   j["kinetic_energy_mean_J"] =
@@ -181,12 +190,15 @@ nlohmann::json make_summary(const Case& c, const Derived& d, const std::vector<S
   j["wall_time_s"] = t.wall_s;
   j["resumed_from_step"] = t.resumed_from_step;
   j["device"] = t.device;
-  j["neighbour_list"] = {{"rebuilds", t.counters.rebuilds},       {"regrows", t.counters.regrows},
-                         {"entry_capacity", t.counters.entry_capacity}, {"lost_bridges", t.counters.lost_bridges},
+  j["neighbour_list"] = {{"rebuilds", t.counters.rebuilds},
+                         {"regrows", t.counters.regrows},
+                         {"entry_capacity", t.counters.entry_capacity},
+                         {"lost_bridges", t.counters.lost_bridges},
                          {"escaped", t.counters.escaped}};
   j["seed"] = c.run.seed;
   const PsdQuantiles q = sample_quantiles(t.inserted_diameters, PsdBasis::kVolume);
-  j["inserted_psd_volume_basis_m"] = {{"d10", q.d10}, {"d25", q.d25}, {"d50", q.d50}, {"d75", q.d75}, {"d90", q.d90}};
+  j["inserted_psd_volume_basis_m"] = {
+      {"d10", q.d10}, {"d25", q.d25}, {"d50", q.d50}, {"d75", q.d75}, {"d90", q.d90}};
   j["final_state_hash"] = t.final_state_hash;
   j["code_version"] = std::string(WETDEM_VERSION) + "+" + WETDEM_GIT;
   j["case"] = case_to_json(c);

@@ -1,6 +1,6 @@
-// What a run writes besides snapshots: the sampled time series (timeseries.csv), and summary.json, the one file
-// that says a run completed. Files are written to a temporary name and renamed, so a reader never sees a partial
-// file and a killed run never leaves a summary.
+// What a run writes besides snapshots: the sampled time series (timeseries.csv), and summary.json, the one
+// file that says a run completed. Files are written to a temporary name and renamed, so a reader never sees a
+// partial file and a killed run never leaves a summary.
 #pragma once
 
 #include <cstdint>
@@ -17,10 +17,10 @@ namespace wetdem::app {
 // One sample of the bed, taken every run.sample_interval (settling included).
 struct Sample {
   uint64_t step = 0;
-  double time = 0;               // s since the start of the run
-  double aor_signed_deg = 0;     // atan2(com_x, -com_y) (app/aor.h convention); |.| is the AoR
-  double com_x = 0, com_y = 0;   // m
-  bool flagged = true;           // |COM| < 0.2 R: no angle reported
+  double time = 0;              // s since the start of the run
+  double aor_signed_deg = 0;    // atan2(com_x, -com_y) (app/aor.h convention); |.| is the AoR
+  double com_x = 0, com_y = 0;  // m
+  bool flagged = true;          // |COM| < 0.2 R: no angle reported
   uint64_t contacts = 0, bridges = 0;
   double f_wet = 0, kinetic_energy = 0;
 };
@@ -44,13 +44,13 @@ struct RunTotals {
   double dt = 0;
   int64_t liquid_start = 0, liquid_end = 0;  // liquid units
   double liquid_unit_m3 = 0;
-  double particle_steps_per_s = 0;           // of the last session (after a resume: since the resume)
-  double wall_s = 0;                         // wall time of all sessions
+  double particle_steps_per_s = 0;  // of the last session (after a resume: since the resume)
+  double wall_s = 0;                // wall time of all sessions
   std::string device;
-  std::vector<double> inserted_diameters;    // for the inserted D10..D90
+  std::vector<double> inserted_diameters;  // for the inserted D10..D90
   std::string final_state_hash;
   SystemCounters counters;
-  uint64_t resumed_from_step = 0;            // 0: ran in one piece
+  uint64_t resumed_from_step = 0;  // 0: ran in one piece
 };
 
 // summary.json content: the AoR over the steady window (mean, sd, blocked SEM, flag), window means of f_wet,

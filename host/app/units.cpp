@@ -56,29 +56,46 @@ std::string strip_spaces(const std::string& s) {
 
 const char* dim_name(Dim d) {
   switch (d) {
-    case Dim::Dimensionless: return "a number";
-    case Dim::Fraction: return "a fraction (0.05 or \"5 %\")";
-    case Dim::Length: return "a length";
-    case Dim::Pressure: return "a pressure";
-    case Dim::SurfaceTension: return "a surface tension";
-    case Dim::Angle: return "an angle";
-    case Dim::Time: return "a time";
-    case Dim::AngularRate: return "a rotation rate";
-    case Dim::Density: return "a density";
+    case Dim::Dimensionless:
+      return "a number";
+    case Dim::Fraction:
+      return "a fraction (0.05 or \"5 %\")";
+    case Dim::Length:
+      return "a length";
+    case Dim::Pressure:
+      return "a pressure";
+    case Dim::SurfaceTension:
+      return "a surface tension";
+    case Dim::Angle:
+      return "an angle";
+    case Dim::Time:
+      return "a time";
+    case Dim::AngularRate:
+      return "a rotation rate";
+    case Dim::Density:
+      return "a density";
   }
   return "?";
 }
 
 const char* si_unit(Dim d) {
   switch (d) {
-    case Dim::Length: return "m";
-    case Dim::Pressure: return "Pa";
-    case Dim::SurfaceTension: return "N_per_m";
-    case Dim::Angle: return "rad";
-    case Dim::Time: return "s";
-    case Dim::AngularRate: return "rad_per_s";
-    case Dim::Density: return "kg_per_m3";
-    default: return "";
+    case Dim::Length:
+      return "m";
+    case Dim::Pressure:
+      return "Pa";
+    case Dim::SurfaceTension:
+      return "N_per_m";
+    case Dim::Angle:
+      return "rad";
+    case Dim::Time:
+      return "s";
+    case Dim::AngularRate:
+      return "rad_per_s";
+    case Dim::Density:
+      return "kg_per_m3";
+    default:
+      return "";
   }
 }
 

@@ -3,8 +3,8 @@
 //   wetdem check CASE.toml [--set key=value ...]    validate and print the resolved case; no run
 //   wetdem devices                                   list Vulkan devices
 // Exit codes: 0 done; 2 bad input (one line naming the key, nothing written); 1 the run or the device failed.
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <CLI/CLI.hpp>
 
 #include <cmath>
 #include <csignal>
@@ -29,12 +29,15 @@ int check(const std::string& path, const std::vector<std::string>& sets) {
   const double v = kPi * 0.25 * c.drum.diameter * c.drum.diameter * c.drum.sim_length();
   const double n = c.drum.fill * v * c.drum.bed_solid_fraction / psd.mean_volume();
   const double r_min = 0.5 * psd.d_min();
-  const double tr = rayleigh_time(r_min, c.material.density, c.material.G / c.material.stiffness_reduction, c.material.nu);
+  const double tr =
+      rayleigh_time(r_min, c.material.density, c.material.G / c.material.stiffness_reduction, c.material.nu);
   const double dt = c.run.dt ? *c.run.dt : c.run.dt_rayleigh_fraction * tr;
   const double steps = std::round((c.run.settle + c.run.duration) / dt);
   std::printf("# psd: %s\n", psd.describe().c_str());
-  std::printf("# about %.0f particles; r_min = %.4g m, Rayleigh time %.4g s, dt = %.4g s, %.0f steps (%.3g particle-steps)\n",
-              n, r_min, tr, dt, steps, n * steps);
+  std::printf(
+      "# about %.0f particles; r_min = %.4g m, Rayleigh time %.4g s, dt = %.4g s, %.0f steps (%.3g "
+      "particle-steps)\n",
+      n, r_min, tr, dt, steps, n * steps);
   std::printf("%s", app::case_to_toml(c).c_str());
   return 0;
 }
@@ -52,15 +55,18 @@ int main(int argc, char** argv) {
   run->add_option("--set", ro.overrides, "override a case key: dotted.key=value (value in TOML; repeatable)")
       ->allow_extra_args(false);  // one value per --set, so `--set a=1 case.toml` keeps the case
   run->add_option("--out", ro.out_dir, "run folder (default runs/<name>-<time>)");
-  run->add_option("--device", ro.device, "device: index, name substring, \"gpu\" or \"cpu\" (default $WETDEM_DEVICE)");
+  run->add_option("--device", ro.device,
+                  "device: index, name substring, \"gpu\" or \"cpu\" (default $WETDEM_DEVICE)");
   run->add_option("--resume", ro.resume_dir, "continue the run in this folder from its last checkpoint");
   run->add_flag("--quiet", ro.quiet, "no progress or log on stdout (run.log is still written)");
-  run->add_option("--stop-after-steps", ro.stop_after_steps, "stop as if killed after N steps (testing resume)")
+  run->add_option("--stop-after-steps", ro.stop_after_steps,
+                  "stop as if killed after N steps (testing resume)")
       ->group("");
 
   std::string check_path;
   std::vector<std::string> check_sets;
-  auto* chk = cli.add_subcommand("check", "validate a case and print it resolved in SI; nothing is run or written");
+  auto* chk =
+      cli.add_subcommand("check", "validate a case and print it resolved in SI; nothing is run or written");
   chk->add_option("case", check_path, "case file (TOML)")->required();
   chk->add_option("--set", check_sets, "override a case key: dotted.key=value")
       ->allow_extra_args(false);  // one value per --set, so `--set a=1 case.toml` keeps the case
@@ -83,7 +89,8 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "wetdem run: give a case file (or --resume DIR)\n");
       return 2;
     }
-    // First Ctrl-C: stop at the next step boundary (FAILED.txt says so, the checkpoint stays); second: default.
+    // First Ctrl-C: stop at the next step boundary (FAILED.txt says so, the checkpoint stays); second:
+    // default.
     for (int sig : {SIGINT, SIGTERM})
       std::signal(sig, [](int s) {
         wetdem::app::request_interrupt();
