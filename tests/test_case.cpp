@@ -211,7 +211,12 @@ INSTANTIATE_TEST_SUITE_P(
             "twice the largest"},
         Bad{{"drum.periodic_slice=true", "drum.slice_thickness=\"20 mm\"", "drum.end_plates=\"fixed\""},
             "drum.end_plates",
-            "no end plates"}));
+            "no end plates"},
+        Bad{{"drum.periodic_slice=true", "drum.slice_thickness=\"20 mm\"", "walls.plates.mu_s=0.1"},
+            "walls.plates",
+            "no end plates"},
+        Bad{{"material.E_star=\"500 MPa\""}, "material.E_star", "one modulus too many"},
+        Bad{{"liquid.v_max_pct=0"}, "liquid.v_max_pct", "must be > 0"}));
 
 TEST(Case, GivenTwiceIsRejected) {
   std::string text = kValid;
