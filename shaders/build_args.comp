@@ -1,7 +1,8 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Rebuild 6f (one invocation): after the scan, size the new list. More entries than capacity: halt the
-// submit (every later pass returns at once); the host grows the buffers and finishes this rebuild.
+// submit (every later pass returns at once or is sized to zero); the host grows the buffers and finishes
+// this rebuild.
 #include "access.glsl"
 layout(local_size_x = 1) in;
 void main() {
@@ -11,6 +12,9 @@ void main() {
   if (need > C.v[CTL_CAPACITY0 + 1u - C.v[CTL_PARITY]]) {  // capacity of the set being built
     C.v[CTL_HALT] = 1u;
     C.v[CTL_OVERFLOWS] += 1u;
+    // Close the gates: sort and scan kernels do not read the halt flag, and the sorted keys, permutation and
+    // counts of this rebuild must survive untouched until the host has grown the buffers and finished it.
+    for (uint k = 0u; k < CTL_MAX_GATES; ++k) C.v[CTL_GATE_ARGS + 4u * k] = 0u;
     return;
   }
   C.v[CTL_BUILD_ARGS] = (need + 255u) / 256u;

@@ -502,7 +502,7 @@ struct System::Impl {
     }
     for (uint32_t k = 1; k < n; ++k) off[k] = off[k - 1] + cnt[k - 1];
     const uint32_t guess = std::max<uint32_t>(E, n * std::max<uint32_t>(opt.initial_entries_per_particle, 1));
-    B->grow_entries(0, std::max<uint32_t>(E, 1));
+    B->grow_entries(0, guess);
     B->grow_entries(1, guess);
     P0[gpu::kNbrCount].upload(cnt);
     P0[gpu::kNbrOffset].upload(off);
@@ -619,6 +619,25 @@ struct System::Impl {
     return out;
   }
 
+  std::vector<std::pair<uint32_t, uint32_t>> neighbour_pairs() {
+    auto c = read_ctl();
+    const uint32_t s = c[ctlw::kParity], E = c[ctlw::kEntries];
+    auto pos = B->pset[s][gpu::kPos].download_as<int32_t>(4 * size_t(n));
+    auto nbr = B->eset[s][gpu::kNbr].download_as<uint32_t>(E);
+    auto self = B->eset[s][gpu::kSelf].download_as<uint32_t>(E);
+    auto mir = B->eset[s][gpu::kMirror].download_as<uint32_t>(E);
+    std::vector<std::pair<uint32_t, uint32_t>> out;
+    for (uint32_t e = 0; e < E; ++e) {
+      uint32_t a = uint32_t(pos[4 * self[e] + 3]), b = uint32_t(pos[4 * nbr[e] + 3]);
+      // Every pair appears twice (both segments): keep the owner's entry, check the mirror's link.
+      if (mir[e] == e) out.emplace_back(std::min(a, b), std::max(a, b));
+      else if (mir[e] >= E || self[mir[e]] != nbr[e] || nbr[mir[e]] != self[e])
+        throw std::runtime_error("neighbour list: mirror entry does not point at its pair");
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+  }
+
   // ---- snapshots -------------------------------------------------------------------------------------
   std::vector<uint8_t> snapshot();
   void restore(const std::vector<uint8_t>& blob);
@@ -722,6 +741,11 @@ SystemState System::download() { return impl_->download(); }
 void System::step(uint64_t n) { impl_->step(n); }
 std::vector<uint8_t> System::snapshot() { return impl_->snapshot(); }
 void System::restore(const std::vector<uint8_t>& blob) { impl_->restore(blob); }
+void System::force_rebuild() {
+  uint32_t one = 1;
+  impl_->B->ctl.upload(&one, 4, ctlw::kForceRebuild * 4);
+}
+std::vector<std::pair<uint32_t, uint32_t>> System::neighbour_pairs() { return impl_->neighbour_pairs(); }
 Observables System::observables() { return compute_observables(impl_->download(), impl_->prm); }
 EventCounts System::read_events() {
   EventCounts e = impl_->events;

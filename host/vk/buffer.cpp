@@ -1,6 +1,7 @@
 #include "vk/buffer.h"
 
 #include <cstring>
+#include <string>
 #include <utility>
 
 namespace wetdem::vk {
@@ -12,7 +13,10 @@ void make_buffer(Context& ctx, VkDeviceSize bytes, VkBufferUsageFlags usage, VkM
   bi.size = bytes;
   bi.usage = usage;
   bi.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
-  WETDEM_VK(vkCreateBuffer(ctx.device(), &bi, nullptr, &buf));
+  VkResult r = vkCreateBuffer(ctx.device(), &bi, nullptr, &buf);
+  if (r != VK_SUCCESS)
+    throw std::runtime_error("cannot create a Vulkan buffer of " + std::to_string(bytes) + " bytes (VkResult " +
+                             std::to_string(int(r)) + ")");
   VkMemoryRequirements req;
   vkGetBufferMemoryRequirements(ctx.device(), buf, &req);
   VkMemoryAllocateFlagsInfo fi{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};

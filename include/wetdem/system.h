@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "wetdem/observables.h"
@@ -57,6 +58,11 @@ class System {
   // Advances n steps; records them in as few submits as steps_per_submit allows. Grows buffers on overflow
   // and redoes the affected steps, so nothing is dropped.
   void step(uint64_t n);
+
+  // Rebuilds the neighbour list at the end of the next step whatever the displacements (tests, restarts).
+  void force_rebuild();
+  // The current neighbour list as (lower id, higher id) pairs, sorted: for tests against brute force.
+  std::vector<std::pair<uint32_t, uint32_t>> neighbour_pairs();
 
   Observables observables();
   EventCounts read_events();  // formations/ruptures since the last call
