@@ -115,11 +115,13 @@ struct System::Impl {
   }
 
   // ---- parameters and grid -------------------------------------------------------------------------
-  void setup(double r_max) {
+  void setup(double r_max, double r_min) {
+    // The list must hold every pair that can touch at the next force evaluation, so a skin of zero is
+    // not usable: 0 selects 0.1 r_min (a rebuild every few steps at drum speeds).
+    if (prm.skin <= 0.0) prm.skin = 0.1 * r_min;
     const DrumParams& d = prm.drum;
     if (!(d.radius > 0) || !(d.length > 0)) throw std::invalid_argument("drum: radius and length must be > 0");
     if (!(prm.dt > 0)) throw std::invalid_argument("dt must be > 0");
-    if (!(prm.skin >= 0)) throw std::invalid_argument("skin must be >= 0");
     const double range_pp = prm.bridge_range_pp();
     const double cutoff_extra = range_pp + prm.skin;
     const double cell = 2.0 * r_max + cutoff_extra;
@@ -408,12 +410,13 @@ struct System::Impl {
   // ---- state transfer --------------------------------------------------------------------------------
   void upload(const SystemState& s) {
     if (s.p.size() != n) throw std::invalid_argument(fmt::format("upload: state has {} particles, system {}", s.p.size(), n));
-    double r_max = 0.0;
+    double r_max = 0.0, r_min = 1e300;
     for (double r : s.p.radius) {
       if (!(r > 0)) throw std::invalid_argument("upload: particle radius must be > 0");
       r_max = std::max(r_max, r);
+      r_min = std::min(r_min, r);
     }
-    setup(r_max);
+    setup(r_max, r_min);
     time0 = s.time;
     step0 = s.step;
     steps = 0;
@@ -698,13 +701,14 @@ void System::Impl::restore(const std::vector<uint8_t>& blob) {
   // Radii (props.x of the current set) fix the cell grid, exactly as the original upload did.
   const uint8_t* props = at;
   for (uint32_t f = 0; f < gpu::kProps; ++f) props += size_t(n) * gpu::kParticleFieldBytes[f];
-  double r_max = 0.0;
+  double r_max = 0.0, r_min = 1e300;
   for (uint32_t k = 0; k < n; ++k) {
     float r;
     std::memcpy(&r, props + size_t(k) * 16, 4);
     r_max = std::max(r_max, double(r));
+    r_min = std::min(r_min, double(r));
   }
-  setup(r_max);
+  setup(r_max, r_min);
   const uint32_t s = hd.parity;
   B->grow_entries(s, std::max<uint32_t>(c[ctlw::kCapacity0 + s], hd.entries));
   B->grow_entries(1 - s, std::max<uint32_t>(c[ctlw::kCapacity0 + 1 - s], 1));

@@ -52,7 +52,8 @@ enum WallIndex : uint32_t { kWallCylinder = 0, kWallPlateLo = 1, kWallPlateHi = 
 struct SimParams {
   double dt = 1e-5;                       // time step (s), §6
   glm::dvec3 gravity{0.0, -9.81, 0.0};    // m/s^2
-  double skin = 0.0;                      // neighbour-list skin (m); rebuild when max displacement > skin/2
+  double skin = 0.0;                      // neighbour-list skin (m); rebuild when max displacement > skin/2;
+                                          // 0 = automatic, 0.1 x the smallest radius
   ContactParams pp;                       // particle-particle
   ContactParams pw[kNumWalls];            // particle-wall, per wall
   LiquidParams liq_pp;                    // particle-particle bridges

@@ -1,5 +1,6 @@
 #include "support/backend.h"
 
+#include <cstdlib>
 #include <stdexcept>
 
 #include "reference/reference.h"
@@ -34,7 +35,22 @@ std::unique_ptr<Backend> make_backend(const std::string& which, const SimParams&
 }
 
 const std::vector<std::string>& backends() {
-  static const std::vector<std::string> all{"reference"};
+  // WETDEM_TEST_BACKENDS (comma-separated, e.g. "reference,gpu") overrides the list, to try a backend on every
+  // parameterised test before it joins the default list.
+  static const std::vector<std::string> all = [] {
+    std::vector<std::string> v;
+    if (const char* env = std::getenv("WETDEM_TEST_BACKENDS")) {
+      std::string s(env);
+      for (size_t a = 0; a <= s.size();) {
+        size_t b = s.find(',', a);
+        if (b == std::string::npos) b = s.size();
+        if (b > a) v.push_back(s.substr(a, b - a));
+        a = b + 1;
+      }
+    }
+    if (v.empty()) v = {"reference", "gpu"};
+    return v;
+  }();
   return all;
 }
 
