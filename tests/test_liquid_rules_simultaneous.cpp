@@ -87,6 +87,8 @@ TEST(SimultaneousEvents, TwoPhaseEqualsSequentialOnIsolatedEvents) {
     prm.drum.plate_lo.rotates = false;
     prm.liq_pw[kWallPlateLo] = water(uni(0, 300'000'000), kVmax, std::array<double, 3>{0.9, 1.0, 0.5}[config % 3]);
     const double z_plate = -0.5 * prm.drum.length;
+    // Rupturing bridges sit between their S_c and the interaction range, as they would in a run.
+    const double range_pp = prm.bridge_range_pp(), range_w = prm.bridge_range_pw(kWallPlateLo);
     const int clusters = 8;
     SystemState s = empty_state(4 * clusters);
     for (int c = 0; c < clusters; ++c) {
@@ -102,7 +104,7 @@ TEST(SimultaneousEvents, TwoPhaseEqualsSequentialOnIsolatedEvents) {
         const int64_t vab = uni(2, kVmax);
         const double sc = rupture_distance(prm.liq_pp.theta, double(vab) * prm.liquid_unit_m3);
         put_sphere(s, id[0], base, kR, kRho);
-        put_sphere(s, id[1], beside(base, glm::dvec3(1, 0, 0), 1.2 * sc), kR, kRho);
+        put_sphere(s, id[1], beside(base, glm::dvec3(1, 0, 0), 0.5 * (sc + range_pp)), kR, kRho);
         put_sphere(s, id[2], beside(s.p.x[id[1]], glm::dvec3(1, 1, 0), 1e-6), kR, kRho);
         put_sphere(s, id[3], beside(base, glm::dvec3(-1, 1, 0), 0.0), kR, kRho);
         s.pairs.push_back(bridge_record(id[0], id[1], vab));
@@ -118,7 +120,7 @@ TEST(SimultaneousEvents, TwoPhaseEqualsSequentialOnIsolatedEvents) {
         const bool rupture = type == 2;
         const int64_t vw = uni(2, kVmax);
         const double sc = rupture_distance(prm.liq_pw[kWallPlateLo].theta, double(vw) * prm.liquid_unit_m3);
-        const glm::dvec3 xp = base + glm::dvec3(0.0, 0.0, rupture ? 1.3 * sc : -1e-7);
+        const glm::dvec3 xp = base + glm::dvec3(0.0, 0.0, rupture ? 0.5 * (sc + range_w) : -1e-7);
         put_sphere(s, id[0], xp, kR, kRho);
         put_sphere(s, id[1], beside(xp, glm::dvec3(1, 0, 1), 1e-6), kR, kRho);  // above the plate
         put_sphere(s, id[2], base + glm::dvec3(0.0, 0.005, 0.01), kR, kRho);      // alone
@@ -190,8 +192,8 @@ TEST(SimultaneousEvents, BridgeFedFromBothEnds) {
   const glm::dvec3 xb(0.0);
   put_sphere(s, 1, xb, kR, kRho);
   put_sphere(s, 2, beside(xb, glm::dvec3(1, 0, 0), 1e-6), kR, kRho);
-  put_sphere(s, 0, beside(xb, glm::dvec3(-1, 0, 0), 2e-4), kR, kRho);
-  put_sphere(s, 3, beside(s.p.x[2], glm::dvec3(1, 0, 0), 2e-4), kR, kRho);
+  put_sphere(s, 0, beside(xb, glm::dvec3(-1, 0, 0), 1.1e-4), kR, kRho);  // S_c(6e8) = 99 um < 110 um < 117 um
+  put_sphere(s, 3, beside(s.p.x[2], glm::dvec3(1, 0, 0), 1.1e-4), kR, kRho);
   s.pairs = {bridge_record(0, 1, 600'000'000), bridge_record(1, 2, 700'000'000), bridge_record(2, 3, 600'000'000)};
   const Outcome two = one_step(prm, s, false);
   EXPECT_EQ(two.ev.ruptures, 2u);
