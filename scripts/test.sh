@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# The README's test command: installs what is missing (Debian 12), builds, runs every test on lavapipe with
+# the Khronos validation layer on, then builds the host code with ASan/UBSan and runs the tests again there.
+# WETDEM_SKIP_SANITIZE=1 skips the sanitizer pass (quicker local runs).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/setup-debian.sh
+jobs=$(nproc)
+
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
+cmake --build build -j"$jobs"
+ctest --test-dir build --output-on-failure -j"$jobs" --timeout 900
+
+if [ "${WETDEM_SKIP_SANITIZE:-0}" != "1" ]; then
+  # Host code under AddressSanitizer + UndefinedBehaviorSanitizer. The Vulkan driver is not instrumented;
+  # its own allocations are not leak-checked (detect_leaks=0), every host-side error aborts the test.
+  cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DWETDEM_SANITIZE=ON
+  cmake --build build-asan -j"$jobs" --target wetdem_tests
+  ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
+    ctest --test-dir build-asan --output-on-failure -j"$jobs" --timeout 900 -E "${WETDEM_SANITIZE_EXCLUDE:-^$}"
+fi
