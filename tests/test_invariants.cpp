@@ -146,10 +146,37 @@ TEST_P(Invariants, IsolatedSystemConservesMomentum) {
   EXPECT_LT(glm::length(L - L0), eps * sl0);
 }
 
-// A small frictional bed settled in the drum (gravity, damping e = 0.3) stays at rest afterwards: over 0.05 s
-// the largest speed stays below 1e-4 of what free fall would reach (4.9e-5 m/s). Settling: 0.1 s free, then
-// every millisecond all velocities are halved (through the state) until the largest speed has stayed below
-// 1e-6 m/s for 10 ms in a row, so that the check starts from a bed at rest whatever path it took to get there.
+// A small frictional bed at rest in the drum (gravity, e = 0.3, mu_s = 0.5, mu_r = 0.1) stays at rest: over
+// 0.05 s the largest speed stays below 1e-4 of what free fall would reach (4.9e-5 m/s).
+// The bed is settled once, by the CPU reference, and the same settled state (positions, springs, last forces)
+// goes to every backend: settling is chaotic (a sphere perched on top may take a long time to roll off), so
+// settling on each backend would test the path, not the rest. Settling: 0.1 s free, then every millisecond all
+// velocities are halved until the largest speed has stayed below 1e-7 m/s for 10 ms in a row.
+SystemState settled_bed(const SimParams& prm) {
+  const double r = 1e-3;
+  const auto pos = lattice_in_drum(prm.drum, r, 2.1e-3, 5e-5, 30);
+  SystemState s = empty_state(pos.size());
+  for (size_t k = 0; k < pos.size(); ++k) put_sphere(s, k, pos[k], r * (0.9 + 0.01 * double(k % 10)), 2500.0);
+  auto b = make_backend("reference", prm, s.p.size());
+  b->set_state(s);
+  b->step(10000);
+  int calm = 0;
+  for (int ms = 0; ms < 1000 && calm < 10; ++ms) {
+    b->step(100);
+    SystemState st = b->state();
+    double v = 0.0;
+    for (size_t i = 0; i < st.p.size(); ++i) {
+      v = std::max(v, glm::length(st.p.v[i]));
+      st.p.v[i] *= 0.5;
+      st.p.w[i] *= 0.5;
+    }
+    calm = v < 1e-7 ? calm + 1 : 0;
+    b->set_state(st);
+  }
+  if (calm < 10) return SystemState{};
+  return b->state();
+}
+
 TEST_P(Invariants, PackedBedStaysAtRest) {
   SimParams prm = dry_params(5e6, 2e6, 0.3, 1e-5);
   prm.gravity = glm::dvec3(0.0, -9.81, 0.0);
@@ -159,28 +186,12 @@ TEST_P(Invariants, PackedBedStaysAtRest) {
   prm.drum.radius = 0.006;
   prm.drum.length = 0.006;
   prm.drum.periodic_z = true;
-  const double r = 1e-3;
-  const auto pos = lattice_in_drum(prm.drum, r, 2.1e-3, 5e-5, 30);
-  ASSERT_EQ(pos.size(), 30u);
-  SystemState s = empty_state(pos.size());
-  for (size_t k = 0; k < pos.size(); ++k) put_sphere(s, k, pos[k], r * (0.9 + 0.01 * double(k % 10)), 2500.0);
-  auto b = make_backend(GetParam(), prm, s.p.size());
-  b->set_state(s);
-  b->step(10000);
-  int calm = 0, ms = 0;
-  for (; ms < 500 && calm < 10; ++ms) {
-    b->step(100);
-    SystemState st = b->state();
-    double v = 0.0;
-    for (size_t i = 0; i < st.p.size(); ++i) {
-      v = std::max(v, glm::length(st.p.v[i]));
-      st.p.v[i] *= 0.5;
-      st.p.w[i] *= 0.5;
-    }
-    calm = v < 1e-6 ? calm + 1 : 0;
-    b->set_state(st);
-  }
-  ASSERT_GE(calm, 10) << "the bed did not settle in 0.6 s";
+  static const SystemState bed = settled_bed(prm);  // shared by the backends
+  ASSERT_EQ(bed.p.size(), 30u) << "the reference did not settle the bed";
+  uint64_t touching_walls = 0;
+  for (const auto& w : bed.p.wall) touching_walls += w.spring_t != glm::dvec3(0.0) ? 1 : 0;
+  auto b = make_backend(GetParam(), prm, bed.p.size());
+  b->set_state(bed);
   double vmax = 0.0;
   for (int k = 0; k < 50; ++k) {
     b->step(100);
@@ -188,12 +199,20 @@ TEST_P(Invariants, PackedBedStaysAtRest) {
     for (size_t i = 0; i < st.p.size(); ++i) vmax = std::max(vmax, glm::length(st.p.v[i]));
   }
   const SystemState st = b->state();
-  double ymax = -1.0;
-  for (size_t i = 0; i < st.p.size(); ++i) ymax = std::max(ymax, st.p.x[i].y);
-  std::cout << "packed bed: " << st.p.size() << " spheres settled after 0.1 s + " << ms << " ms damped, max speed at rest "
-            << vmax << " m/s, top at y = " << ymax << "\n";
-  EXPECT_LT(ymax, 0.0021);  // the bed has settled below the top row of the starting lattice (y = 2.1 mm)
+  double ymax = -1.0, shift = 0.0;
+  for (size_t i = 0; i < st.p.size(); ++i) {
+    ymax = std::max(ymax, st.p.x[i].y);
+    glm::dvec3 d = st.p.x[i] - bed.p.x[i];
+    d.z -= prm.drum.length * std::round(d.z / prm.drum.length);
+    shift = std::max(shift, glm::length(d));
+  }
+  std::cout << "packed bed: " << st.p.size() << " spheres (" << bed.pairs.size() << " pair records, " << touching_walls
+            << " loaded wall contacts), max speed at rest " << vmax << " m/s, largest shift " << shift
+            << " m, top at y = " << ymax << "\n";
+  EXPECT_GT(bed.pairs.size(), 30u);           // a packing, not a loose heap
+  EXPECT_LT(ymax, 0.0021);                    // settled below the top row of the starting lattice (y = 2.1 mm)
   EXPECT_LT(vmax, 1e-4 * 9.81 * 0.05);        // free fall would reach 0.49 m/s in 0.05 s
+  EXPECT_LT(shift, 1e-4 * 0.5 * 9.81 * 0.05 * 0.05);  // and 12 mm in that time
 }
 
 // §5 / §7.8: a wet packing tumbling in the turning drum (periodic slice, particle-particle and cylinder bridges,
@@ -207,7 +226,7 @@ TEST_P(Invariants, TumblingWetPackingConservesLiquidExactly) {
   prm.drum.radius = 0.008;  // the GPU grid wants the interaction distance below R/4
   prm.drum.length = 0.006;
   prm.drum.periodic_z = true;
-  prm.drum.omega = 20.0;
+  prm.drum.omega = 20.0;  // Froude number Omega^2 R / g = 0.33: cascading, not centrifuging
   const double r = 1e-3;
   const double vbar = 4.0 / 3.0 * kPi * r * r * r;
   const int64_t one = int64_t(1) << 40;  // V-bar_S = 2^40 units
@@ -218,15 +237,17 @@ TEST_P(Invariants, TumblingWetPackingConservesLiquidExactly) {
   const auto pos = lattice_in_drum(prm.drum, r, 2.05e-3, 5e-5, 30);
   SystemState s = empty_state(pos.size());
   std::mt19937_64 rng(11);
+  std::normal_distribution<double> g(0.0, 0.1);
   for (size_t k = 0; k < pos.size(); ++k) {
-    put_sphere(s, k, pos[k], r * (0.9 + 0.01 * double(k % 10)), 2500.0);
+    // Thrown in with random velocities (0.1 m/s): many touches and separations early on.
+    put_sphere(s, k, pos[k], r * (0.9 + 0.01 * double(k % 10)), 2500.0, glm::dvec3(g(rng), g(rng), g(rng)));
     s.p.film[k] = int64_t(rng() % uint64_t(one / 40));
   }
   const int64_t total0 = s.total_liquid();
   auto b = make_backend(GetParam(), prm, s.p.size());
   b->set_state(s);
   EventCounts sum;
-  for (int block = 0; block < 100; ++block) {
+  for (int block = 0; block < 60; ++block) {
     b->step(200);
     const SystemState st = b->state();
     ASSERT_EQ(liquid_sum(st), total0) << "after " << (block + 1) * 200 << " steps";
@@ -242,11 +263,11 @@ TEST_P(Invariants, TumblingWetPackingConservesLiquidExactly) {
   for (const auto& w : st.p.wall) wall_bridges += w.bridge > 0 ? 1 : 0;
   RecordProperty("formations", std::to_string(sum.formations));
   RecordProperty("ruptures", std::to_string(sum.ruptures));
-  std::cout << "tumbling wet packing, 20000 steps: " << sum.formations << " formations, " << sum.ruptures
+  std::cout << "tumbling wet packing, 12000 steps: " << sum.formations << " formations, " << sum.ruptures
             << " ruptures, " << bridges << " bridges and " << wall_bridges << " wall bridges at the end, liquid "
             << total0 << " units conserved exactly\n";
-  EXPECT_GT(sum.formations, 20u);
-  EXPECT_GT(sum.ruptures, 20u);
+  EXPECT_GT(sum.formations, 10u);
+  EXPECT_GT(sum.ruptures, 10u);
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, Invariants, ::testing::ValuesIn(backends()), BackendName());
