@@ -25,7 +25,7 @@ std::string asset(const std::string& name) {
 
 TEST(CaseParams, RayleighTimeOfPhysicsSection7) {
   // §7.6: r = 1 mm, rho = 2500, E = 1e7 Pa, nu = 0.3: t_R = 8.654e-5 s. Stiffness not reduced here.
-  std::ifstream in(asset("demo.toml"));
+  std::ifstream in(asset("pp2_l5.toml"));
   std::stringstream ss;
   ss << in.rdbuf();
   std::string text = ss.str();
@@ -36,7 +36,7 @@ TEST(CaseParams, RayleighTimeOfPhysicsSection7) {
   make_sim_params(c, {1e-3, 2e-3}, &d);
   EXPECT_NEAR(d.t_rayleigh, 8.654e-5, 5e-9);
   EXPECT_DOUBLE_EQ(d.dt, 0.2 * d.t_rayleigh);
-  EXPECT_DOUBLE_EQ(d.skin, 1e-4);  // 0.1 r_min
+  EXPECT_DOUBLE_EQ(d.skin, 3e-4);  // 0.3 r_min
 }
 
 TEST(CaseParams, ModuliScalingAndLiquidUnits) {
@@ -89,7 +89,7 @@ TEST(CaseParams, DryCaseAndPeriodicSlice) {
   EXPECT_FALSE(p.liq_pp.enabled);
   EXPECT_EQ(p.bridge_range_pp(), 0.0);
   EXPECT_TRUE(p.drum.periodic_z);
-  EXPECT_DOUBLE_EQ(p.drum.length, 0.02);
+  EXPECT_DOUBLE_EQ(p.drum.length, 0.018);
   EXPECT_FALSE(p.drum.plate_lo.present);
   EXPECT_EQ(initial_films(c, {1.5e-3, 2e-3}, p.liquid_unit_m3), std::vector<int64_t>(2, 0));
 }

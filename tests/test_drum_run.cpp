@@ -1,5 +1,5 @@
 // End-to-end drum runs on the GPU system (lavapipe in CI): outputs, AoR, failure handling, bitwise resume.
-// Small on purpose: ~350 particles in a 60 mm periodic slice, stiffness reduced 10^5 (dt ~ 3.8e-4 s) and a
+// Small on purpose: ~360 particles in a 60 mm periodic slice, stiffness reduced 10^5 (dt ~ 3.8e-4 s) and a
 // fast drum, so a run is a few thousand steps.
 #ifdef WETDEM_HAVE_APP
 
@@ -48,16 +48,17 @@ diameter = "60 mm"
 rpm = 30
 fill = 0.36
 periodic_slice = true
-slice_thickness = "16 mm"
+slice_thickness = "18 mm"
 [run]
-settle = "0.3 s"
-duration = "0.9 s"
-steady_state_start = "0.4 s"
+settle = "0.25 s"
+duration = "0.7 s"
+steady_state_start = "0.35 s"
 sample_interval = "0.025 s"
 seed = 3
-steps_per_submit = 50
+steps_per_submit = 100
+skin = "0.8 mm"                    # dt is 10x the paper's: a thicker skin keeps rebuilds rare
 [output]
-checkpoint_interval = 1000
+checkpoint_interval = 500
 )";
 
 std::string temp_dir(const std::string& name) {
@@ -87,7 +88,7 @@ class DrumRun : public GpuTest {};
 TEST_F(DrumRun, WritesSummaryTimeseriesAndFrames) {
   const std::string base = temp_dir("outputs");
   app::RunOptions o = options(write_case(base), base + "/run");
-  o.overrides = {"output.formats=[\"gltf\", \"vtk\"]", "output.snapshot_interval=\"0.3 s\""};
+  o.overrides = {"output.formats=[\"gltf\", \"vtk\"]", "output.snapshot_interval=\"0.25 s\""};
   const app::RunResult r = app::run_case(o);
   ASSERT_TRUE(r.completed);
   ASSERT_TRUE(fs::exists(base + "/run/summary.json"));
@@ -140,7 +141,7 @@ TEST_F(DrumRun, WritesSummaryTimeseriesAndFrames) {
   const double dt = s["dt_s"].get<double>();
   const uint64_t every = uint64_t(std::llround(0.025 / dt)), steps = s["steps"].get<uint64_t>();
   EXPECT_EQ(rows, steps / every + 1);
-  EXPECT_EQ(steps, uint64_t(std::llround(0.3 / dt)) + uint64_t(std::llround(0.9 / dt)));
+  EXPECT_EQ(steps, uint64_t(std::llround(0.25 / dt)) + uint64_t(std::llround(0.7 / dt)));
   EXPECT_TRUE(fs::exists(base + "/run/frames/frames.json"));
   EXPECT_TRUE(fs::exists(base + "/run/frames/frames.pvd"));
   EXPECT_TRUE(fs::exists(base + "/run/case.toml"));
@@ -172,9 +173,10 @@ TEST_F(DrumRun, ResumeReachesTheBitwiseSameFinalState) {
   const app::RunResult whole = app::run_case(options(case_path, base + "/whole"));
   ASSERT_TRUE(whole.completed);
 
-  // Stop at the second checkpoint (step 2000: rotating, after the settle -> rotate switch at ~790).
+  // Stop at the first checkpoint (step 500, still settling), resume and stop again at step 1500 (rotating:
+  // the resumed part crossed the settle -> rotate switch at step ~650), then resume to the end.
   app::RunOptions first = options(case_path, base + "/split");
-  first.stop_after_steps = 2000;
+  first.stop_after_steps = 500;
   const app::RunResult stopped = app::run_case(first);
   EXPECT_FALSE(stopped.completed);
   EXPECT_FALSE(fs::exists(base + "/split/summary.json"));
@@ -184,6 +186,9 @@ TEST_F(DrumRun, ResumeReachesTheBitwiseSameFinalState) {
   again.resume_dir = base + "/split";
   again.quiet = true;
   again.context = &gpu();
+  again.stop_after_steps = 1500;
+  EXPECT_FALSE(app::run_case(again).completed);
+  again.stop_after_steps = 0;
   const app::RunResult resumed = app::run_case(again);
   ASSERT_TRUE(resumed.completed);
 

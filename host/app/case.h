@@ -76,7 +76,7 @@ struct RunSpec {
   uint64_t seed = 1;
   std::optional<double> dt;  // s; default dt_rayleigh_fraction * Rayleigh time of the smallest particle
   double dt_rayleigh_fraction = 0.2;
-  std::optional<double> skin;  // m; default 0.1 * smallest radius
+  std::optional<double> skin;  // m; default 0.3 * smallest radius
   uint32_t steps_per_submit = 200;
 };
 

@@ -235,7 +235,7 @@ RunResult run_case(const RunOptions& opt) {
     log(fmt::format(
         "time step: dt = {:.4g} s ({} x Rayleigh time {:.4g} s of r_min = {:.4g} m){}; skin {:.4g} m{}", d.dt,
         c.run.dt ? d.dt / d.t_rayleigh : c.run.dt_rayleigh_fraction, d.t_rayleigh, d.r_min,
-        c.run.dt ? " (run.dt)" : "", d.skin, c.run.skin ? "" : " (0.1 r_min)"));
+        c.run.dt ? " (run.dt)" : "", d.skin, c.run.skin ? "" : " (0.3 r_min)"));
     if (c.liquid.on())
       log(fmt::format(
           "liquid: gamma x l = {:.4g} N/m, unit = V-bar_S 2^-40 = {:.4g} m³, V_min = {} units, V_max = {} "
