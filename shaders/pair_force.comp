@@ -38,7 +38,7 @@ void main() {
   vec3 F = vec3(0.0), t = vec3(0.0);
   vec3 ci = -(pi.x - 0.5 * delta) * n;  // c - x_i
   vec3 cj = (pj.x - 0.5 * delta) * n;   // c - x_j
-  if (S > P.lpp.range) {  // beyond the interaction range: springs dropped (§2)
+  if (S >= P.lpp.range) {  // outside the interaction range: springs dropped (§2)
     st = vec3(0.0);
     sr = vec3(0.0);
   }

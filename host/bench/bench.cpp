@@ -14,6 +14,7 @@
 
 #include "app/fill.h"
 #include "app/psd.h"
+#include "app/scenarios.h"
 #include "vk/context.h"
 #include "wetdem/system.h"
 
@@ -76,6 +77,31 @@ Setup make_drum(size_t n, bool wet, uint64_t seed) {
   return s;
 }
 
+// physics.md §7.8 at full length: the agitated wet slice of tests/test_liquid_soak.cpp for `steps` steps, total
+// liquid compared exactly every 10,000 steps, events counted.
+int soak(vk::Context& ctx, uint64_t steps, size_t n) {
+  Scenario sc = tumbling_wet_slice(n, 3);
+  System sys(ctx, sc.prm, sc.state.p.size());
+  sys.upload(sc.state);
+  const int64_t total = sc.state.total_liquid();
+  uint64_t formations = 0, ruptures = 0, done = 0;
+  auto t0 = std::chrono::steady_clock::now();
+  while (done < steps) {
+    const uint64_t k = std::min<uint64_t>(10000, steps - done);
+    sys.step(k);
+    done += k;
+    EventCounts e = sys.read_events();
+    formations += e.formations;
+    ruptures += e.ruptures;
+    const int64_t now = sys.download().total_liquid();
+    double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    fmt::print("soak: {} / {} steps, {} formations, {} ruptures, liquid {} ({}), {:.0f} steps/s\n", done, steps,
+               formations, ruptures, now, now == total ? "exact" : "CHANGED", double(done) / el);
+    if (now != total) return 1;
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -84,18 +110,21 @@ int main(int argc, char** argv) {
   uint64_t steps = 200, settle = 400;
   std::string device, json_path;
   bool dry = false;
+  uint64_t soak_steps = 0;
   app.add_option("--n", sizes, "particle counts")->delimiter(',');
   app.add_option("--steps", steps, "timed steps per size");
   app.add_option("--settle", settle, "untimed steps before timing (the bed forms contacts)");
   app.add_option("--device", device, "device: index, name substring, cpu or gpu");
   app.add_flag("--dry", dry, "no liquid (default: wet, PP2 calibrated bridges)");
   app.add_option("--json", json_path, "write the results as JSON");
+  app.add_option("--soak", soak_steps, "instead: liquid-conservation soak of this many steps (physics.md §7.8)");
   CLI11_PARSE(app, argc, argv);
 
   try {
     vk::ContextOptions co;
     co.device = device;
     vk::Context ctx(co);
+    if (soak_steps > 0) return soak(ctx, soak_steps, 2000);
     nlohmann::json out;
     out["device"] = ctx.info().describe();
     out["wet"] = !dry;

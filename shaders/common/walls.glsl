@@ -59,7 +59,7 @@ void wall_contact(uint w, uint i, uint s, Params P, inout vec3 F, inout vec3 Tq)
   vec3 st = wst.v[k].xyz, sr = wsr.v[k].xyz;
   int64_t vb = wliq.v[k];
   uint fl = wfl.v[k] & FLAG_WIC;
-  if (S > L.range) {
+  if (S >= L.range) {
     st = vec3(0.0);
     sr = vec3(0.0);
   }

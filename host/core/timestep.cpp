@@ -1,0 +1,59 @@
+#include "wetdem/timestep.h"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace wetdem {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+
+double f0_of(const LiquidParams& l, double R_h) { return 2.0 * kPi * R_h * l.gamma * std::cos(l.theta); }
+}  // namespace
+
+double capillary_dt_limit(double m_star, double R_h, double f0, double volume_m3) {
+  const double k_c = 1.05 * f0 * std::sqrt(R_h / volume_m3);  // §6
+  return 0.1 * kPi * std::sqrt(m_star / k_c);
+}
+
+std::optional<std::string> capillary_timestep_warning(const SimParams& prm, const SystemState& s) {
+  if (!prm.liq_pp.enabled || s.p.size() == 0) return std::nullopt;
+  const LiquidParams& l = prm.liq_pp;
+  double worst = 1e300;
+  std::string where;
+  // Bridges that exist now.
+  for (const PairRecord& r : s.pairs) {
+    if (r.bridge <= 0) continue;
+    const double ri = s.p.radius[r.id_i], rj = s.p.radius[r.id_j];
+    const double mi = s.p.mass[r.id_i], mj = s.p.mass[r.id_j];
+    const double R_h = 2.0 * ri * rj / (ri + rj);
+    const double lim = capillary_dt_limit(mi * mj / (mi + mj), R_h, f0_of(l, R_h), double(r.bridge) * prm.liquid_unit_m3);
+    if (lim < worst) {
+      worst = lim;
+      where = fmt::format("bridge {}-{} of {:.3g} m^3", r.id_i, r.id_j, double(r.bridge) * prm.liquid_unit_m3);
+    }
+  }
+  // The stiffest bridge a formation can make between the two smallest particles.
+  size_t a = 0;
+  for (size_t k = 1; k < s.p.size(); ++k)
+    if (s.p.radius[k] < s.p.radius[a]) a = k;
+  int64_t film_min = *std::min_element(s.p.film.begin(), s.p.film.end());
+  int64_t v_small = l.v_min > 0 ? l.v_min + 1 : std::max<int64_t>(2 * film_min, 1);
+  v_small = std::min(v_small, std::max<int64_t>(l.v_max, 1));
+  const double r = s.p.radius[a], m = s.p.mass[a];
+  const double lim = capillary_dt_limit(0.5 * m, r, f0_of(l, r), double(v_small) * prm.liquid_unit_m3);
+  if (lim < worst) {
+    worst = lim;
+    where = fmt::format("smallest possible bridge ({:.3g} m^3) between the smallest particles",
+                        double(v_small) * prm.liquid_unit_m3);
+  }
+  if (prm.dt <= worst) return std::nullopt;
+  return fmt::format(
+      "time step {:.3g} s exceeds the capillary limit 0.1 pi sqrt(m*/k_c) = {:.3g} s of the stiffest bridge ({}); "
+      "physics.md §6",
+      prm.dt, worst, where);
+}
+
+}  // namespace wetdem

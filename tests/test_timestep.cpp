@@ -1,0 +1,50 @@
+// physics.md §6: Rayleigh time and the capillary time-step guard.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "wetdem/timestep.h"
+
+namespace wetdem {
+
+TEST(TimeStep, CapillaryLimitByHand) {
+  // m* = 1e-6 kg, R_h = 1e-3 m, f0 = 1e-3 N, V = 1e-12 m^3: k_c = 1.05e-3 * sqrt(1e9) = 33.2 N/m.
+  const double k_c = 1.05e-3 * std::sqrt(1e-3 / 1e-12);
+  EXPECT_NEAR(capillary_dt_limit(1e-6, 1e-3, 1e-3, 1e-12), 0.1 * 3.14159265358979 * std::sqrt(1e-6 / k_c), 1e-15);
+}
+
+TEST(TimeStep, WarnsOnlyWhenTheStepIsTooLargeForTheStiffestBridge) {
+  SimParams prm;
+  prm.liquid_unit_m3 = 1e-21;
+  prm.liq_pp.enabled = true;
+  prm.liq_pp.gamma = 0.072;
+  prm.liq_pp.theta = 0.3;
+  prm.liq_pp.v_min = 0;
+  prm.liq_pp.v_max = 1000000000;  // 1e-12 m^3
+  SystemState s;
+  s.p.resize(2);
+  set_sphere(s.p, 0, {0, 0, 0}, 1e-3, 2500);
+  set_sphere(s.p, 1, {0, 2e-3, 0}, 1e-3, 2500);
+  s.p.film = {500000000, 500000000};
+  const double m = s.p.mass[0];
+  const double f0 = 2 * 3.14159265358979 * 1e-3 * 0.072 * std::cos(0.3);
+  const double lim = capillary_dt_limit(0.5 * m, 1e-3, f0, 1e-12);
+  prm.dt = 0.9 * lim;
+  EXPECT_FALSE(capillary_timestep_warning(prm, s).has_value());
+  prm.dt = 1.1 * lim;
+  auto w = capillary_timestep_warning(prm, s);
+  ASSERT_TRUE(w.has_value());
+  EXPECT_NE(w->find("capillary"), std::string::npos);
+  // An existing, smaller bridge is stiffer: it lowers the limit.
+  prm.dt = 0.9 * lim;
+  PairRecord r;
+  r.id_i = 0;
+  r.id_j = 1;
+  r.bridge = 1000;  // 1e-18 m^3
+  s.pairs.push_back(r);
+  EXPECT_TRUE(capillary_timestep_warning(prm, s).has_value());
+  prm.liq_pp.enabled = false;
+  EXPECT_FALSE(capillary_timestep_warning(prm, s).has_value());
+}
+
+}  // namespace wetdem
