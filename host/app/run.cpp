@@ -439,9 +439,13 @@ RunResult run_case(const RunOptions& opt) {
                       s["aor_deg_mean"].get<double>(), s["aor_sem_block"].get<double>(),
                       s["aor_deg_std"].get<double>(), s["aor_samples"].get<size_t>(), t_from,
                       c.run.settle + c.run.duration));
-    log(fmt::format("f_wet = {}, bridges {}, contacts {}; {:.3g} particle-steps/s; summary: {}",
-                    s["f_wet_mean"].dump(), s["bridges_mean"].dump(), s["contacts_mean"].dump(),
-                    t.particle_steps_per_s, (dir / "summary.json").string()));
+    auto num = [](const nlohmann::json& v) {
+      return v.is_number() ? fmt::format("{:.4g}", v.get<double>()) : "-";
+    };
+    log(fmt::format(
+        "f_wet = {}, bridges {}, contacts {} (window means); {:.3g} particle-steps/s; summary: {}",
+        num(s["f_wet_mean"]), num(s["bridges_mean"]), num(s["contacts_mean"]), t.particle_steps_per_s,
+        (dir / "summary.json").string()));
     result.completed = true;
     result.final_state = std::move(fin);
     return result;
