@@ -22,6 +22,7 @@
 #include "vk/context.h"
 #include "wetdem/observables.h"
 #include "wetdem/system.h"
+#include "wetdem/timestep.h"
 
 namespace fs = std::filesystem;
 
@@ -269,6 +270,12 @@ RunResult run_case(const RunOptions& opt) {
       sys->upload(prep.state);
     }
     log("device: " + sys->device_name());
+    bool dt_warned = false;
+    if (!ckpt)
+      if (auto w = capillary_timestep_warning(prm, prep.state)) {
+        log("WARNING: " + *w);
+        dt_warned = true;
+      }
     const uint64_t first_step = step;
 
     // timeseries.csv holds exactly the samples so far (rewritten on resume, then appended).
@@ -310,7 +317,14 @@ RunResult run_case(const RunOptions& opt) {
     for (const Sample& s : samples)
       if (!s.flagged && s.time >= t_from) aor_sum += std::fabs(s.aor_signed_deg), ++aor_n;
     auto take_sample = [&](uint64_t s) {
-      const Observables o = sys->observables();
+      const SystemState st = sys->download();
+      const Observables o = compute_observables(st, sys->params());
+      // physics.md §6: warn (once) when dt is too large for the stiffest bridge present.
+      if (!dt_warned)
+        if (auto w = capillary_timestep_warning(sys->params(), st)) {
+          log("WARNING: " + *w);
+          dt_warned = true;
+        }
       const SystemCounters k = sys->counters();
       if (!std::isfinite(o.kinetic_energy))
         throw std::runtime_error(
