@@ -10,6 +10,7 @@ PKGS=(
   libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev
   libgtest-dev libgmock-dev
   libtomlplusplus-dev libcli11-dev libfmt-dev
+  clang-format
 )
 
 missing=()

@@ -1,11 +1,14 @@
 #!/usr/bin/env bash
-# The README's test command: installs what is missing (Debian 12), builds, runs every test on lavapipe with
+# The README's test command: installs what is missing (Debian 12), checks formatting, builds, runs every test on lavapipe with
 # the Khronos validation layer on, then builds the host code with ASan/UBSan and runs the tests again there.
 # WETDEM_SKIP_SANITIZE=1 skips the sanitizer pass (quicker local runs).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup-debian.sh
 jobs=$(nproc)
+
+# Formatting is part of the build contract (.clang-format at the root).
+find host include tests \( -name '*.cpp' -o -name '*.h' \) -print0 | xargs -0 clang-format --dry-run --Werror
 
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
 cmake --build build -j"$jobs"

@@ -1,5 +1,5 @@
-// Dynamic angle of repose: synthetic static beds with known free-surface angles, both senses of rotation, and the
-// time statistics (blocked SEM against AR(1) series whose SEM is known in closed form).
+// Dynamic angle of repose: synthetic static beds with known free-surface angles, both senses of rotation, and
+// the time statistics (blocked SEM against AR(1) series whose SEM is known in closed form).
 #ifdef WETDEM_HAVE_APP
 #include <gtest/gtest.h>
 
@@ -16,10 +16,10 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kR = 0.07;
 
-// A bed filling `fraction` of the cross-section below a flat free surface inclined at beta (degrees; > 0 raises
-// the bed on the +x side, as a drum turning with ω > 0 does). The bed is the circular segment {p : p·u ≥ c} with
-// u = (sin β, -cos β) the unit normal of the surface pointing into the bed, sampled on a fine square lattice
-// (spacing R/300), several z layers. Unequal masses in z do not move the COM in the xy plane.
+// A bed filling `fraction` of the cross-section below a flat free surface inclined at beta (degrees; > 0
+// raises the bed on the +x side, as a drum turning with ω > 0 does). The bed is the circular segment {p : p·u
+// ≥ c} with u = (sin β, -cos β) the unit normal of the surface pointing into the bed, sampled on a fine
+// square lattice (spacing R/300), several z layers. Unequal masses in z do not move the COM in the xy plane.
 struct Bed {
   std::vector<glm::dvec3> x;
   std::vector<double> m;
@@ -83,8 +83,8 @@ TEST(Aor, StaticBedsWithKnownSurfaceAngleBothSenses) {
   for (double beta : {0.0, 20.0, 40.0, -20.0, -40.0}) {
     const Bed b = make_bed(beta, 0.4);
     const AorSample s = dynamic_aor(b.x, b.m, kR);
-    // The COM of a circular segment lies on the perpendicular from the centre to its chord: θ = β exactly; the
-    // lattice (~2×10^5 points) resolves it to ~0.01°.
+    // The COM of a circular segment lies on the perpendicular from the centre to its chord: θ = β exactly;
+    // the lattice (~2×10^5 points) resolves it to ~0.01°.
     EXPECT_NEAR(s.signed_deg, beta, 0.05) << "beta " << beta;
     EXPECT_NEAR(s.abs_deg, std::fabs(beta), 0.05) << "beta " << beta;
     // |COM| of a segment with half-angle α: 4 R sin³α / (3 (2α - sin 2α)).
@@ -118,7 +118,8 @@ TEST(Aor, MassWeightedAndFlags) {
   EXPECT_TRUE(dynamic_aor({{0.0, -0.0139, 0.0}}, {}, kR).flagged);
   EXPECT_FALSE(dynamic_aor({{0.0, -0.0141, 0.0}}, {}, kR).flagged);
   // A bed lifted past the horizontal: the angle keeps growing beyond 90° (atan2, not atan).
-  EXPECT_NEAR(dynamic_aor({{0.05, 0.01, 0.0}}, {}, kR).signed_deg, 90.0 + std::atan2(0.01, 0.05) * 180 / kPi, 1e-9);
+  EXPECT_NEAR(dynamic_aor({{0.05, 0.01, 0.0}}, {}, kR).signed_deg, 90.0 + std::atan2(0.01, 0.05) * 180 / kPi,
+              1e-9);
 }
 
 TEST(Aor, BlockedSemMatchesCorrelatedSeries) {

@@ -35,11 +35,11 @@ TEST(ContactLaw, HertzNormalForceByHand) {
   EXPECT_DOUBLE_EQ(damping_factor(1.0), 0.0);
 }
 
-// Whole step, both backends: two resting spheres overlapping by 10 um along x (i = id 0 on the +x side), with a
-// stored tangential spring xi = 1e-7 m along y and mu_s = 0.5 (sticking). By hand (G* = 2 MPa):
-// k_t = 8 G* sqrt(R* delta) = 1131.371 N/m, F_t = -(2/3) k_t xi = -7.542472e-5 N along y;
-// F on i = (4.714045e-3, -7.542472e-5, 0); c - x_i = -(r - delta/2) x = -9.95e-4 x, so
-// T_i = (c - x_i) x F = (0, 0, 7.504760e-8) N m, and T_j = -(c - x_j) x F = the same (c - x_j = +9.95e-4 x).
+// Whole step, both backends: two resting spheres overlapping by 10 um along x (i = id 0 on the +x side), with
+// a stored tangential spring xi = 1e-7 m along y and mu_s = 0.5 (sticking). By hand (G* = 2 MPa): k_t = 8 G*
+// sqrt(R* delta) = 1131.371 N/m, F_t = -(2/3) k_t xi = -7.542472e-5 N along y; F on i = (4.714045e-3,
+// -7.542472e-5, 0); c - x_i = -(r - delta/2) x = -9.95e-4 x, so T_i = (c - x_i) x F = (0, 0, 7.504760e-8) N
+// m, and T_j = -(c - x_j) x F = the same (c - x_j = +9.95e-4 x).
 class Hertz : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(Hertz, ForceAndTorqueByHand) {
@@ -218,8 +218,8 @@ TEST(Sliding, RigidRotationKeepsSpringLength) {
     // e(a) = e0 rotated by a about the axis (Rodrigues; e0 is perpendicular to the axis).
     const glm::dvec3 e = std::cos(a) * e0 + std::sin(a) * glm::cross(axis, e0);
     const glm::dvec3 xi = 0.5 * (2.0 * r - delta) * e, xj = -xi;  // centre of rotation at the origin
-    const ContactKinematics kin = ref::pair_kinematics(xi - xj, r, r, m, m, glm::cross(Omega, xi),
-                                                       glm::cross(Omega, xj), Omega, Omega);
+    const ContactKinematics kin =
+        ref::pair_kinematics(xi - xj, r, r, m, m, glm::cross(Omega, xi), glm::cross(Omega, xj), Omega, Omega);
     ASSERT_LT(glm::length(kin.v_rel), 1e-15);
     ref::evaluate_contact(cp, LiquidParams{}, 1e-21, 0.0, dt, kin, h);
     ASSERT_NEAR(glm::length(h.spring_t), len0, 1e-12 * len0) << "step " << k;
@@ -240,7 +240,8 @@ TEST(Rolling, TorqueNeverExceedsLimit) {
   glm::dvec3 n(0.0, 1.0, 0.0), xi(0.0);
   int capped = 0;
   for (int k = 0; k < 5000; ++k) {
-    if (k % 100 == 0) n = glm::normalize(glm::dvec3(g(rng), g(rng), g(rng)));  // the contact turns now and then
+    if (k % 100 == 0)
+      n = glm::normalize(glm::dvec3(g(rng), g(rng), g(rng)));  // the contact turns now and then
     const glm::dvec3 w(g(rng), g(rng), g(rng));
     const glm::dvec3 t = ref::rolling_torque(cp, k_t, R_star, f_n, n, w, dt, xi);
     ASSERT_LE(glm::length(t), limit * (1.0 + 1e-12)) << "step " << k;

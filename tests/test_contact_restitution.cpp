@@ -17,8 +17,8 @@ struct Measured {
   bool separated = false;
 };
 
-// One sphere (r = 1 mm, rho = 2500) hits a second sphere or a wall head-on with relative speed v0, no gravity,
-// no friction. The time step is t_c / div with t_c the undamped Hertz contact time at v0. Returns
+// One sphere (r = 1 mm, rho = 2500) hits a second sphere or a wall head-on with relative speed v0, no
+// gravity, no friction. The time step is t_c / div with t_c the undamped Hertz contact time at v0. Returns
 // |v_n after| / |v_n before|, measured once the contact has ended (delta <= 0 after having been > 0).
 Measured collide(const std::string& backend, Target target, double e, int div) {
   const double r = 1e-3, rho = 2500.0, v0 = 0.2, E_star = 5e6;
@@ -28,10 +28,11 @@ Measured collide(const std::string& backend, Target target, double e, int div) {
   const double m_star = pp ? 0.5 * m : m, R_star = pp ? 0.5 * r : r;
   const double tc = hertz_contact_time(m_star, R_star, E_star, v0);
   prm.dt = tc / div;
-  // The spheres start exactly touching (delta = 0), so the contact begins on a step boundary. Why: the damping
-  // force of §1 sees the half-step velocity (§0), an error of first order in dt that is largest for e = 0.1;
-  // measured with the reference, e = 0.1 gives 0.0962 at t_c/50 and 0.0983 at t_c/100 when the touch falls on
-  // a step boundary, but down to 0.0943 and 0.0975 when it falls late inside a step (outside the §7.3 bounds).
+  // The spheres start exactly touching (delta = 0), so the contact begins on a step boundary. Why: the
+  // damping force of §1 sees the half-step velocity (§0), an error of first order in dt that is largest for e
+  // = 0.1; measured with the reference, e = 0.1 gives 0.0962 at t_c/50 and 0.0983 at t_c/100 when the touch
+  // falls on a step boundary, but down to 0.0943 and 0.0975 when it falls late inside a step (outside the
+  // §7.3 bounds).
   const double gap = 0.0;
 
   SystemState s = empty_state(pp ? 2 : 1);
@@ -87,9 +88,15 @@ void check_target(const std::string& backend, Target target, const char* what) {
   }
 }
 
-TEST_P(Restitution, ParticleParticle) { check_target(GetParam(), Target::kParticle, "particle-particle"); }
-TEST_P(Restitution, ParticleCylinder) { check_target(GetParam(), Target::kCylinder, "particle-cylinder"); }
-TEST_P(Restitution, ParticlePlate) { check_target(GetParam(), Target::kPlate, "particle-plate"); }
+TEST_P(Restitution, ParticleParticle) {
+  check_target(GetParam(), Target::kParticle, "particle-particle");
+}
+TEST_P(Restitution, ParticleCylinder) {
+  check_target(GetParam(), Target::kCylinder, "particle-cylinder");
+}
+TEST_P(Restitution, ParticlePlate) {
+  check_target(GetParam(), Target::kPlate, "particle-plate");
+}
 
 INSTANTIATE_TEST_SUITE_P(Backends, Restitution, ::testing::ValuesIn(backends()), BackendName());
 

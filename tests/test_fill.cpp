@@ -1,5 +1,5 @@
-// Drum fill: no overlaps, everything inside the drum, deterministic, fast; the count helper reproduces the paper's
-// PP2 l = 3 particle number at the default fill.
+// Drum fill: no overlaps, everything inside the drum, deterministic, fast; the count helper reproduces the
+// paper's PP2 l = 3 particle number at the default fill.
 #ifdef WETDEM_HAVE_APP
 #include <gtest/gtest.h>
 
@@ -42,7 +42,8 @@ TEST(Fill, Pp2AtL5NoOverlapInsideDeterministic) {
   EXPECT_LE(max_pair_overlap(r.x, r.radius, f.drum_length, false), 0.0);
   EXPECT_LE(max_wall_overlap(r.x, r.radius, f.drum_radius, f.drum_length, false), 0.0);
   // Solid volume reaches the target, overshooting by at most one particle.
-  const double target = f.bed_fraction * kPi * f.drum_radius * f.drum_radius * f.drum_length * f.solid_fraction;
+  const double target =
+      f.bed_fraction * kPi * f.drum_radius * f.drum_radius * f.drum_length * f.solid_fraction;
   EXPECT_GE(r.solid_volume, target);
   EXPECT_LT(r.solid_volume - target, 4.0 / 3.0 * kPi * std::pow(psd.d_max() / 2, 3) * 1.000001);
   // Lower part: every centre is below the insertion region's top, which is below the drum's top.
@@ -79,8 +80,8 @@ TEST(Fill, GridCheckAgreesWithBruteForce) {
       r.x[1] = r.x[0] + glm::dvec3(0.0, 0.0, r.radius[0] + r.radius[1] - 1e-6);
       r.x[1].z -= f.drum_length * std::round(r.x[1].z / f.drum_length);
     }
-    EXPECT_NEAR(max_pair_overlap(r.x, r.radius, f.drum_length, periodic), brute_overlap(r, f.drum_length, periodic),
-                1e-15);
+    EXPECT_NEAR(max_pair_overlap(r.x, r.radius, f.drum_length, periodic),
+                brute_overlap(r, f.drum_length, periodic), 1e-15);
     EXPECT_GE(max_pair_overlap(r.x, r.radius, f.drum_length, periodic), 1e-6 * (1 - 1e-6));
   }
 }
@@ -121,8 +122,8 @@ TEST(Fill, ErrorsAreReported) {
 }
 
 TEST(Fill, CountHelperMatchesPaperSizes) {
-  // drum.md: 101,200 particles for PP2 at l = 3 (D = 0.14 m, L = 0.18 m). With truncated tails that is a bed of
-  // 36.5 % of the drum at solid fraction 0.6.
+  // drum.md: 101,200 particles for PP2 at l = 3 (D = 0.14 m, L = 0.18 m). With truncated tails that is a bed
+  // of 36.5 % of the drum at solid fraction 0.6.
   const Psd pp2l3(psd_pp2(3.0));
   const double fill = fill_for_particles(pp2l3, 0.07, 0.18, 101200);
   std::printf("PP2 l=3 (truncate): 101,200 particles = bed fraction %.4f at solid fraction 0.6\n", fill);

@@ -16,7 +16,7 @@ namespace {
 
 // Pairs whose surface gap is below S_c,max + skin, by brute force in double precision.
 std::vector<std::pair<uint32_t, uint32_t>> brute_force_pairs(const SystemState& s, const SimParams& prm,
-                                                            double slack, size_t& borderline) {
+                                                             double slack, size_t& borderline) {
   const double cut = prm.bridge_range_pp() + prm.skin;
   std::vector<std::pair<uint32_t, uint32_t>> out;
   borderline = 0;

@@ -17,8 +17,8 @@ class Invariants : public ::testing::TestWithParam<std::string> {};
 
 // Spheres of radius r on a cubic lattice of spacing `spacing` inside a drum (cylinder radius R, |z| < L/2),
 // keeping `margin` from every wall; at most n of them.
-std::vector<glm::dvec3> lattice_in_drum(const DrumParams& d, double r, double spacing, double margin, size_t n,
-                                        double y_max = 1e9) {
+std::vector<glm::dvec3> lattice_in_drum(const DrumParams& d, double r, double spacing, double margin,
+                                        size_t n, double y_max = 1e9) {
   std::vector<glm::dvec3> out;
   const int m = int(d.radius / spacing) + 1;
   const int mz = int(0.5 * d.length / spacing) + 1;
@@ -70,7 +70,8 @@ TEST_P(Invariants, ElasticGasKeepsEnergy) {
   std::mt19937 rng(3);
   std::normal_distribution<double> g(0.0, 0.5);
   for (size_t k = 0; k < pos.size(); ++k)
-    put_sphere(s, k, pos[k], r, 2500.0, glm::dvec3(g(rng), g(rng), g(rng)), glm::dvec3(g(rng), g(rng), g(rng)) * 100.0);
+    put_sphere(s, k, pos[k], r, 2500.0, glm::dvec3(g(rng), g(rng), g(rng)),
+               glm::dvec3(g(rng), g(rng), g(rng)) * 100.0);
   auto b = make_backend(GetParam(), prm, s.p.size());
   b->set_state(s);
   const double e0 = total_energy(s, prm);
@@ -88,9 +89,9 @@ TEST_P(Invariants, ElasticGasKeepsEnergy) {
   EXPECT_GT(contacts_seen, 0u);
 }
 
-// An isolated system (no walls within reach, no gravity) of 60 wet, frictional, damped spheres thrown together:
-// linear and angular momentum (about the origin, spins included) are conserved to round-off, since every pair
-// force is equal and opposite and T_i + T_j + x_i x F - x_j x F = 0 (§0).
+// An isolated system (no walls within reach, no gravity) of 60 wet, frictional, damped spheres thrown
+// together: linear and angular momentum (about the origin, spins included) are conserved to round-off, since
+// every pair force is equal and opposite and T_i + T_j + x_i x F - x_j x F = 0 (§0).
 TEST_P(Invariants, IsolatedSystemConservesMomentum) {
   SimParams prm = dry_params(5e6, 2e6, 0.3, 2e-6);
   prm.pp.mu_s = 0.5;
@@ -112,7 +113,8 @@ TEST_P(Invariants, IsolatedSystemConservesMomentum) {
   for (size_t k = 0; k < pos.size(); ++k) {
     const glm::dvec3 x = pos[k] + offset;
     put_sphere(s, k, x, r * (0.8 + 0.004 * double(k % 50)), 2500.0,
-               -30.0 * (x - offset) + glm::dvec3(g(rng), g(rng), g(rng)), glm::dvec3(g(rng), g(rng), g(rng)) * 100.0);
+               -30.0 * (x - offset) + glm::dvec3(g(rng), g(rng), g(rng)),
+               glm::dvec3(g(rng), g(rng), g(rng)) * 100.0);
     s.p.film[k] = 50'000'000;
   }
   auto momenta = [](const SystemState& st, glm::dvec3& P, glm::dvec3& L, double& scale_p, double& scale_l) {
@@ -122,7 +124,8 @@ TEST_P(Invariants, IsolatedSystemConservesMomentum) {
       P += st.p.mass[k] * st.p.v[k];
       L += st.p.mass[k] * glm::cross(st.p.x[k], st.p.v[k]) + st.p.inertia[k] * st.p.w[k];
       scale_p += st.p.mass[k] * glm::length(st.p.v[k]);
-      scale_l += st.p.mass[k] * glm::length(st.p.x[k]) * glm::length(st.p.v[k]) + st.p.inertia[k] * glm::length(st.p.w[k]);
+      scale_l += st.p.mass[k] * glm::length(st.p.x[k]) * glm::length(st.p.v[k]) +
+                 st.p.inertia[k] * glm::length(st.p.w[k]);
     }
   };
   glm::dvec3 P0, L0;
@@ -137,8 +140,9 @@ TEST_P(Invariants, IsolatedSystemConservesMomentum) {
   double sp, sl;
   momenta(st, P, L, sp, sl);
   const EventCounts ev = b->read_events();
-  std::cout << "isolated system: " << st.pairs.size() << " pair records, " << ev.formations << " formations, |dP|/scale "
-            << glm::length(P - P0) / sp0 << ", |dL|/scale " << glm::length(L - L0) / sl0 << "\n";
+  std::cout << "isolated system: " << st.pairs.size() << " pair records, " << ev.formations
+            << " formations, |dP|/scale " << glm::length(P - P0) / sp0 << ", |dL|/scale "
+            << glm::length(L - L0) / sl0 << "\n";
   EXPECT_GT(ev.formations, 20u);  // the spheres did collide
   // Round-off grows with the number of force evaluations summed; allow 1e3 ulps of the momentum scale.
   const double eps = 1e3 * unit_roundoff(GetParam());
@@ -150,8 +154,8 @@ TEST_P(Invariants, IsolatedSystemConservesMomentum) {
 // 0.05 s the largest speed stays below 1e-4 of what free fall would reach (4.9e-5 m/s).
 // The bed is settled once, by the CPU reference, and the same settled state (positions, springs, last forces)
 // goes to every backend: settling is chaotic (a sphere perched on top may take a long time to roll off), so
-// settling on each backend would test the path, not the rest. Settling: 0.1 s free, then every millisecond all
-// velocities are halved until the largest speed has stayed below 1e-7 m/s for 10 ms in a row.
+// settling on each backend would test the path, not the rest. Settling: 0.1 s free, then every millisecond
+// all velocities are halved until the largest speed has stayed below 1e-7 m/s for 10 ms in a row.
 SystemState settled_bed(const SimParams& prm) {
   const double r = 1e-3;
   const auto pos = lattice_in_drum(prm.drum, r, 2.1e-3, 5e-5, 30);
@@ -206,17 +210,17 @@ TEST_P(Invariants, PackedBedStaysAtRest) {
     d.z -= prm.drum.length * std::round(d.z / prm.drum.length);
     shift = std::max(shift, glm::length(d));
   }
-  std::cout << "packed bed: " << st.p.size() << " spheres (" << bed.pairs.size() << " pair records, " << touching_walls
-            << " loaded wall contacts), max speed at rest " << vmax << " m/s, largest shift " << shift
-            << " m, top at y = " << ymax << "\n";
-  EXPECT_GT(bed.pairs.size(), 30u);           // a packing, not a loose heap
-  EXPECT_LT(ymax, 0.0021);                    // settled below the top row of the starting lattice (y = 2.1 mm)
-  EXPECT_LT(vmax, 1e-4 * 9.81 * 0.05);        // free fall would reach 0.49 m/s in 0.05 s
+  std::cout << "packed bed: " << st.p.size() << " spheres (" << bed.pairs.size() << " pair records, "
+            << touching_walls << " loaded wall contacts), max speed at rest " << vmax
+            << " m/s, largest shift " << shift << " m, top at y = " << ymax << "\n";
+  EXPECT_GT(bed.pairs.size(), 30u);     // a packing, not a loose heap
+  EXPECT_LT(ymax, 0.0021);              // settled below the top row of the starting lattice (y = 2.1 mm)
+  EXPECT_LT(vmax, 1e-4 * 9.81 * 0.05);  // free fall would reach 0.49 m/s in 0.05 s
   EXPECT_LT(shift, 1e-4 * 0.5 * 9.81 * 0.05 * 0.05);  // and 12 mm in that time
 }
 
-// §5 / §7.8: a wet packing tumbling in the turning drum (periodic slice, particle-particle and cylinder bridges,
-// d_c = 0.9) with liquid events every step keeps Σ films + Σ bridges exactly, as integers.
+// §5 / §7.8: a wet packing tumbling in the turning drum (periodic slice, particle-particle and cylinder
+// bridges, d_c = 0.9) with liquid events every step keeps Σ films + Σ bridges exactly, as integers.
 TEST_P(Invariants, TumblingWetPackingConservesLiquidExactly) {
   SimParams prm = dry_params(5e6, 2e6, 0.3, 1e-5);
   prm.gravity = glm::dvec3(0.0, -9.81, 0.0);
@@ -264,8 +268,8 @@ TEST_P(Invariants, TumblingWetPackingConservesLiquidExactly) {
   RecordProperty("formations", std::to_string(sum.formations));
   RecordProperty("ruptures", std::to_string(sum.ruptures));
   std::cout << "tumbling wet packing, 12000 steps: " << sum.formations << " formations, " << sum.ruptures
-            << " ruptures, " << bridges << " bridges and " << wall_bridges << " wall bridges at the end, liquid "
-            << total0 << " units conserved exactly\n";
+            << " ruptures, " << bridges << " bridges and " << wall_bridges
+            << " wall bridges at the end, liquid " << total0 << " units conserved exactly\n";
   EXPECT_GT(sum.formations, 10u);
   EXPECT_GT(sum.ruptures, 10u);
 }

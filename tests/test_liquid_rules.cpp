@@ -135,9 +135,9 @@ TEST_P(Liquid, BridgeLastsUntilRuptureDistance) {
   EXPECT_TRUE(ruptured);
 }
 
-// §7.7 chain A-B-C (ids 0, 1, 2) along x, at rest, no gravity: A-B at a gap of 100 um, beyond S_c = 86.5 um of
-// its 0.4 V_max but inside the interaction range S_c,max = 117 um (a state a run can reach), ruptures in the first
-// step; B-C (gap 10 um) survives and takes B's half.
+// §7.7 chain A-B-C (ids 0, 1, 2) along x, at rest, no gravity: A-B at a gap of 100 um, beyond S_c = 86.5 um
+// of its 0.4 V_max but inside the interaction range S_c,max = 117 um (a state a run can reach), ruptures in
+// the first step; B-C (gap 10 um) survives and takes B's half.
 struct ChainResult {
   SystemState st;
   EventCounts ev;
@@ -178,8 +178,8 @@ TEST_P(Liquid, ChainMigrationSection7Item7) {
     EXPECT_EQ(r.st.p.film[0], 2 * V / 10);
     EXPECT_EQ(r.st.total_liquid(), r.total_before);
   }
-  {  // d_c = 0.8: A has no other bridge (all to its film); B gives 0.8 of its 0.2 V_max to BC, keeps the rest:
-     // BC = 0.56 V_max, B's film 0.04 V_max, to the integer rule of "d_c h" (distribution_give: d_c in
+  {  // d_c = 0.8: A has no other bridge (all to its film); B gives 0.8 of its 0.2 V_max to BC, keeps the
+     // rest: BC = 0.56 V_max, B's film 0.04 V_max, to the integer rule of "d_c h" (distribution_give: d_c in
      // steps of 2^-16, so within 2^-17 h + 1 unit of 0.8 h).
     const ChainResult r = run_chain(GetParam(), 0.8, 4 * V / 10, 4 * V / 10);
     const int64_t h = 2 * V / 10, give = ref::distribution_give(h, 0.8);
@@ -197,8 +197,10 @@ TEST_P(Liquid, ChainMigrationSection7Item7) {
 // bridges. B (id 1) sits at the bottom of the drum against the plate.
 //  (a) B also holds a plate bridge; A-B ruptures: B's half goes to B-C only (particle-particle ruptures share
 //      over particle-particle bridges), the plate bridge is untouched.
-//  (b) B's plate bridge ruptures (gap 100 um > S_c = 86.5 um); B holds A-B, B-C and a cylinder bridge, 0.4 V_max each:
-//      the whole V_b goes to B and is shared over all three (wall bridges counted too), the odd unit to B's film.
+//  (b) B's plate bridge ruptures (gap 100 um > S_c = 86.5 um); B holds A-B, B-C and a cylinder bridge, 0.4
+//  V_max each:
+//      the whole V_b goes to B and is shared over all three (wall bridges counted too), the odd unit to B's
+//      film.
 TEST_P(Liquid, ChainMigrationWithWallBridges) {
   const int64_t V = kVmax, b4 = 4 * V / 10;
   for (bool wall_rupture : {false, true}) {
@@ -213,9 +215,11 @@ TEST_P(Liquid, ChainMigrationWithWallBridges) {
     const double zb = -0.5 * prm.drum.length + kR + (wall_rupture ? 1e-4 : 0.0);
     const glm::dvec3 xb(0.0, -(prm.drum.radius - kR) + (wall_rupture ? 0.0 : 5e-4), zb);
     put_sphere(s, 1, xb, kR, kRho);
-    // A and C above B (towards the axis), away from the cylinder; in (b) at B's height over the plate (no touch).
+    // A and C above B (towards the axis), away from the cylinder; in (b) at B's height over the plate (no
+    // touch).
     const glm::dvec3 up = wall_rupture ? glm::dvec3(0.0, 1.0, 0.0) : glm::dvec3(0.0, 0.0, 1.0);
-    put_sphere(s, 0, beside(xb, glm::dvec3(-0.866, 0.0, 0.0) + 0.5 * up, wall_rupture ? 1e-5 : 1e-4), kR, kRho);
+    put_sphere(s, 0, beside(xb, glm::dvec3(-0.866, 0.0, 0.0) + 0.5 * up, wall_rupture ? 1e-5 : 1e-4), kR,
+               kRho);
     put_sphere(s, 2, beside(xb, glm::dvec3(0.866, 0.0, 0.0) + 0.5 * up, 1e-5), kR, kRho);
     s.pairs.push_back(bridge_record(0, 1, b4));
     s.pairs.push_back(bridge_record(1, 2, b4));
@@ -254,12 +258,14 @@ TEST_P(Liquid, ChainMigrationWithWallBridges) {
   }
 }
 
-// A sphere hanging under a fixed sphere by a bridge (V_b = 1e-12 m^3, f0 = 4.2511e-4 N), gravity -y. The upper
-// sphere is held: it has a huge mass (the bridge cannot move it) and after every step (every 10 steps while the
-// gap is below 0.8 S_c) its position is reset and its velocity zeroed (gravity alone moves it by 2e-9 m in 10
-// steps).
-//  - rho = 2500: m g = 1.03e-4 N < f0, the sphere stays attached (touching, bridge intact, at rest after 12 ms).
-//  - rho = 15000: m g = 6.16e-4 N > f0, it falls away and the bridge ruptures in the first step with S >= S_c,
+// A sphere hanging under a fixed sphere by a bridge (V_b = 1e-12 m^3, f0 = 4.2511e-4 N), gravity -y. The
+// upper sphere is held: it has a huge mass (the bridge cannot move it) and after every step (every 10 steps
+// while the gap is below 0.8 S_c) its position is reset and its velocity zeroed (gravity alone moves it by
+// 2e-9 m in 10 steps).
+//  - rho = 2500: m g = 1.03e-4 N < f0, the sphere stays attached (touching, bridge intact, at rest after 12
+//  ms).
+//  - rho = 15000: m g = 6.16e-4 N > f0, it falls away and the bridge ruptures in the first step with S >=
+//  S_c,
 //    so S_c <= S_rupture <= S_c + v dt.
 TEST_P(Liquid, HangingSphere) {
   for (double rho : {2500.0, 15000.0}) {
@@ -306,8 +312,8 @@ TEST_P(Liquid, HangingSphere) {
       st.p.w[0] = glm::dvec3(0.0);
       b->set_state(st);
     }
-    std::cout << "hanging sphere, rho = " << rho << ": " << (ruptured ? "ruptured" : "attached") << " after " << steps
-              << " steps, gap " << S << " m\n";
+    std::cout << "hanging sphere, rho = " << rho << ": " << (ruptured ? "ruptured" : "attached") << " after "
+              << steps << " steps, gap " << S << " m\n";
     if (falls) {
       EXPECT_TRUE(ruptured) << "the heavy sphere must fall away";
       EXPECT_LT(st.p.v[1].y, 0.0);

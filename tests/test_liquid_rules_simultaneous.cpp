@@ -1,6 +1,6 @@
-// §5 "Simultaneous events": the two-phase rule of wetdem against the MercuryDPM-style sequential rule, both in
-// the CPU reference. They agree whenever no two events share a particle; the two cases where they differ are
-// documented with the expected values of each rule. Also the integer split of ARCHITECTURE.md "Liquid".
+// §5 "Simultaneous events": the two-phase rule of wetdem against the MercuryDPM-style sequential rule, both
+// in the CPU reference. They agree whenever no two events share a particle; the two cases where they differ
+// are documented with the expected values of each rule. Also the integer split of ARCHITECTURE.md "Liquid".
 #include <gtest/gtest.h>
 
 #include <random>
@@ -50,9 +50,11 @@ Outcome one_step(const SimParams& prm, const SystemState& s, bool sequential) {
 
 TEST(SplitProportional, IntegerFormula) {
   // Equal shares: exact halves.
-  EXPECT_EQ(ref::split_proportional(300'000'000, 300'000'000, 300'000'000, 300'000'000, 300'000'000), 150'000'000);
+  EXPECT_EQ(ref::split_proportional(300'000'000, 300'000'000, 300'000'000, 300'000'000, 300'000'000),
+            150'000'000);
   // 3:1 of 2e8: q = 49152/65536 = 0.75 exactly.
-  EXPECT_EQ(ref::split_proportional(200'000'000, 300'000'000, 100'000'000, 300'000'000, 100'000'000), 150'000'000);
+  EXPECT_EQ(ref::split_proportional(200'000'000, 300'000'000, 100'000'000, 300'000'000, 100'000'000),
+            150'000'000);
   // By hand for 1:2 of 1000: q = floor(65536/3) = 21845, part = (1000 * 21845) >> 16 = 333.
   EXPECT_EQ(ref::split_proportional(1000, 1, 2, 1000, 1000), 333);
   // One side empty: everything from the other.
@@ -85,7 +87,8 @@ TEST(SimultaneousEvents, TwoPhaseEqualsSequentialOnIsolatedEvents) {
     prm.drum.length = 0.2;
     prm.drum.plate_lo.present = true;
     prm.drum.plate_lo.rotates = false;
-    prm.liq_pw[kWallPlateLo] = water(uni(0, 300'000'000), kVmax, std::array<double, 3>{0.9, 1.0, 0.5}[config % 3]);
+    prm.liq_pw[kWallPlateLo] =
+        water(uni(0, 300'000'000), kVmax, std::array<double, 3>{0.9, 1.0, 0.5}[config % 3]);
     const double z_plate = -0.5 * prm.drum.length;
     // Rupturing bridges sit between their S_c and the interaction range, as they would in a run.
     const double range_pp = prm.bridge_range_pp(), range_w = prm.bridge_range_pw(kWallPlateLo);
@@ -123,8 +126,8 @@ TEST(SimultaneousEvents, TwoPhaseEqualsSequentialOnIsolatedEvents) {
         const glm::dvec3 xp = base + glm::dvec3(0.0, 0.0, rupture ? 0.5 * (sc + range_w) : -1e-7);
         put_sphere(s, id[0], xp, kR, kRho);
         put_sphere(s, id[1], beside(xp, glm::dvec3(1, 0, 1), 1e-6), kR, kRho);  // above the plate
-        put_sphere(s, id[2], base + glm::dvec3(0.0, 0.005, 0.01), kR, kRho);      // alone
-        put_sphere(s, id[3], base + glm::dvec3(0.0, -0.005, 0.01), kR, kRho);     // alone
+        put_sphere(s, id[2], base + glm::dvec3(0.0, 0.005, 0.01), kR, kRho);    // alone
+        put_sphere(s, id[3], base + glm::dvec3(0.0, -0.005, 0.01), kR, kRho);   // alone
         s.pairs.push_back(bridge_record(id[0], id[1], uni(1, kVmax)));
         if (rupture) {
           s.p.wall[id[0] * kNumWalls + kWallPlateLo].bridge = vw;
@@ -194,7 +197,8 @@ TEST(SimultaneousEvents, BridgeFedFromBothEnds) {
   put_sphere(s, 2, beside(xb, glm::dvec3(1, 0, 0), 1e-6), kR, kRho);
   put_sphere(s, 0, beside(xb, glm::dvec3(-1, 0, 0), 1.1e-4), kR, kRho);  // S_c(6e8) = 99 um < 110 um < 117 um
   put_sphere(s, 3, beside(s.p.x[2], glm::dvec3(1, 0, 0), 1.1e-4), kR, kRho);
-  s.pairs = {bridge_record(0, 1, 600'000'000), bridge_record(1, 2, 700'000'000), bridge_record(2, 3, 600'000'000)};
+  s.pairs = {bridge_record(0, 1, 600'000'000), bridge_record(1, 2, 700'000'000),
+             bridge_record(2, 3, 600'000'000)};
   const Outcome two = one_step(prm, s, false);
   EXPECT_EQ(two.ev.ruptures, 2u);
   EXPECT_EQ(bridge_of(two.st, 1, 2), kVmax);

@@ -1,6 +1,6 @@
-// physics.md §7.8 on the GPU: an agitated wet packing of 1,000 particles in a turning drum, with more than one
-// formation and one rupture per step on average, keeps Σ films + Σ bridges exactly (integers), checked every
-// 100 steps. CI runs 2,000 steps; `wetdem_bench --soak 1000000` runs the full count.
+// physics.md §7.8 on the GPU: an agitated wet packing of 1,000 particles in a turning drum, with more than
+// one formation and one rupture per step on average, keeps Σ films + Σ bridges exactly (integers), checked
+// every 100 steps. CI runs 2,000 steps; `wetdem_bench --soak 1000000` runs the full count.
 #include <gtest/gtest.h>
 
 #include "app/scenarios.h"
@@ -28,9 +28,10 @@ TEST_F(LiquidSoak, TumblingWetPackingConservesLiquidExactly) {
     ruptures += e.ruptures;
   }
   Observables o = sys.observables();
-  std::printf("soak: 1000 particles, %d steps, %llu formations, %llu ruptures, %llu bridges now, liquid exact\n",
-              chunks * per_chunk, (unsigned long long)formations, (unsigned long long)ruptures,
-              (unsigned long long)o.bridges);
+  std::printf(
+      "soak: 1000 particles, %d steps, %llu formations, %llu ruptures, %llu bridges now, liquid exact\n",
+      chunks * per_chunk, (unsigned long long)formations, (unsigned long long)ruptures,
+      (unsigned long long)o.bridges);
   EXPECT_GT(formations, uint64_t(chunks * per_chunk)) << "fewer than one formation per step";
   EXPECT_GT(ruptures, uint64_t(chunks * per_chunk)) << "fewer than one rupture per step";
   EXPECT_EQ(sys.counters().lost_bridges, 0u);

@@ -3,12 +3,12 @@
 #ifdef WETDEM_HAVE_APP
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
-#include <unistd.h>
 
 #include "app/colormap.h"
 #include "app/gltf_writer.h"
@@ -53,7 +53,8 @@ ParticleFrame make_frame(size_t n, uint64_t step) {
 const float* accessor_floats(const tinygltf::Model& m, int acc) {
   const tinygltf::Accessor& a = m.accessors[size_t(acc)];
   const tinygltf::BufferView& v = m.bufferViews[size_t(a.bufferView)];
-  return reinterpret_cast<const float*>(m.buffers[size_t(v.buffer)].data.data() + v.byteOffset + a.byteOffset);
+  return reinterpret_cast<const float*>(m.buffers[size_t(v.buffer)].data.data() + v.byteOffset +
+                                        a.byteOffset);
 }
 
 std::string slurp(const fs::path& p) {
@@ -84,9 +85,10 @@ TEST(OutputFormats, GlbReadsBackWithTinyGltf) {
   const tinygltf::Primitive& p = m.meshes[0].primitives[0];
   EXPECT_EQ(p.mode, TINYGLTF_MODE_POINTS);
   EXPECT_EQ(p.indices, -1);
-  const std::pair<const char*, int> want[] = {{"POSITION", TINYGLTF_TYPE_VEC3},   {"COLOR_0", TINYGLTF_TYPE_VEC3},
-                                              {"_RADIUS", TINYGLTF_TYPE_SCALAR},  {"_VELOCITY", TINYGLTF_TYPE_VEC3},
-                                              {"_LIQUID_VOLUME", TINYGLTF_TYPE_SCALAR}, {"_ID", TINYGLTF_TYPE_SCALAR}};
+  const std::pair<const char*, int> want[] = {
+      {"POSITION", TINYGLTF_TYPE_VEC3},         {"COLOR_0", TINYGLTF_TYPE_VEC3},
+      {"_RADIUS", TINYGLTF_TYPE_SCALAR},        {"_VELOCITY", TINYGLTF_TYPE_VEC3},
+      {"_LIQUID_VOLUME", TINYGLTF_TYPE_SCALAR}, {"_ID", TINYGLTF_TYPE_SCALAR}};
   ASSERT_EQ(p.attributes.size(), 6u);
   for (const auto& [name, type] : want) {
     ASSERT_TRUE(p.attributes.count(name)) << name;
@@ -95,7 +97,8 @@ TEST(OutputFormats, GlbReadsBackWithTinyGltf) {
     EXPECT_EQ(a.type, type) << name;
     EXPECT_EQ(a.componentType, TINYGLTF_COMPONENT_TYPE_FLOAT) << name;
   }
-  // POSITION: min/max present and equal to the float32 data's bounds; values equal to the frame's (identity axes).
+  // POSITION: min/max present and equal to the float32 data's bounds; values equal to the frame's (identity
+  // axes).
   const tinygltf::Accessor& pa = m.accessors[size_t(p.attributes.at("POSITION"))];
   ASSERT_EQ(pa.minValues.size(), 3u);
   ASSERT_EQ(pa.maxValues.size(), 3u);
@@ -124,7 +127,8 @@ TEST(OutputFormats, GlbReadsBackWithTinyGltf) {
       ASSERT_EQ(col[3 * i], 1.0f);
       ASSERT_EQ(col[3 * i + 2], 1.0f);
     }
-    if (f.liquid_m3[i] >= 6e-12) {  // at the max: #08306b in linear RGB (8/255 is on the sRGB curve's linear part)
+    if (f.liquid_m3[i] >=
+        6e-12) {  // at the max: #08306b in linear RGB (8/255 is on the sRGB curve's linear part)
       ASSERT_NEAR(col[3 * i + 0], 8 / 255.0 / 12.92, 1e-6);
       ASSERT_NEAR(col[3 * i + 2], std::pow((107 / 255.0 + 0.055) / 1.055, 2.4), 1e-6);
     }
@@ -140,7 +144,8 @@ TEST(OutputFormats, GlbReadsBackWithTinyGltf) {
   write_glb((dir / "b.glb").string(), f, opt);
   tinygltf::Model m2;
   ASSERT_TRUE(io.LoadBinaryFromFile(&m2, &err, &warn, (dir / "b.glb").string())) << err;
-  EXPECT_EQ(m2.accessors[size_t(m2.meshes[0].primitives[0].attributes.at("COLOR_0"))].type, TINYGLTF_TYPE_VEC4);
+  EXPECT_EQ(m2.accessors[size_t(m2.meshes[0].primitives[0].attributes.at("COLOR_0"))].type,
+            TINYGLTF_TYPE_VEC4);
   write_glb((dir / "empty.glb").string(), make_frame(0, 0));
   tinygltf::Model m3;
   ASSERT_TRUE(io.LoadBinaryFromFile(&m3, &err, &warn, (dir / "empty.glb").string())) << err;
@@ -188,7 +193,8 @@ TEST(OutputFormats, VtpReadsBackBothEncodings) {
     EXPECT_EQ(d.points, 777u);
     EXPECT_EQ(d.verts, 777u);
     ASSERT_EQ(d.x.size(), 3u * 777u);
-    for (const char* a : {"radius", "liquid_volume", "velocity", "id", "color"}) ASSERT_TRUE(d.point_data.count(a)) << a;
+    for (const char* a : {"radius", "liquid_volume", "velocity", "id", "color"})
+      ASSERT_TRUE(d.point_data.count(a)) << a;
     EXPECT_EQ(d.components.at("velocity"), 3);
     EXPECT_EQ(d.types.at("radius"), "Float64");
     EXPECT_EQ(d.types.at("id"), "UInt32");
@@ -205,8 +211,9 @@ TEST(OutputFormats, VtpReadsBackBothEncodings) {
     EXPECT_EQ(d.field_data.at("TimeValue"), 0.375);
     EXPECT_EQ(d.field_data.at("Step"), 3.0);
   }
-  // Independent check of the base64 layout (computed with Python: base64(pack('<Qd', 8, 0.5))): a one-particle
-  // frame of radius 0.5 starts its appended data with the radius block, header UInt64 = 8 bytes, then 0.5.
+  // Independent check of the base64 layout (computed with Python: base64(pack('<Qd', 8, 0.5))): a
+  // one-particle frame of radius 0.5 starts its appended data with the radius block, header UInt64 = 8 bytes,
+  // then 0.5.
   ParticleFrame one;
   one.x = {{0.0, 0.0, 0.0}};
   one.radius = {0.5};

@@ -1,5 +1,5 @@
-// PSD sampling: the inserted particles must reproduce drum.md's D10..D90 (volume basis), the basis conversion must
-// match closed forms, and sampling must be deterministic.
+// PSD sampling: the inserted particles must reproduce drum.md's D10..D90 (volume basis), the basis conversion
+// must match closed forms, and sampling must be deterministic.
 #ifdef WETDEM_HAVE_APP
 #include <gtest/gtest.h>
 
@@ -35,14 +35,14 @@ const Case kCases[] = {{"PP1 truncate", kPP1, PsdTails::kTruncate, 1.0},
                        {"PP2 truncate l=3", kPP2, PsdTails::kTruncate, 3.0},
                        {"PP1 lognormal l=5", kPP1, PsdTails::kLogNormal, 5.0}};
 
-// Inserted particles reproduce the table on a volume basis within 3 %. Statistics: the volume-weighted CDF of a
-// number sample at D, F̂ = Σ w_i 1{d_i ≤ D} / Σ w_i with w = d³, has the variance (linearisation of the ratio)
-// Var F̂ ≈ Σ w_i² (1{d_i ≤ D} - F)² / (Σ w_i)², and the quantile's relative standard error is (d ln D/dF) sqrt(Var F̂).
-// At 20k particles that is up to 1.7 % (PP1 with log-normal tails: most particles are small and carry little
-// volume; over 200 seeds the worst D25 error was 6.5 %), so a flat 3 % at 20k would be a 2-sigma test. Hence two
-// checks: 200k particles against a flat 3 % (≥ 5 standard errors everywhere), and 20k particles against 4 standard
-// errors estimated from the sample itself. A wrong basis conversion (the volume table sampled as a number
-// distribution) shifts the volume D10 by > 30 %: both fail.
+// Inserted particles reproduce the table on a volume basis within 3 %. Statistics: the volume-weighted CDF of
+// a number sample at D, F̂ = Σ w_i 1{d_i ≤ D} / Σ w_i with w = d³, has the variance (linearisation of the
+// ratio) Var F̂ ≈ Σ w_i² (1{d_i ≤ D} - F)² / (Σ w_i)², and the quantile's relative standard error is (d ln
+// D/dF) sqrt(Var F̂). At 20k particles that is up to 1.7 % (PP1 with log-normal tails: most particles are
+// small and carry little volume; over 200 seeds the worst D25 error was 6.5 %), so a flat 3 % at 20k would be
+// a 2-sigma test. Hence two checks: 200k particles against a flat 3 % (≥ 5 standard errors everywhere), and
+// 20k particles against 4 standard errors estimated from the sample itself. A wrong basis conversion (the
+// volume table sampled as a number distribution) shifts the volume D10 by > 30 %: both fail.
 TEST(Psd, InsertedQuantilesReproduceTableVolumeBasis) {
   for (const Case& c : kCases) {
     const Psd psd(c.table == kPP1 ? psd_pp1(c.scale, c.tails) : psd_pp2(c.scale, c.tails));
@@ -50,8 +50,9 @@ TEST(Psd, InsertedQuantilesReproduceTableVolumeBasis) {
     const PsdQuantiles q = sample_quantiles(d, PsdBasis::kVolume);
     for (int i = 0; i < 5; ++i) {
       const double want = c.table[i] * 1e-6 * c.scale;
-      EXPECT_NEAR(q[i] / want, 1.0, 0.03) << c.name << " D" << PsdQuantiles::kFractions[i] * 100 << ": inserted "
-                                          << q[i] * 1e6 << " µm, table " << want * 1e6 << " µm";
+      EXPECT_NEAR(q[i] / want, 1.0, 0.03)
+          << c.name << " D" << PsdQuantiles::kFractions[i] * 100 << ": inserted " << q[i] * 1e6
+          << " µm, table " << want * 1e6 << " µm";
     }
     // The model itself is exact at the table points.
     const PsdQuantiles m = psd.quantiles(PsdBasis::kVolume);
@@ -70,31 +71,35 @@ TEST(Psd, TwentyThousandParticlesWithinSamplingError) {
     const PsdQuantiles q = sample_quantiles(d, PsdBasis::kVolume);
     for (int i = 0; i < 5; ++i) {
       const double F = PsdQuantiles::kFractions[i], h = 1e-4, D = c.table[i] * 1e-6 * c.scale;
-      // At a truncation atom (D10, D90 with "truncate") the CDF jumps; the quantile sits at one edge of the jump.
-      // Take the variance of F̂ on either side of D (inclusive and exclusive indicator, each against the model's
-      // CDF on that side) and the steeper one-sided slope: the larger of each bounds the error.
+      // At a truncation atom (D10, D90 with "truncate") the CDF jumps; the quantile sits at one edge of the
+      // jump. Take the variance of F̂ on either side of D (inclusive and exclusive indicator, each against the
+      // model's CDF on that side) and the steeper one-sided slope: the larger of each bounds the error.
       const double F_incl = psd.cdf(D * (1 + 1e-12), PsdBasis::kVolume);
       const double F_excl = psd.cdf(D * (1 - 1e-12), PsdBasis::kVolume);
       double var_incl = 0.0, var_excl = 0.0;
       for (double x : d) {
         const double w2 = x * x * x * x * x * x;
-        const double ei = (x <= D * (1 + 1e-12) ? 1.0 : 0.0) - F_incl, ee = (x < D * (1 - 1e-12) ? 1.0 : 0.0) - F_excl;
+        const double ei = (x <= D * (1 + 1e-12) ? 1.0 : 0.0) - F_incl,
+                     ee = (x < D * (1 - 1e-12) ? 1.0 : 0.0) - F_excl;
         var_incl += w2 * ei * ei;
         var_excl += w2 * ee * ee;
       }
       const double var = std::max(var_incl, var_excl) / (sw * sw);
       const double lnD = std::log(psd.quantile(F, PsdBasis::kVolume));
       const double slope = std::max(std::log(psd.quantile(F + h, PsdBasis::kVolume)) - lnD,
-                                    lnD - std::log(psd.quantile(F - h, PsdBasis::kVolume))) / h;
+                                    lnD - std::log(psd.quantile(F - h, PsdBasis::kVolume))) /
+                           h;
       const double tol = 4.0 * slope * std::sqrt(var);
-      EXPECT_LT(tol, 0.10) << c.name;  // the statistical tolerance itself stays far below a basis error (> 30 %)
+      EXPECT_LT(tol, 0.10)
+          << c.name;  // the statistical tolerance itself stays far below a basis error (> 30 %)
       EXPECT_NEAR(q[i] / D, 1.0, tol) << c.name << " D" << F * 100 << " (4 standard errors: " << tol << ")";
     }
   }
 }
 
 TEST(Psd, NumberBasisSampleIsNotTheVolumeTable) {
-  // The counted (number-basis) D50 must be well below the volume-basis D50: guards against a missing conversion.
+  // The counted (number-basis) D50 must be well below the volume-basis D50: guards against a missing
+  // conversion.
   const Psd psd(psd_pp2());
   const std::vector<double> d = psd.sample(20000, 7);
   EXPECT_LT(sample_quantile(d, 0.5, PsdBasis::kNumber), 0.8 * 904.6e-6);
@@ -109,7 +114,8 @@ TEST(Psd, TailTreatmentBounds) {
   EXPECT_GE(*std::min_element(d.begin(), d.end()), 304.0e-6 * (1 - 1e-12));
   EXPECT_LE(*std::max_element(d.begin(), d.end()), 1033.0e-6 * (1 + 1e-12));
 
-  // Log-normal tails: the lower tail is the log-normal through (0.10, D10), (0.25, D25), cut at its 1 % quantile.
+  // Log-normal tails: the lower tail is the log-normal through (0.10, D10), (0.25, D25), cut at its 1 %
+  // quantile.
   const Psd ln(psd_pp1(1.0, PsdTails::kLogNormal));
   const double z10 = -1.2815515655446004, z25 = -0.6744897501960817, z01 = -2.3263478740408408;
   const double sigma = std::log(555.5 / 304.0) / (z25 - z10);
@@ -128,7 +134,8 @@ TEST(Psd, TailTreatmentBounds) {
 }
 
 TEST(Psd, LogNormalBasisConversionMatchesClosedForms) {
-  // Number-basis log-normal (median m, σ): volume-basis median m e^{3σ²} (Hatch–Choate), E[d³] = m³ e^{9σ²/2}.
+  // Number-basis log-normal (median m, σ): volume-basis median m e^{3σ²} (Hatch–Choate), E[d³] = m³
+  // e^{9σ²/2}.
   PsdSpec s;
   s.kind = PsdSpec::Kind::kLogNormal;
   s.basis = PsdBasis::kNumber;
@@ -149,7 +156,8 @@ TEST(Psd, LogNormalBasisConversionMatchesClosedForms) {
   EXPECT_NEAR(v.quantile(0.9, PsdBasis::kNumber) / (1e-3 * std::exp(0.3 * 1.2815515655446004)), 1.0, 1e-6);
   // Sampling follows it: number-basis D90 of 20k draws.
   const std::vector<double> d = psd.sample(20000, 99);
-  EXPECT_NEAR(sample_quantile(d, 0.9, PsdBasis::kNumber) / (1e-3 * std::exp(0.3 * 1.2815515655446004)), 1.0, 0.02);
+  EXPECT_NEAR(sample_quantile(d, 0.9, PsdBasis::kNumber) / (1e-3 * std::exp(0.3 * 1.2815515655446004)), 1.0,
+              0.02);
 }
 
 TEST(Psd, DeterministicAndScaled) {
@@ -160,7 +168,8 @@ TEST(Psd, DeterministicAndScaled) {
   const std::vector<double> e = b.sample(1000, 42);
   for (size_t i = 0; i < d1.size(); ++i) ASSERT_NEAR(e[i] / d1[i], 3.0, 3e-12);
   EXPECT_NEAR(b.mean_volume() / a.mean_volume(), 27.0, 1e-9);
-  // The first draws of mt19937_64(42) through uniform01 are fixed by the C++ standard: pin the PSD's response.
+  // The first draws of mt19937_64(42) through uniform01 are fixed by the C++ standard: pin the PSD's
+  // response.
   std::mt19937_64 rng(42);
   const double u = uniform01(rng);
   EXPECT_GE(u, 0.0);
@@ -173,7 +182,8 @@ TEST(Psd, SubsetTableAndValidation) {
   s.table = {{0.10, 506e-6}, {0.50, 904.6e-6}, {0.90, 1345e-6}};  // D10, D50, D90 only
   const Psd p(s);
   EXPECT_NEAR(p.quantile(0.5, PsdBasis::kVolume) / 904.6e-6, 1.0, 1e-9);
-  EXPECT_NEAR(p.quantile(0.3, PsdBasis::kVolume), std::exp(0.5 * (std::log(506e-6) + std::log(904.6e-6))), 1e-12);
+  EXPECT_NEAR(p.quantile(0.3, PsdBasis::kVolume), std::exp(0.5 * (std::log(506e-6) + std::log(904.6e-6))),
+              1e-12);
 
   PsdSpec bad = psd_pp2();
   bad.table[2].diameter = 600e-6;  // D50 < D25

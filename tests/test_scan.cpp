@@ -42,7 +42,9 @@ class Scan : public GpuTest {
   }
 };
 
-TEST_F(Scan, EmptyWritesZeroTotal) { check({}); }
+TEST_F(Scan, EmptyWritesZeroTotal) {
+  check({});
+}
 
 TEST_F(Scan, SizesAroundOneBlock) {
   for (size_t n : {1, 2, 255, 256, 257, 2047, 2048, 2049}) check(random(n, 1000, uint32_t(n)));
@@ -53,9 +55,13 @@ TEST_F(Scan, TwoLevels) {
   check(std::vector<uint32_t>(2048 * 2048, 1));  // exactly two full levels
 }
 
-TEST_F(Scan, ThreeLevels) { check(random(3000000, 1000, 11)); }
+TEST_F(Scan, ThreeLevels) {
+  check(random(3000000, 1000, 11));
+}
 
-TEST_F(Scan, WrapsLikeUint32) { check(random(5000, 0xffffffffu, 3)); }
+TEST_F(Scan, WrapsLikeUint32) {
+  check(random(5000, 0xffffffffu, 3));
+}
 
 TEST_F(Scan, TotalMayBeOmittedAndSubrangeScanned) {
   // total_addr = 0 writes no total; the scan only touches [0, n).

@@ -18,9 +18,12 @@ namespace wetdem::test {
 namespace {
 using Pairs = std::pair<std::vector<uint32_t>, std::vector<uint32_t>>;
 
-uint32_t low_mask(uint32_t bits) { return bits >= 32 ? 0xffffffffu : (1u << bits) - 1u; }
+uint32_t low_mask(uint32_t bits) {
+  return bits >= 32 ? 0xffffffffu : (1u << bits) - 1u;
+}
 
-Pairs reference_sort(const std::vector<uint32_t>& keys, const std::vector<uint32_t>& vals, uint32_t key_bits) {
+Pairs reference_sort(const std::vector<uint32_t>& keys, const std::vector<uint32_t>& vals,
+                     uint32_t key_bits) {
   std::vector<size_t> idx(keys.size());
   for (size_t i = 0; i < idx.size(); ++i) idx[i] = i;
   const uint32_t m = low_mask(key_bits);
@@ -72,7 +75,8 @@ class Sort : public GpuTest {
     v.upload(vals);
     gpu::RadixSort sort(gpu(), std::max(n, capacity));
     gpu::DirectDispatcher disp;
-    gpu().submit_now([&](VkCommandBuffer cb) { sort.record(cb, disp, k.address(), v.address(), n, key_bits); });
+    gpu().submit_now(
+        [&](VkCommandBuffer cb) { sort.record(cb, disp, k.address(), v.address(), n, key_bits); });
     return {k.download_as<uint32_t>(n), v.download_as<uint32_t>(n)};
   }
   void check(const std::vector<uint32_t>& keys, uint32_t key_bits, const std::string& what) {
@@ -135,7 +139,8 @@ TEST_F(Sort, ValuesTravelWithKeys) {
 
 TEST_F(Sort, OddAndEvenPassCountsAndNoPass) {
   // 1 pass (odd: copy back), 2 passes (even), 0 key bits (nothing moves).
-  for (uint32_t bits : {4u, 8u, 12u, 0u}) check(random_keys(10000, 0xffff, bits + 20), bits, "b=" + std::to_string(bits));
+  for (uint32_t bits : {4u, 8u, 12u, 0u})
+    check(random_keys(10000, 0xffff, bits + 20), bits, "b=" + std::to_string(bits));
 }
 
 TEST_F(Sort, SmallerThanCapacity) {
@@ -144,7 +149,9 @@ TEST_F(Sort, SmallerThanCapacity) {
   EXPECT_EQ(run(keys, iota(keys.size()), 32, 100000), want);
 }
 
-TEST_F(Sort, LargeMillion) { check(random_keys(1 << 20, 0xffffffffu, 5), 32, "n=2^20"); }
+TEST_F(Sort, LargeMillion) {
+  check(random_keys(1 << 20, 0xffffffffu, 5), 32, "n=2^20");
+}
 
 TEST_F(Sort, DeterministicAcrossRuns) {
   std::mt19937 rng(6);

@@ -10,7 +10,8 @@ namespace wetdem {
 TEST(TimeStep, CapillaryLimitByHand) {
   // m* = 1e-6 kg, R_h = 1e-3 m, f0 = 1e-3 N, V = 1e-12 m^3: k_c = 1.05e-3 * sqrt(1e9) = 33.2 N/m.
   const double k_c = 1.05e-3 * std::sqrt(1e-3 / 1e-12);
-  EXPECT_NEAR(capillary_dt_limit(1e-6, 1e-3, 1e-3, 1e-12), 0.1 * 3.14159265358979 * std::sqrt(1e-6 / k_c), 1e-15);
+  EXPECT_NEAR(capillary_dt_limit(1e-6, 1e-3, 1e-3, 1e-12), 0.1 * 3.14159265358979 * std::sqrt(1e-6 / k_c),
+              1e-15);
 }
 
 TEST(TimeStep, WarnsOnlyWhenTheStepIsTooLargeForTheStiffestBridge) {

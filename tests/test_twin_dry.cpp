@@ -38,8 +38,8 @@ TEST_F(TwinDry, ForcesAndTorquesMatchReferenceEveryStep) {
     s = r;
   }
   EXPECT_GT(max_pairs, s.p.size());  // a dense packing: more touching pairs than particles
-  std::printf("twin dry: %zu particles, up to %zu pairs, worst force error %.3g, torque error %.3g\n", s.p.size(),
-              max_pairs, worst_f, worst_t);
+  std::printf("twin dry: %zu particles, up to %zu pairs, worst force error %.3g, torque error %.3g\n",
+              s.p.size(), max_pairs, worst_f, worst_t);
 }
 
 }  // namespace wetdem::test

@@ -82,9 +82,10 @@ TEST_F(TwinWet, BridgesFilmsAndForcesMatchReferenceEveryStep) {
   EXPECT_GT(formations, 100u);
   EXPECT_GT(ruptures, 20u);
   EXPECT_GT(wall_bridges, 0u);
-  std::printf("twin wet: %zu particles, %llu formations, %llu ruptures, up to %llu bridges, worst force %.3g\n",
-              s.p.size(), (unsigned long long)formations, (unsigned long long)ruptures,
-              (unsigned long long)max_bridges, worst_f);
+  std::printf(
+      "twin wet: %zu particles, %llu formations, %llu ruptures, up to %llu bridges, worst force %.3g\n",
+      s.p.size(), (unsigned long long)formations, (unsigned long long)ruptures,
+      (unsigned long long)max_bridges, worst_f);
 }
 
 }  // namespace wetdem::test

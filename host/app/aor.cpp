@@ -84,7 +84,8 @@ double blocked_sem(const std::vector<double>& v, int* level, bool* reliable) {
   }
   // FP estimate of the variance of the mean at level j: s_j² / (n_j - 1).
   auto sem_at = [&](size_t j) { return std::sqrt(lv[j].var / static_cast<double>(lv[j].n - 1)); };
-  // Jonsson's test: M_j = Σ_{k ≥ j} n_k (γ_k / s_k²)² ~ χ²(levels - j) when blocks at level ≥ j are uncorrelated.
+  // Jonsson's test: M_j = Σ_{k ≥ j} n_k (γ_k / s_k²)² ~ χ²(levels - j) when blocks at level ≥ j are
+  // uncorrelated.
   const size_t L = lv.size();
   std::vector<double> M(L + 1, 0.0);
   for (size_t k = L; k-- > 0;) {
@@ -172,10 +173,12 @@ AorSummary summarize_aor(const std::vector<double>& t, const std::vector<AorSamp
 std::string AorSummary::describe() const {
   const SeriesStats& a = abs_deg;
   if (a.n == 0)
-    return fmt::format("dynamic AoR: no unflagged sample in the window ({} samples, {} flagged |COM| < 0.2 R)",
-                       samples, flagged);
+    return fmt::format(
+        "dynamic AoR: no unflagged sample in the window ({} samples, {} flagged |COM| < 0.2 R)", samples,
+        flagged);
   return fmt::format(
-      "dynamic AoR |θ| = {:.2f}° (sd {:.2f}°, SEM {:.2f}° blocked at level {}{}), signed θ = {:.2f}°; window t = "
+      "dynamic AoR |θ| = {:.2f}° (sd {:.2f}°, SEM {:.2f}° blocked at level {}{}), signed θ = {:.2f}°; window "
+      "t = "
       "[{:.4g}, {:.4g}] s, {} samples, {} flagged; halves {:.2f}° / {:.2f}° (z = {:.2f}, {})",
       a.mean, a.stddev, a.sem, a.block_level, a.sem_reliable ? "" : ", unreliable: window too short",
       signed_deg.mean, a.t_begin, a.t_end, samples, flagged, a.mean_first, a.mean_second, a.drift_z,

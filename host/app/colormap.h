@@ -11,13 +11,14 @@ namespace wetdem {
 
 // One frame of particles, in the drum frame (x, y up, z along the axis), SI units.
 struct ParticleFrame {
-  double time = 0.0;   // s
+  double time = 0.0;  // s
   uint64_t step = 0;
-  std::vector<glm::dvec3> x;      // centre (m)
-  std::vector<glm::dvec3> v;      // velocity (m/s); may be empty (written as zeros)
-  std::vector<double> radius;     // m
-  std::vector<double> liquid_m3;  // liquid per particle (m³), physics.md §5: V_f + Σ V_b/2 + Σ wall V_b; may be empty
-  std::vector<uint32_t> id;       // stable ids; may be empty (0..n-1)
+  std::vector<glm::dvec3> x;   // centre (m)
+  std::vector<glm::dvec3> v;   // velocity (m/s); may be empty (written as zeros)
+  std::vector<double> radius;  // m
+  std::vector<double>
+      liquid_m3;  // liquid per particle (m³), physics.md §5: V_f + Σ V_b/2 + Σ wall V_b; may be empty
+  std::vector<uint32_t> id;  // stable ids; may be empty (0..n-1)
   size_t size() const { return x.size(); }
 };
 

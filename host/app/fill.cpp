@@ -26,7 +26,8 @@ uint64_t splitmix64(uint64_t x) {
 // sizes. z may be periodic (cells wrap).
 class Grid {
  public:
-  Grid(glm::dvec3 lo, glm::dvec3 hi, double cell, bool periodic_z, size_t max_cells) : lo_(lo), per_z_(periodic_z) {
+  Grid(glm::dvec3 lo, glm::dvec3 hi, double cell, bool periodic_z, size_t max_cells)
+      : lo_(lo), per_z_(periodic_z) {
     const glm::dvec3 ext = hi - lo;
     for (;;) {
       for (int a = 0; a < 3; ++a) n_[a] = std::max(1, static_cast<int>(std::floor(ext[a] / cell)));
@@ -125,17 +126,20 @@ double height_for_volume(double R, double L, double volume) {
 
 }  // namespace
 
-double drum_volume(double radius, double length) { return kPi * radius * radius * length; }
+double drum_volume(double radius, double length) {
+  return kPi * radius * radius * length;
+}
 
 size_t particles_for_fill(const Psd& psd, double drum_radius, double drum_length, double bed_fraction,
                           double solid_fraction) {
-  return static_cast<size_t>(
-      std::llround(bed_fraction * drum_volume(drum_radius, drum_length) * solid_fraction / psd.mean_volume()));
+  return static_cast<size_t>(std::llround(bed_fraction * drum_volume(drum_radius, drum_length) *
+                                          solid_fraction / psd.mean_volume()));
 }
 
 double fill_for_particles(const Psd& psd, double drum_radius, double drum_length, size_t count,
                           double solid_fraction) {
-  return static_cast<double>(count) * psd.mean_volume() / (drum_volume(drum_radius, drum_length) * solid_fraction);
+  return static_cast<double>(count) * psd.mean_volume() /
+         (drum_volume(drum_radius, drum_length) * solid_fraction);
 }
 
 FillResult fill_drum(const FillSpec& spec, const std::vector<double>& radii) {
@@ -157,7 +161,8 @@ FillResult fill_drum(const FillSpec& spec, const std::vector<double>& radii) {
     r_max = std::max(r_max, r);
     res.solid_volume += 4.0 / 3.0 * kPi * r * r * r;
   }
-  if (r_max + gap >= R) throw std::invalid_argument(fmt::format("fill: particle radius {} does not fit the drum", r_max));
+  if (r_max + gap >= R)
+    throw std::invalid_argument(fmt::format("fill: particle radius {} does not fit the drum", r_max));
   if (!spec.periodic_z && 2.0 * (r_max + gap) > L)
     throw std::invalid_argument(fmt::format("fill: particle diameter {} exceeds the drum length", 2 * r_max));
   if (spec.periodic_z && 2.0 * r_max + gap >= 0.5 * L)
@@ -205,9 +210,10 @@ FillResult fill_drum(const FillSpec& spec, const std::vector<double>& radii) {
       }
       if (placed) break;
       if (y_top >= R)
-        throw std::runtime_error(fmt::format(
-            "fill: the drum is too full for random addition ({} particles, solid volume {:.3g} of the drum's {:.3g})",
-            n, res.solid_volume, drum_volume(R, L)));
+        throw std::runtime_error(
+            fmt::format("fill: the drum is too full for random addition ({} particles, solid volume {:.3g} "
+                        "of the drum's {:.3g})",
+                        n, res.solid_volume, drum_volume(R, L)));
       region_volume *= 1.05;
       y_top = height_for_volume(R, L, region_volume);
       ++res.region_growths;
@@ -224,10 +230,12 @@ FillResult fill_drum(const FillSpec& spec, const Psd& psd) {
     radii.resize(spec.count);
     for (double& r : radii) r = 0.5 * psd.sample(rng);
   } else {
-    if (!(spec.bed_fraction > 0.0 && spec.bed_fraction <= 1.0) || !(spec.solid_fraction > 0.0 && spec.solid_fraction < 1.0))
+    if (!(spec.bed_fraction > 0.0 && spec.bed_fraction <= 1.0) ||
+        !(spec.solid_fraction > 0.0 && spec.solid_fraction < 1.0))
       throw std::invalid_argument("fill: bed_fraction must be in (0, 1] and solid_fraction in (0, 1)");
     // Draw until the solid volume reaches the target: the last particle crosses it.
-    const double target = spec.bed_fraction * drum_volume(spec.drum_radius, spec.drum_length) * spec.solid_fraction;
+    const double target =
+        spec.bed_fraction * drum_volume(spec.drum_radius, spec.drum_length) * spec.solid_fraction;
     double vol = 0.0;
     while (vol < target) {
       const double r = 0.5 * psd.sample(rng);
@@ -238,8 +246,8 @@ FillResult fill_drum(const FillSpec& spec, const Psd& psd) {
   return fill_drum(spec, radii);
 }
 
-double max_pair_overlap(const std::vector<glm::dvec3>& x, const std::vector<double>& radius, double drum_length,
-                        bool periodic_z) {
+double max_pair_overlap(const std::vector<glm::dvec3>& x, const std::vector<double>& radius,
+                        double drum_length, bool periodic_z) {
   const size_t n = x.size();
   if (radius.size() != n) throw std::invalid_argument("max_pair_overlap: sizes differ");
   if (n < 2) return -INFINITY;
@@ -267,8 +275,8 @@ double max_pair_overlap(const std::vector<glm::dvec3>& x, const std::vector<doub
   return worst;
 }
 
-double max_wall_overlap(const std::vector<glm::dvec3>& x, const std::vector<double>& radius, double drum_radius,
-                        double drum_length, bool periodic_z) {
+double max_wall_overlap(const std::vector<glm::dvec3>& x, const std::vector<double>& radius,
+                        double drum_radius, double drum_length, bool periodic_z) {
   if (radius.size() != x.size()) throw std::invalid_argument("max_wall_overlap: sizes differ");
   double worst = -INFINITY;
   for (size_t i = 0; i < x.size(); ++i) {

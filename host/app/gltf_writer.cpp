@@ -27,7 +27,8 @@ void check_sizes(const ParticleFrame& f) {
   const size_t n = f.x.size();
   auto ok = [n](size_t m) { return m == 0 || m == n; };
   if (f.radius.size() != n || !ok(f.v.size()) || !ok(f.liquid_m3.size()) || !ok(f.id.size()))
-    throw std::invalid_argument("ParticleFrame: radius must have one entry per particle; v, liquid_m3, id one or none");
+    throw std::invalid_argument(
+        "ParticleFrame: radius must have one entry per particle; v, liquid_m3, id one or none");
 }
 
 // Appends float data as its own buffer view + accessor; returns the accessor index.
@@ -157,7 +158,8 @@ GltfSeries::GltfSeries(std::string dir, std::string prefix, GltfOptions opt)
     const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
     if (j.is_object() && j.contains("frames") && j["frames"].is_array())
       for (const auto& e : j["frames"])
-        entries_.push_back({e.value("time", 0.0), e.value("step", uint64_t{0}), e.value("file", std::string())});
+        entries_.push_back(
+            {e.value("time", 0.0), e.value("step", uint64_t{0}), e.value("file", std::string())});
   }
 }
 
@@ -165,8 +167,9 @@ std::string GltfSeries::write(const ParticleFrame& f) {
   const std::string file = fmt::format("{}_{:010d}.glb", prefix_, f.step);
   const std::string path = (std::filesystem::path(dir_) / file).string();
   write_glb(path, f, opt_);
-  entries_.erase(std::remove_if(entries_.begin(), entries_.end(), [&](const Entry& e) { return e.step >= f.step; }),
-                 entries_.end());
+  entries_.erase(
+      std::remove_if(entries_.begin(), entries_.end(), [&](const Entry& e) { return e.step >= f.step; }),
+      entries_.end());
   entries_.push_back({f.time, f.step, file});
   write_index();
   return path;
@@ -181,7 +184,8 @@ void GltfSeries::write_index() const {
   j["axis"] = "+z";
   j["attributes"] = {"POSITION", "COLOR_0", "_RADIUS", "_VELOCITY", "_LIQUID_VOLUME", "_ID"};
   j["frames"] = nlohmann::json::array();
-  for (const Entry& e : entries_) j["frames"].push_back({{"time", e.time}, {"step", e.step}, {"file", e.file}});
+  for (const Entry& e : entries_)
+    j["frames"].push_back({{"time", e.time}, {"step", e.step}, {"file", e.file}});
   // Write then rename, so a reader never sees a half-written index.
   const std::string tmp = index_path_ + ".tmp";
   {

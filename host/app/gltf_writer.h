@@ -36,7 +36,8 @@ void write_glb(const std::string& path, const ParticleFrame& f, const GltfOption
 //    "frames": [{"time": t, "step": n, "file": "frame_0000000100.glb"}, ...]}
 // The index is rewritten after every frame, so it is valid if the run stops. An existing index in dir is read
 // on construction; a frame with step n drops the entries with step ≥ n first (a run restarted from a
-// checkpoint re-lists the frames after it once; their old files are overwritten as the same steps are written).
+// checkpoint re-lists the frames after it once; their old files are overwritten as the same steps are
+// written).
 class GltfSeries {
  public:
   GltfSeries(std::string dir, std::string prefix = "frame", GltfOptions opt = {});

@@ -16,8 +16,12 @@ constexpr double kSqrt1_2 = 0.70710678118654752440;
 
 // Standard normal CDF Φ(z) and upper tail Q(z) = 1 - Φ(z) = Φ(-z), both through erfc so that neither loses
 // precision in its own tail.
-double norm_cdf(double z) { return 0.5 * std::erfc(-z * kSqrt1_2); }
-double norm_sf(double z) { return 0.5 * std::erfc(z * kSqrt1_2); }
+double norm_cdf(double z) {
+  return 0.5 * std::erfc(-z * kSqrt1_2);
+}
+double norm_sf(double z) {
+  return 0.5 * std::erfc(z * kSqrt1_2);
+}
 
 // Φ(b) - Φ(a) for a ≤ b, computed on the side of zero where the two terms are small (no cancellation of two
 // numbers near 1).
@@ -31,10 +35,10 @@ double norm_mass(double a, double b) {
 double norm_quantile(double p) {
   if (p <= 0.0) return -INFINITY;
   if (p >= 1.0) return INFINITY;
-  static const double a[] = {-3.969683028665376e+01, 2.209460984245205e+02, -2.759285104469687e+02,
+  static const double a[] = {-3.969683028665376e+01, 2.209460984245205e+02,  -2.759285104469687e+02,
                              1.383577518672690e+02,  -3.066479806614716e+01, 2.506628277459239e+00};
   static const double b[] = {-5.447609879822406e+01, 1.615858368580409e+02, -1.556989798598866e+02,
-                             6.680131188771972e+01,  -1.328068155288572e+01};
+                             6.680131188771972e+01, -1.328068155288572e+01};
   static const double c[] = {-7.784894002430293e-03, -3.223964580411365e-01, -2.400758277161838e+00,
                              -2.549732539343734e+00, 4.374664141464968e+00,  2.938163982698783e+00};
   static const double d[] = {7.784695709041462e-03, 3.224671290700398e-01, 2.445134137142996e+00,
@@ -62,7 +66,9 @@ double norm_quantile(double p) {
 }
 
 // g(t) = (1 - e^{-t}) / t, g(0) = 1: the mean of e^{-kx} over a unit uniform interval, without cancellation.
-double g_exp(double t) { return std::fabs(t) < 1e-12 ? 1.0 - 0.5 * t : -std::expm1(-t) / t; }
+double g_exp(double t) {
+  return std::fabs(t) < 1e-12 ? 1.0 - 0.5 * t : -std::expm1(-t) / t;
+}
 
 }  // namespace
 
@@ -78,8 +84,12 @@ PsdTails parse_psd_tails(const std::string& s) {
   throw std::invalid_argument("psd tails must be \"truncate\" or \"lognormal\", got \"" + s + "\"");
 }
 
-const char* to_string(PsdBasis b) { return b == PsdBasis::kVolume ? "volume" : "number"; }
-const char* to_string(PsdTails t) { return t == PsdTails::kTruncate ? "truncate" : "lognormal"; }
+const char* to_string(PsdBasis b) {
+  return b == PsdBasis::kVolume ? "volume" : "number";
+}
+const char* to_string(PsdTails t) {
+  return t == PsdTails::kTruncate ? "truncate" : "lognormal";
+}
 
 static PsdSpec table_spec(const double (&d_um)[5], double scale, PsdTails tails) {
   PsdSpec s;
@@ -103,12 +113,18 @@ PsdSpec psd_pp2(double scale, PsdTails tails) {
 
 double PsdQuantiles::operator[](int i) const {
   switch (i) {
-    case 0: return d10;
-    case 1: return d25;
-    case 2: return d50;
-    case 3: return d75;
-    case 4: return d90;
-    default: throw std::out_of_range("PsdQuantiles index");
+    case 0:
+      return d10;
+    case 1:
+      return d25;
+    case 2:
+      return d50;
+    case 3:
+      return d75;
+    case 4:
+      return d90;
+    default:
+      throw std::out_of_range("PsdQuantiles index");
   }
 }
 
@@ -159,9 +175,9 @@ Psd::Psd(const PsdSpec& spec) : spec_(spec) {
     if (!lognormal_tails) {
       pieces_.push_back({Piece::kAtom, xs[m - 1], xs[m - 1], 0.0, 0.0, 1.0 - Fl});
     } else {
-      if (!(spec.tail_hi > Fl)) throw std::invalid_argument("psd tail_hi must be above the last table fraction");
-      const double sigma =
-          (xs[m - 1] - xs[m - 2]) / (norm_quantile(Fl) - norm_quantile(t[m - 2].fraction));
+      if (!(spec.tail_hi > Fl))
+        throw std::invalid_argument("psd tail_hi must be above the last table fraction");
+      const double sigma = (xs[m - 1] - xs[m - 2]) / (norm_quantile(Fl) - norm_quantile(t[m - 2].fraction));
       const double mu = xs[m - 1] - sigma * norm_quantile(Fl);
       const double hi = mu + sigma * norm_quantile(spec.tail_hi);
       pieces_.push_back({Piece::kNormal, xs[m - 1], hi, mu, sigma, 1.0 - Fl});
@@ -179,8 +195,8 @@ Psd::Psd(const PsdSpec& spec) : spec_(spec) {
       pieces_.push_back({Piece::kNormal, lo, hi, mu, s, 0.80});
       pieces_.push_back({Piece::kAtom, hi, hi, 0.0, 0.0, 0.10});
     } else {
-      pieces_.push_back(
-          {Piece::kNormal, mu + s * norm_quantile(spec.tail_lo), mu + s * norm_quantile(spec.tail_hi), mu, s, 1.0});
+      pieces_.push_back({Piece::kNormal, mu + s * norm_quantile(spec.tail_lo),
+                         mu + s * norm_quantile(spec.tail_hi), mu, s, 1.0});
     }
   }
 
@@ -202,8 +218,10 @@ double Psd::weight_k(PsdBasis target) const {
 // ∫ over the piece of (its density on the spec basis) × e^{-k x} dx.
 double Psd::piece_mass(const Piece& p, double k) const {
   switch (p.type) {
-    case Piece::kAtom: return p.mass * std::exp(-k * p.a);
-    case Piece::kUniform: return p.mass * std::exp(-k * p.a) * g_exp(k * (p.b - p.a));
+    case Piece::kAtom:
+      return p.mass * std::exp(-k * p.a);
+    case Piece::kUniform:
+      return p.mass * std::exp(-k * p.a) * g_exp(k * (p.b - p.a));
     case Piece::kNormal: {
       // Density m φ((x-mu)/σ)/σ / (Φ(β) - Φ(α)) on [a, b]. Completing the square,
       // φ((x-mu)/σ) e^{-kx} = e^{-k mu + k²σ²/2} φ((x - mu_k)/σ) with mu_k = mu - kσ².
@@ -235,7 +253,8 @@ double Psd::piece_inverse(const Piece& p, double k, double u) const {
   u = std::clamp(u, 0.0, 1.0);
   double x = p.a;
   switch (p.type) {
-    case Piece::kAtom: return p.a;
+    case Piece::kAtom:
+      return p.a;
     case Piece::kUniform: {
       const double w = p.b - p.a;
       // ∫_a^x e^{-k(t-a)} dt / ∫_a^b ... = u  =>  e^{-k(x-a)} = 1 + u expm1(-k w).
@@ -287,8 +306,8 @@ double Psd::cdf(double d, PsdBasis basis) const {
 
 double Psd::sample(std::mt19937_64& rng) const {
   const double u = uniform01(rng);
-  const size_t i = static_cast<size_t>(std::upper_bound(number_cum_.begin(), number_cum_.end(), u) -
-                                       number_cum_.begin());
+  const size_t i =
+      static_cast<size_t>(std::upper_bound(number_cum_.begin(), number_cum_.end(), u) - number_cum_.begin());
   const size_t j = std::min(i, pieces_.size() - 1);
   const double lo = j == 0 ? 0.0 : number_cum_[j - 1];
   const double w = number_cum_[j] - lo;
@@ -314,7 +333,8 @@ PsdQuantiles Psd::quantiles(PsdBasis basis) const {
 }
 
 double Psd::mean_volume() const {
-  // E_n[d³] = e^{3 x_ref} E_n[e^{3x}] and E_n[e^{3x}] = M(k_n - 3) / M(k_n), M(k) = Σ pieces ∫ density e^{-kx}.
+  // E_n[d³] = e^{3 x_ref} E_n[e^{3x}] and E_n[e^{3x}] = M(k_n - 3) / M(k_n), M(k) = Σ pieces ∫ density
+  // e^{-kx}.
   const double kn = weight_k(PsdBasis::kNumber);
   double num = 0.0, den = 0.0;
   for (const Piece& p : pieces_) {
@@ -324,17 +344,21 @@ double Psd::mean_volume() const {
   return kPi / 6.0 * std::exp(3.0 * x_ref_) * num / den;
 }
 
-double Psd::d_min() const { return std::exp(x_ref_ + pieces_.front().a); }
-double Psd::d_max() const { return std::exp(x_ref_ + pieces_.back().b); }
+double Psd::d_min() const {
+  return std::exp(x_ref_ + pieces_.front().a);
+}
+double Psd::d_max() const {
+  return std::exp(x_ref_ + pieces_.back().b);
+}
 
 std::string Psd::describe() const {
   const PsdQuantiles q = quantiles(PsdBasis::kVolume);
   return fmt::format(
       "psd {} ({} basis), tails {}, scale l = {}: d = {:.1f}..{:.1f} µm, V̄_S = {:.4g} m³; model volume-basis "
       "D10/D25/D50/D75/D90 = {:.1f}/{:.1f}/{:.1f}/{:.1f}/{:.1f} µm",
-      spec_.kind == PsdSpec::Kind::kTable ? "table" : "log-normal", to_string(spec_.basis), to_string(spec_.tails),
-      spec_.scale, d_min() * 1e6, d_max() * 1e6, mean_volume(), q.d10 * 1e6, q.d25 * 1e6, q.d50 * 1e6,
-      q.d75 * 1e6, q.d90 * 1e6);
+      spec_.kind == PsdSpec::Kind::kTable ? "table" : "log-normal", to_string(spec_.basis),
+      to_string(spec_.tails), spec_.scale, d_min() * 1e6, d_max() * 1e6, mean_volume(), q.d10 * 1e6,
+      q.d25 * 1e6, q.d50 * 1e6, q.d75 * 1e6, q.d90 * 1e6);
 }
 
 double sample_quantile(const std::vector<double>& diameters, double fraction, PsdBasis basis) {
@@ -352,7 +376,8 @@ double sample_quantile(const std::vector<double>& diameters, double fraction, Ps
   const double target = std::clamp(fraction, 0.0, 1.0) * acc;
   if (target <= c.front()) return d.front();
   if (target >= c.back()) return d.back();
-  const size_t j = static_cast<size_t>(std::upper_bound(c.begin(), c.end(), target) - c.begin());  // c[j-1] ≤ t < c[j]
+  const size_t j =
+      static_cast<size_t>(std::upper_bound(c.begin(), c.end(), target) - c.begin());  // c[j-1] ≤ t < c[j]
   const double s = (target - c[j - 1]) / (c[j] - c[j - 1]);
   return std::exp(std::log(d[j - 1]) + s * (std::log(d[j]) - std::log(d[j - 1])));
 }

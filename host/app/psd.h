@@ -1,8 +1,8 @@
 // Particle-size distributions (PSD): a D10/D25/D50/D75/D90 table or a log-normal, on a volume basis (laser
 // diffraction) or a number basis, and deterministic sampling of the diameters of the particles to insert.
 //
-// Representation. Let x = ln d. The distribution is given on its own basis ("spec basis": volume or number) as a
-// mixture of pieces in x:
+// Representation. Let x = ln d. The distribution is given on its own basis ("spec basis": volume or number)
+// as a mixture of pieces in x:
 //   - table segment [x_i, x_{i+1}] between two table points (F_i, d_i), (F_{i+1}, d_{i+1}): the cumulative
 //     fraction is linear in ln d, i.e. the density in x is uniform with mass F_{i+1} - F_i;
 //   - log-normal piece: a normal density in x (mean mu, sd sigma) restricted to [lo, hi] and renormalised;
@@ -14,18 +14,20 @@
 //
 // Tails beyond the first and last table points (D10 and D90 for the drum powders), `tails`:
 //   - "truncate" (default): no particle smaller than D_first or larger than D_last. The volume the table puts
-//     below D_first (10 %) is carried by particles of exactly D_first, and the volume above D_last by particles
-//     of exactly D_last (atoms). This keeps every table quantile exact on a volume basis (the inserted D10 is the
-//     table's D10) and bounds the smallest particle, hence the time step (drum.md: Δt from the smallest
-//     particle). Cost: a spike of D_first particles in the number distribution.
-//   - "lognormal": below D_first a log-normal fitted to the first table segment (its sigma and mu are those of
+//     below D_first (10 %) is carried by particles of exactly D_first, and the volume above D_last by
+//     particles of exactly D_last (atoms). This keeps every table quantile exact on a volume basis (the
+//     inserted D10 is the table's D10) and bounds the smallest particle, hence the time step (drum.md: Δt
+//     from the smallest particle). Cost: a spike of D_first particles in the number distribution.
+//   - "lognormal": below D_first a log-normal fitted to the first table segment (its sigma and mu are those
+//   of
 //     the log-normal through the two points (F_0, d_0), (F_1, d_1): sigma = (x_1 - x_0)/(z(F_1) - z(F_0)),
 //     mu = x_0 - sigma z(F_0), z = standard-normal quantile), likewise above D_last from the last segment.
 //     Each tail is cut at the fitted log-normal's quantile `tail_lo` (default 0.01: the D1-equivalent) or
-//     `tail_hi` (default 0.99: D99) and renormalised to carry the table's full tail mass (F_0 below, 1 - F_last
-//     above), so the table quantiles stay exact. Smaller particles: smaller Δt.
-// A log-normal spec (median, sigma on its basis) with "lognormal" tails is cut at its tail_lo/tail_hi quantiles
-// and renormalised; with "truncate" its mass below D10 / above D90 goes to atoms at D10 / D90 as for a table.
+//     `tail_hi` (default 0.99: D99) and renormalised to carry the table's full tail mass (F_0 below, 1 -
+//     F_last above), so the table quantiles stay exact. Smaller particles: smaller Δt.
+// A log-normal spec (median, sigma on its basis) with "lognormal" tails is cut at its tail_lo/tail_hi
+// quantiles and renormalised; with "truncate" its mass below D10 / above D90 goes to atoms at D10 / D90 as
+// for a table.
 //
 // Sampling: std::mt19937_64 and our own 53-bit uniform (uniform01), then the inverse number-basis CDF; std
 // distributions are not used because their algorithms differ between standard libraries. A given seed gives
@@ -107,14 +109,14 @@ class Psd {
  private:
   struct Piece {
     enum Type { kUniform, kNormal, kAtom } type;
-    double a, b;      // support in x = ln(d / d_ref): [a, b]; atoms: a == b
-    double mu, sigma; // kNormal only
-    double mass;      // mass on the spec basis
+    double a, b;       // support in x = ln(d / d_ref): [a, b]; atoms: a == b
+    double mu, sigma;  // kNormal only
+    double mass;       // mass on the spec basis
   };
-  double piece_mass(const Piece& p, double k) const;           // ∫ density e^{-k x} over the piece
+  double piece_mass(const Piece& p, double k) const;               // ∫ density e^{-k x} over the piece
   double piece_inverse(const Piece& p, double k, double u) const;  // x where the weighted CDF reaches u
-  double piece_cdf(const Piece& p, double k, double x) const;  // weighted mass of the piece below x
-  double weight_k(PsdBasis target) const;  // k turning the spec basis into `target`
+  double piece_cdf(const Piece& p, double k, double x) const;      // weighted mass of the piece below x
+  double weight_k(PsdBasis target) const;                          // k turning the spec basis into `target`
 
   PsdSpec spec_;
   double x_ref_ = 0.0;  // ln of a reference diameter (m): keeps e^{-kx} near 1
@@ -131,6 +133,8 @@ PsdQuantiles sample_quantiles(const std::vector<double>& diameters, PsdBasis bas
 double sample_mean_volume(const std::vector<double>& diameters);
 
 // The deterministic uniform in [0, 1) used everywhere in wetdem's set-up: the top 53 bits of one draw.
-inline double uniform01(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11) * 0x1.0p-53; }
+inline double uniform01(std::mt19937_64& rng) {
+  return static_cast<double>(rng() >> 11) * 0x1.0p-53;
+}
 
 }  // namespace wetdem

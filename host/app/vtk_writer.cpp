@@ -71,7 +71,8 @@ std::vector<unsigned char> base64_decode(const std::string& s, size_t pos, size_
       quad[q++] = v;
     }
     if (q == 4) {
-      const uint32_t v = (uint32_t(quad[0]) << 18) | (uint32_t(quad[1]) << 12) | (uint32_t(quad[2]) << 6) | uint32_t(quad[3]);
+      const uint32_t v = (uint32_t(quad[0]) << 18) | (uint32_t(quad[1]) << 12) | (uint32_t(quad[2]) << 6) |
+                         uint32_t(quad[3]);
       out.push_back(static_cast<unsigned char>(v >> 16));
       if (pad < 2) out.push_back(static_cast<unsigned char>(v >> 8));
       if (pad < 1) out.push_back(static_cast<unsigned char>(v));
@@ -113,11 +114,16 @@ Array make_array(std::string name, std::string type, int comps, const std::vecto
 }
 
 std::string type_size_check(const std::string& t, size_t& size) {
-  if (t == "Float64" || t == "Int64" || t == "UInt64") size = 8;
-  else if (t == "Float32" || t == "Int32" || t == "UInt32") size = 4;
-  else if (t == "Int16" || t == "UInt16") size = 2;
-  else if (t == "Int8" || t == "UInt8") size = 1;
-  else throw std::runtime_error("read_vtp: unsupported type " + t);
+  if (t == "Float64" || t == "Int64" || t == "UInt64")
+    size = 8;
+  else if (t == "Float32" || t == "Int32" || t == "UInt32")
+    size = 4;
+  else if (t == "Int16" || t == "UInt16")
+    size = 2;
+  else if (t == "Int8" || t == "UInt8")
+    size = 1;
+  else
+    throw std::runtime_error("read_vtp: unsupported type " + t);
   return t;
 }
 
@@ -181,7 +187,8 @@ void write_vtp(const std::string& path, const ParticleFrame& f, const VtkOptions
   const size_t n = f.size();
   auto ok = [n](size_t m) { return m == 0 || m == n; };
   if (f.radius.size() != n || !ok(f.v.size()) || !ok(f.liquid_m3.size()) || !ok(f.id.size()))
-    throw std::invalid_argument("ParticleFrame: radius must have one entry per particle; v, liquid_m3, id one or none");
+    throw std::invalid_argument(
+        "ParticleFrame: radius must have one entry per particle; v, liquid_m3, id one or none");
   if (!little_endian()) throw std::runtime_error("write_vtp: big-endian hosts are not supported");
   const bool ascii = opt.encoding == VtkEncoding::kAscii;
 
@@ -237,12 +244,18 @@ void write_vtp(const std::string& path, const ParticleFrame& f, const VtkOptions
   x += "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n";
   x += "  <PolyData>\n";
   x += "    <FieldData>\n";
-  x += fmt::format("      <DataArray type=\"Float64\" Name=\"TimeValue\" NumberOfTuples=\"1\" format=\"ascii\">{:.17g}</DataArray>\n", f.time);
-  x += fmt::format("      <DataArray type=\"UInt64\" Name=\"Step\" NumberOfTuples=\"1\" format=\"ascii\">{}</DataArray>\n", f.step);
+  x += fmt::format(
+      "      <DataArray type=\"Float64\" Name=\"TimeValue\" NumberOfTuples=\"1\" "
+      "format=\"ascii\">{:.17g}</DataArray>\n",
+      f.time);
+  x += fmt::format(
+      "      <DataArray type=\"UInt64\" Name=\"Step\" NumberOfTuples=\"1\" format=\"ascii\">{}</DataArray>\n",
+      f.step);
   x += "    </FieldData>\n";
   x += fmt::format(
       "    <Piece NumberOfPoints=\"{0}\" NumberOfVerts=\"{0}\" NumberOfLines=\"0\" NumberOfStrips=\"0\" "
-      "NumberOfPolys=\"0\">\n", n);
+      "NumberOfPolys=\"0\">\n",
+      n);
   x += "      <PointData Scalars=\"radius\" Vectors=\"velocity\">\n";
   for (const Array& a : pd) x += data_array(a, "        ");
   x += "      </PointData>\n      <Points>\n";
@@ -274,7 +287,8 @@ VtpData read_vtp(const std::string& path) {
     const size_t q = s.find('>', p);
     const std::string tag = s.substr(p, q - p + 1);
     for (const char* sec : {"FieldData", "PointData", "Points", "Verts"})
-      if (tag.rfind(std::string("<") + sec, 0) == 0 && (tag[1 + std::strlen(sec)] == ' ' || tag[1 + std::strlen(sec)] == '>'))
+      if (tag.rfind(std::string("<") + sec, 0) == 0 &&
+          (tag[1 + std::strlen(sec)] == ' ' || tag[1 + std::strlen(sec)] == '>'))
         section = sec;
     if (tag.rfind("<Piece", 0) == 0) {
       d.points = std::stoull(attr(tag, "NumberOfPoints"));
@@ -300,7 +314,8 @@ VtpData read_vtp(const std::string& path) {
       std::memcpy(&nbytes, hdr.data(), 8);
       const std::vector<unsigned char> block = base64_decode(s, off, (8 + nbytes + 2) / 3 * 4);
       if (block.size() < 8 + nbytes) throw std::runtime_error("read_vtp: truncated appended block");
-      for (size_t i = 0; i < nbytes / wsize; ++i) values.push_back(read_value(block.data() + 8 + i * wsize, type));
+      for (size_t i = 0; i < nbytes / wsize; ++i)
+        values.push_back(read_value(block.data() + 8 + i * wsize, type));
     } else {
       throw std::runtime_error("read_vtp: unsupported format " + format);
     }
@@ -343,18 +358,21 @@ std::string PvdSeries::write(const ParticleFrame& f) {
   const std::string file = fmt::format("{}_{:010d}.vtp", prefix_, f.step);
   const std::string path = (std::filesystem::path(dir_) / file).string();
   write_vtp(path, f, opt_);
-  entries_.erase(std::remove_if(entries_.begin(), entries_.end(), [&](const Entry& e) { return e.step >= f.step; }),
-                 entries_.end());
+  entries_.erase(
+      std::remove_if(entries_.begin(), entries_.end(), [&](const Entry& e) { return e.step >= f.step; }),
+      entries_.end());
   entries_.push_back({f.time, f.step, file});
   write_collection();
   return path;
 }
 
 void PvdSeries::write_collection() const {
-  std::string x = "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n";
+  std::string x =
+      "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n";
   x += "  <Collection>\n";
   for (const Entry& e : entries_)
-    x += fmt::format("    <DataSet timestep=\"{:.17g}\" group=\"\" part=\"0\" file=\"{}\"/>\n", e.time, e.file);
+    x += fmt::format("    <DataSet timestep=\"{:.17g}\" group=\"\" part=\"0\" file=\"{}\"/>\n", e.time,
+                     e.file);
   x += "  </Collection>\n</VTKFile>\n";
   write_atomically(pvd_path_, x);
 }

@@ -1,13 +1,13 @@
 // VTK XML PolyData (.vtp) particle snapshots and a ParaView collection (.pvd) of them.
 //
 // A .vtp holds N points (Float64 centres, m) with one vertex cell each (so ParaView draws them without a
-// filter), point data "radius" (Float64, m), "liquid_volume" (Float64, m³, physics.md §5 liquid per particle),
-// "velocity" (Float32 ×3, m/s), "id" (UInt32), "color" (UInt8 ×3, sRGB of liquid_color_srgb; only when
-// color_max_m3 > 0), and field data "TimeValue" (Float64, s) and "Step" (UInt64)
-// ParaView reads. Axes as in the drum frame (y up, z the drum axis).
-// Encodings: ASCII, or binary appended data in base64 (header_type UInt64: each array's block is the byte count
-// as a little-endian UInt64 followed by the raw little-endian values, base64-encoded on its own; offsets count
-// characters after the '_' marker), as vtkXMLWriter writes for encoding="base64".
+// filter), point data "radius" (Float64, m), "liquid_volume" (Float64, m³, physics.md §5 liquid per
+// particle), "velocity" (Float32 ×3, m/s), "id" (UInt32), "color" (UInt8 ×3, sRGB of liquid_color_srgb; only
+// when color_max_m3 > 0), and field data "TimeValue" (Float64, s) and "Step" (UInt64) ParaView reads. Axes as
+// in the drum frame (y up, z the drum axis). Encodings: ASCII, or binary appended data in base64 (header_type
+// UInt64: each array's block is the byte count as a little-endian UInt64 followed by the raw little-endian
+// values, base64-encoded on its own; offsets count characters after the '_' marker), as vtkXMLWriter writes
+// for encoding="base64".
 #pragma once
 
 #include <cstdint>
@@ -54,7 +54,7 @@ struct VtpData {
   size_t points = 0, verts = 0;
   std::vector<double> x;  // 3 per point
   std::map<std::string, std::vector<double>> point_data;
-  std::map<std::string, int> components;   // per point-data array
+  std::map<std::string, int> components;     // per point-data array
   std::map<std::string, std::string> types;  // VTK type name per point-data array ("Float64", ...)
   std::map<std::string, double> field_data;  // first value of each field-data array
 };

@@ -2,9 +2,9 @@
 // L = 0.18 m, 5 rpm) with N polydisperse PP2-like particles (the PSD scaled so that N particles make a 36.5 %
 // bed), lets it settle, then times steps: particle-steps per second for the whole step (wall clock) and for
 // each pass (GPU timestamps, one profiled run). Ratios between passes are measured in one run.
-#include <CLI/CLI.hpp>
 #include <fmt/core.h>
 #include <fmt/ranges.h>
+#include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -77,8 +77,8 @@ Setup make_drum(size_t n, bool wet, uint64_t seed) {
   return s;
 }
 
-// physics.md §7.8 at full length: the agitated wet slice of tests/test_liquid_soak.cpp for `steps` steps, total
-// liquid compared exactly every 10,000 steps, events counted.
+// physics.md §7.8 at full length: the agitated wet slice of tests/test_liquid_soak.cpp for `steps` steps,
+// total liquid compared exactly every 10,000 steps, events counted.
 int soak(vk::Context& ctx, uint64_t steps, size_t n) {
   Scenario sc = tumbling_wet_slice(n, 3);
   System sys(ctx, sc.prm, sc.state.p.size());
@@ -95,8 +95,8 @@ int soak(vk::Context& ctx, uint64_t steps, size_t n) {
     ruptures += e.ruptures;
     const int64_t now = sys.download().total_liquid();
     double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    fmt::print("soak: {} / {} steps, {} formations, {} ruptures, liquid {} ({}), {:.0f} steps/s\n", done, steps,
-               formations, ruptures, now, now == total ? "exact" : "CHANGED", double(done) / el);
+    fmt::print("soak: {} / {} steps, {} formations, {} ruptures, liquid {} ({}), {:.0f} steps/s\n", done,
+               steps, formations, ruptures, now, now == total ? "exact" : "CHANGED", double(done) / el);
     if (now != total) return 1;
   }
   return 0;
@@ -117,7 +117,8 @@ int main(int argc, char** argv) {
   app.add_option("--device", device, "device: index, name substring, cpu or gpu");
   app.add_flag("--dry", dry, "no liquid (default: wet, PP2 calibrated bridges)");
   app.add_option("--json", json_path, "write the results as JSON");
-  app.add_option("--soak", soak_steps, "instead: liquid-conservation soak of this many steps (physics.md §7.8)");
+  app.add_option("--soak", soak_steps,
+                 "instead: liquid-conservation soak of this many steps (physics.md §7.8)");
   CLI11_PARSE(app, argc, argv);
 
   try {
@@ -152,10 +153,12 @@ int main(int argc, char** argv) {
       std::sort(passes.begin(), passes.end(), [](auto& a, auto& b) { return a.seconds > b.seconds; });
 
       const double pss = double(n) * double(steps) / wall;
-      fmt::print("\n{} particles (PP2 scaled x{:.2f}), {} steps, dt {:.3g} s, {} contacts, {} bridges, {} rebuilds\n", n,
-                 s.scale, steps, s.prm.dt, o.contacts, o.bridges, c.rebuilds);
-      fmt::print("  step: {:.3g} particle-steps/s ({:.3g} s wall per step) on {}\n", pss, wall / double(steps),
-                 ctx.info().name);
+      fmt::print(
+          "\n{} particles (PP2 scaled x{:.2f}), {} steps, dt {:.3g} s, {} contacts, {} bridges, {} "
+          "rebuilds\n",
+          n, s.scale, steps, s.prm.dt, o.contacts, o.bridges, c.rebuilds);
+      fmt::print("  step: {:.3g} particle-steps/s ({:.3g} s wall per step) on {}\n", pss,
+                 wall / double(steps), ctx.info().name);
       nlohmann::json jn;
       jn["particles"] = n;
       jn["steps"] = steps;

@@ -33,7 +33,8 @@ Observables compute_observables(const SystemState& s, const SimParams& prm) {
   double r_max = 0.0;
   for (size_t k = 0; k < n; ++k) {
     const double m = s.p.mass[k];
-    o.kinetic_energy += 0.5 * m * glm::dot(s.p.v[k], s.p.v[k]) + 0.5 * s.p.inertia[k] * glm::dot(s.p.w[k], s.p.w[k]);
+    o.kinetic_energy +=
+        0.5 * m * glm::dot(s.p.v[k], s.p.v[k]) + 0.5 * s.p.inertia[k] * glm::dot(s.p.w[k], s.p.w[k]);
     o.com += m * s.p.x[k];
     mass += m;
     o.liquid_films += s.p.film[k];
@@ -66,7 +67,8 @@ Observables compute_observables(const SystemState& s, const SimParams& prm) {
   std::unordered_multimap<int64_t, uint32_t> grid;
   grid.reserve(n);
   for (size_t k = 0; k < n; ++k)
-    grid.emplace(key(int64_t(std::floor(s.p.x[k].x / cell)), int64_t(std::floor(s.p.x[k].y / cell)), cz_of(s.p.x[k].z)),
+    grid.emplace(key(int64_t(std::floor(s.p.x[k].x / cell)), int64_t(std::floor(s.p.x[k].y / cell)),
+                     cz_of(s.p.x[k].z)),
                  uint32_t(k));
   std::unordered_map<uint64_t, bool> bridged;
   for (const auto& r : s.pairs) {

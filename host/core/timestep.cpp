@@ -10,7 +10,9 @@ namespace wetdem {
 namespace {
 constexpr double kPi = 3.14159265358979323846;
 
-double f0_of(const LiquidParams& l, double R_h) { return 2.0 * kPi * R_h * l.gamma * std::cos(l.theta); }
+double f0_of(const LiquidParams& l, double R_h) {
+  return 2.0 * kPi * R_h * l.gamma * std::cos(l.theta);
+}
 }  // namespace
 
 double capillary_dt_limit(double m_star, double R_h, double f0, double volume_m3) {
@@ -29,10 +31,12 @@ std::optional<std::string> capillary_timestep_warning(const SimParams& prm, cons
     const double ri = s.p.radius[r.id_i], rj = s.p.radius[r.id_j];
     const double mi = s.p.mass[r.id_i], mj = s.p.mass[r.id_j];
     const double R_h = 2.0 * ri * rj / (ri + rj);
-    const double lim = capillary_dt_limit(mi * mj / (mi + mj), R_h, f0_of(l, R_h), double(r.bridge) * prm.liquid_unit_m3);
+    const double lim =
+        capillary_dt_limit(mi * mj / (mi + mj), R_h, f0_of(l, R_h), double(r.bridge) * prm.liquid_unit_m3);
     if (lim < worst) {
       worst = lim;
-      where = fmt::format("bridge {}-{} of {:.3g} m^3", r.id_i, r.id_j, double(r.bridge) * prm.liquid_unit_m3);
+      where =
+          fmt::format("bridge {}-{} of {:.3g} m^3", r.id_i, r.id_j, double(r.bridge) * prm.liquid_unit_m3);
     }
   }
   // The stiffest bridge a formation can make between the two smallest particles.
@@ -51,7 +55,8 @@ std::optional<std::string> capillary_timestep_warning(const SimParams& prm, cons
   }
   if (prm.dt <= worst) return std::nullopt;
   return fmt::format(
-      "time step {:.3g} s exceeds the capillary limit 0.1 pi sqrt(m*/k_c) = {:.3g} s of the stiffest bridge ({}); "
+      "time step {:.3g} s exceeds the capillary limit 0.1 pi sqrt(m*/k_c) = {:.3g} s of the stiffest bridge "
+      "({}); "
       "physics.md §6",
       prm.dt, worst, where);
 }

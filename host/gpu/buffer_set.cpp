@@ -13,7 +13,8 @@ BufferSet::BufferSet(vk::Context& c, uint32_t num_particles, uint32_t num_cells)
   params = vk::Buffer(ctx, sizeof(GpuParams));
   table_buf = vk::Buffer(ctx, sizeof(GpuTable));
   for (int s = 0; s < 2; ++s)
-    for (uint32_t f = 0; f < kNumParticleFields; ++f) pset[s][f] = vk::Buffer(ctx, N * kParticleFieldBytes[f]);
+    for (uint32_t f = 0; f < kNumParticleFields; ++f)
+      pset[s][f] = vk::Buffer(ctx, N * kParticleFieldBytes[f]);
   ref_pos = vk::Buffer(ctx, N * 16);
   cell_key = vk::Buffer(ctx, N * 4);
   sort_val = vk::Buffer(ctx, N * 4);

@@ -12,15 +12,28 @@ namespace wetdem::gpu {
 
 // Particle fields of one set (order = PF_* in access.glsl).
 enum ParticleField : uint32_t {
-  kPos, kVel, kOmg, kProps, kForce, kTorque, kFilm, kWallSt, kWallSr, kWallLiq, kWallFlags, kNbrCount, kNbrOffset,
-  kFrac, kNumParticleFields
+  kPos,
+  kVel,
+  kOmg,
+  kProps,
+  kForce,
+  kTorque,
+  kFilm,
+  kWallSt,
+  kWallSr,
+  kWallLiq,
+  kWallFlags,
+  kNbrCount,
+  kNbrOffset,
+  kFrac,
+  kNumParticleFields
 };
 // Entry (neighbour-list) fields of one set (order = EF_* in access.glsl).
 enum EntryField : uint32_t { kNbr, kSelf, kMirror, kSt, kSr, kLiq, kFlags, kNumEntryFields };
 
 // Bytes per element of each field.
 inline constexpr std::array<uint32_t, kNumParticleFields> kParticleFieldBytes = {16, 16, 16, 16, 16, 16, 8,
-                                                                                 48, 48, 24, 12, 4, 4, 16};
+                                                                                 48, 48, 24, 12, 4,  4,  16};
 inline constexpr std::array<uint32_t, kNumEntryFields> kEntryFieldBytes = {4, 4, 4, 16, 16, 8, 4};
 
 // Address table, std430 (all uint64), mirror of `Table` in access.glsl.

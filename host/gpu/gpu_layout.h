@@ -21,7 +21,7 @@ struct GpuLiquid {
   float unit_m3;       // volume of one liquid unit
   float range;         // interaction range beyond contact (m): S_c,max for this type
   uint32_t enabled;
-  uint32_t dc_q16;     // distribution coefficient d_c in 1/65536
+  uint32_t dc_q16;  // distribution coefficient d_c in 1/65536
   uint32_t pad0, pad1;
 };
 static_assert(sizeof(GpuLiquid) == 48);
@@ -33,22 +33,22 @@ struct GpuParams {
   GpuLiquid lpw[3];
   int64_t drum_r2_ticks;  // (R/h)^2, for exact cylinder gaps
   int32_t drum_r_ticks;
-  int32_t plate_z_ticks;  // L/2 in ticks (plates at +-)
-  int32_t period_ticks;   // periodic z period in ticks (0 = not periodic)
-  int32_t cell_ticks;     // cell edge in ticks
-  int32_t grid_origin[3]; // lowest corner of the cell grid, ticks
+  int32_t plate_z_ticks;   // L/2 in ticks (plates at +-)
+  int32_t period_ticks;    // periodic z period in ticks (0 = not periodic)
+  int32_t cell_ticks;      // cell edge in ticks
+  int32_t grid_origin[3];  // lowest corner of the cell grid, ticks
   int32_t grid_dims[3];
   uint32_t plate_present[2];
   uint32_t plate_rotates[2];
   uint32_t num_particles;
-  uint32_t liquid_on;     // any liquid interaction enabled: run the liquid passes
+  uint32_t liquid_on;  // any liquid interaction enabled: run the liquid passes
   float dt, h, inv_h, omega;
   float gravity[3];
-  float skin;             // neighbour skin (m)
-  float cutoff_extra;     // list keeps pairs with gap < cutoff_extra = S_c,max + skin (m)
-  float drum_r;           // m
-  uint32_t hash_mask;     // 0: dense cell grid; else cells are hashed into hash_mask + 1 buckets
-  float drum_r_frac;     // R/h - drum_r_ticks
+  float skin;          // neighbour skin (m)
+  float cutoff_extra;  // list keeps pairs with gap < cutoff_extra = S_c,max + skin (m)
+  float drum_r;        // m
+  uint32_t hash_mask;  // 0: dense cell grid; else cells are hashed into hash_mask + 1 buckets
+  float drum_r_frac;   // R/h - drum_r_ticks
 };
 static_assert(sizeof(GpuParams) == 32 * 4 + 48 * 4 + 8 + 4 * 4 + 12 * 2 + 8 * 2 + 8 + 16 + 12 + 12 + 8);
 
@@ -71,11 +71,11 @@ enum : uint32_t {
   kStepsDone = 13,
   kOverflows = 14,
   kMirrorErrors = 15,
-  kEntryArgs = 16,   // uvec4: dispatch over the current list's entries
-  kBuildArgs = 20,   // uvec4: dispatch over the list being built (written after its scan)
-  kLostArgs = 24,    // uvec4: lost-bridge check over the old list (rebuild steps only)
-  kCapacity0 = 28,   // entry capacity of pair set 0 (kCapacity0 + 1: set 1)
-  kGateArgs = 32,    // kMaxGates uvec4 slots: rebuild-gated dispatch sizes
+  kEntryArgs = 16,  // uvec4: dispatch over the current list's entries
+  kBuildArgs = 20,  // uvec4: dispatch over the list being built (written after its scan)
+  kLostArgs = 24,   // uvec4: lost-bridge check over the old list (rebuild steps only)
+  kCapacity0 = 28,  // entry capacity of pair set 0 (kCapacity0 + 1: set 1)
+  kGateArgs = 32,   // kMaxGates uvec4 slots: rebuild-gated dispatch sizes
   kMaxGates = 48,
   kGateGroups = kGateArgs + 4 * kMaxGates,  // kMaxGates uints: nominal group counts of the gated slots
   kWords = kGateGroups + kMaxGates,

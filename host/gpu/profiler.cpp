@@ -35,7 +35,9 @@ void Profiler::mark(VkCommandBuffer cb, const std::string& pass) {
   r.names.push_back(pass);
 }
 
-void Profiler::end(VkCommandBuffer cb) { mark(cb, ""); }
+void Profiler::end(VkCommandBuffer cb) {
+  mark(cb, "");
+}
 
 void Profiler::collect() {
   if (!ctx_.info().timestamps || rec_.empty()) return;
@@ -45,8 +47,8 @@ void Profiler::collect() {
     Recording& r = it->second;
     if (r.names.size() < 2) return;
     std::vector<uint64_t> ts(r.names.size());
-    VkResult res = vkGetQueryPoolResults(ctx_.device(), r.pool, 0, uint32_t(ts.size()), ts.size() * 8, ts.data(), 8,
-                                         VK_QUERY_RESULT_64_BIT);
+    VkResult res = vkGetQueryPoolResults(ctx_.device(), r.pool, 0, uint32_t(ts.size()), ts.size() * 8,
+                                         ts.data(), 8, VK_QUERY_RESULT_64_BIT);
     if (res != VK_SUCCESS) return;
     for (size_t k = 0; k + 1 < ts.size(); ++k) {
       PassTiming& t = acc_[r.names[k]];

@@ -13,7 +13,9 @@ namespace wetdem::gpu {
 
 namespace {
 constexpr uint32_t kDigits = 1u << RadixSort::kDigitBits;
-uint32_t tiles(uint32_t n) { return (n + RadixSort::kTile - 1) / RadixSort::kTile; }
+uint32_t tiles(uint32_t n) {
+  return (n + RadixSort::kTile - 1) / RadixSort::kTile;
+}
 
 // Push constants, laid out as the shaders' std430 push blocks.
 struct CountPush {
@@ -42,8 +44,8 @@ RadixSort::RadixSort(vk::Context& ctx, uint32_t max_n)
   if (max_n > kMaxN) throw std::invalid_argument(fmt::format("RadixSort: max_n {} exceeds {}", max_n, kMaxN));
 }
 
-void RadixSort::record(VkCommandBuffer cb, Dispatcher& disp, uint64_t keys_addr, uint64_t vals_addr, uint32_t n,
-                       uint32_t key_bits) {
+void RadixSort::record(VkCommandBuffer cb, Dispatcher& disp, uint64_t keys_addr, uint64_t vals_addr,
+                       uint32_t n, uint32_t key_bits) {
   if (n > max_n_) throw std::invalid_argument(fmt::format("RadixSort: n {} exceeds max_n {}", n, max_n_));
   if (key_bits > 32) throw std::invalid_argument(fmt::format("RadixSort: key_bits {} > 32", key_bits));
   if (n == 0 || key_bits == 0) return;  // nothing to reorder
@@ -128,7 +130,8 @@ SortBenchResult bench_radix_sort(vk::Context& ctx, uint32_t n, uint32_t key_bits
                                     VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
     vkDestroyQueryPool(ctx.device(), pool, nullptr);
     total = 0;
-    for (int r = 0; r < reps; ++r) total += double(ts[2 * r + 1] - ts[2 * r]) * ctx.info().timestamp_period_ns * 1e-9;
+    for (int r = 0; r < reps; ++r)
+      total += double(ts[2 * r + 1] - ts[2 * r]) * ctx.info().timestamp_period_ns * 1e-9;
   }
   res.seconds_per_sort = total / reps;
   res.elements_per_second = res.seconds_per_sort > 0 ? n / res.seconds_per_sort : 0;

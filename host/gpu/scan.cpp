@@ -7,7 +7,9 @@
 namespace wetdem::gpu {
 
 namespace {
-uint32_t blocks(uint32_t n) { return (n + Scan::kBlock - 1) / Scan::kBlock; }
+uint32_t blocks(uint32_t n) {
+  return (n + Scan::kBlock - 1) / Scan::kBlock;
+}
 
 // Push constants, laid out as the shaders' std430 push blocks.
 struct ReducePush {

@@ -34,7 +34,9 @@ struct Push {
 };
 
 constexpr uint32_t kGroup = 256;
-uint32_t groups_for(uint64_t n) { return uint32_t((n + kGroup - 1) / kGroup); }
+uint32_t groups_for(uint64_t n) {
+  return uint32_t((n + kGroup - 1) / kGroup);
+}
 
 // Records each dispatch as an indirect one whose size lives in a ctl slot; rebuild_decide writes the
 // nominal size there on rebuild steps and zero otherwise. Slots are shared by equal group counts.
@@ -45,7 +47,8 @@ class GatedDispatcher final : public gpu::Dispatcher {
     auto it = std::find(groups_.begin(), groups_.end(), groups);
     size_t slot = size_t(it - groups_.begin());
     if (it == groups_.end()) {
-      if (groups_.size() >= ctlw::kMaxGates) throw std::runtime_error("too many distinct gated dispatch sizes");
+      if (groups_.size() >= ctlw::kMaxGates)
+        throw std::runtime_error("too many distinct gated dispatch sizes");
       groups_.push_back(groups);
     }
     if (prof_) prof_->mark(cb, k.name());
@@ -90,13 +93,14 @@ struct System::Impl {
 
   Impl(vk::Context& c, const SimParams& p, size_t num, SystemOptions o)
       : ctx(c), prm(p), opt(o), n(uint32_t(num)), prof(c) {
-    if (num == 0 || num >= (1u << 31)) throw std::invalid_argument("System: particle count must be in [1, 2^31)");
-    const char* names[] = {"kick_drift",        "pair_force",        "gather_kick",     "liq_rupture_share",
-                           "liq_rupture_apply", "liq_form_offer",    "liq_form_apply",  "liq_form_take",
-                           "rebuild_decide",    "cell_key",          "reorder",         "fill_u32",
-                           "cell_ranges",       "nbr_count",         "build_args",      "nbr_fill",
-                           "mirror",            "history_map",       "lost_check",      "flip",
-                           "end_step"};
+    if (num == 0 || num >= (1u << 31))
+      throw std::invalid_argument("System: particle count must be in [1, 2^31)");
+    const char* names[] = {
+        "kick_drift",     "pair_force",     "gather_kick",   "liq_rupture_share", "liq_rupture_apply",
+        "liq_form_offer", "liq_form_apply", "liq_form_take", "rebuild_decide",    "cell_key",
+        "reorder",        "fill_u32",       "cell_ranges",   "nbr_count",         "build_args",
+        "nbr_fill",       "mirror",         "history_map",   "lost_check",        "flip",
+        "end_step"};
     for (const char* nm : names) kernels[nm] = std::make_unique<vk::Kernel>(ctx, nm);
     sort = std::make_unique<gpu::RadixSort>(ctx, n);
     scan = std::make_unique<gpu::Scan>(ctx, n);
@@ -120,7 +124,8 @@ struct System::Impl {
     // not usable: 0 selects 0.1 r_min (a rebuild every few steps at drum speeds).
     if (prm.skin <= 0.0) prm.skin = 0.1 * r_min;
     const DrumParams& d = prm.drum;
-    if (!(d.radius > 0) || !(d.length > 0)) throw std::invalid_argument("drum: radius and length must be > 0");
+    if (!(d.radius > 0) || !(d.length > 0))
+      throw std::invalid_argument("drum: radius and length must be > 0");
     if (!(prm.dt > 0)) throw std::invalid_argument("dt must be > 0");
     const double range_pp = prm.bridge_range_pp();
     const double cutoff_extra = range_pp + prm.skin;
@@ -132,7 +137,8 @@ struct System::Impl {
     const double half_len_ticks = std::ceil(0.5 * d.length / (half_extent / double(1 << 29)));
     h = 0.5 * d.length / half_len_ticks;
     if (cell > 0.25 * half_extent)
-      throw std::invalid_argument(fmt::format("particles too large for the drum: interaction distance {:.4g} m", cell));
+      throw std::invalid_argument(
+          fmt::format("particles too large for the drum: interaction distance {:.4g} m", cell));
     inv_h = 1.0 / h;
     const int64_t cell_ticks = int64_t(std::ceil(cell * inv_h));
     const double margin = cell;
@@ -148,9 +154,10 @@ struct System::Impl {
       origin[2] = int32_t(-(period / 2));
       dims[2] = int32_t(std::max<int64_t>(1, period / cell_ticks));
       if (d.length < 2.0 * cell)
-        throw std::invalid_argument(fmt::format(
-            "drum.length: a periodic slice must be at least twice the interaction distance ({:.4g} m), got {:.4g} m",
-            cell, d.length));
+        throw std::invalid_argument(
+            fmt::format("drum.length: a periodic slice must be at least twice the interaction distance "
+                        "({:.4g} m), got {:.4g} m",
+                        cell, d.length));
     } else {
       double lo = -(0.5 * d.length + margin);
       origin[2] = int32_t(std::floor(lo * inv_h));
@@ -280,13 +287,17 @@ struct System::Impl {
   // 6g-6k: fill, mirror, history, lost check, flip. Direct dispatches when finishing a halted rebuild.
   void record_list_tail(VkCommandBuffer cb, bool direct) {
     const uint32_t gN = groups_for(n);
-    if (direct) run(cb, "nbr_fill", gN);
-    else gated(cb, "nbr_fill", gN);
+    if (direct)
+      run(cb, "nbr_fill", gN);
+    else
+      gated(cb, "nbr_fill", gN);
     run_indirect(cb, "mirror", ctlw::kBuildArgs);
     run_indirect(cb, "history_map", ctlw::kBuildArgs);
     run_indirect(cb, "lost_check", ctlw::kLostArgs);
-    if (direct) run(cb, "flip", 1);
-    else gated(cb, "flip", 1);
+    if (direct)
+      run(cb, "flip", 1);
+    else
+      gated(cb, "flip", 1);
   }
 
   void record_step(VkCommandBuffer cb) {
@@ -389,9 +400,10 @@ struct System::Impl {
     while (count > 0) {
       uint32_t k = uint32_t(std::min<uint64_t>(count, std::max<uint32_t>(1, opt.steps_per_submit)));
       VkCommandBuffer& cb = cached[k];
-      if (!cb) cb = record([&](VkCommandBuffer r) {
-        for (uint32_t s = 0; s < k; ++s) record_step(r);
-      });
+      if (!cb)
+        cb = record([&](VkCommandBuffer r) {
+          for (uint32_t s = 0; s < k; ++s) record_step(r);
+        });
       submit(cb);
       auto c = read_ctl();
       if (c[ctlw::kHalt]) {
@@ -409,7 +421,8 @@ struct System::Impl {
 
   // ---- state transfer --------------------------------------------------------------------------------
   void upload(const SystemState& s) {
-    if (s.p.size() != n) throw std::invalid_argument(fmt::format("upload: state has {} particles, system {}", s.p.size(), n));
+    if (s.p.size() != n)
+      throw std::invalid_argument(fmt::format("upload: state has {} particles, system {}", s.p.size(), n));
     double r_max = 0.0, r_min = 1e300;
     for (double r : s.p.radius) {
       if (!(r > 0)) throw std::invalid_argument("upload: particle radius must be > 0");
@@ -483,15 +496,17 @@ struct System::Impl {
     // Pair records become the "old list" of set 0 (owner entries in the lower id's segment), so that the
     // regular history-mapping pass carries them into the first real list.
     std::vector<PairRecord> recs = s.pairs;
-    std::sort(recs.begin(), recs.end(),
-              [](const PairRecord& a, const PairRecord& b) { return std::tie(a.id_i, a.id_j) < std::tie(b.id_i, b.id_j); });
+    std::sort(recs.begin(), recs.end(), [](const PairRecord& a, const PairRecord& b) {
+      return std::tie(a.id_i, a.id_j) < std::tie(b.id_i, b.id_j);
+    });
     const uint32_t E = uint32_t(recs.size());
     std::vector<uint32_t> cnt(n, 0), off(n, 0), nbr(E), self(E), mir(E), fl(E);
     std::vector<float> st(4 * size_t(E)), sr(4 * size_t(E));
     std::vector<int64_t> liq(E);
     for (uint32_t e = 0; e < E; ++e) {
       const PairRecord& r = recs[e];
-      if (r.id_i >= r.id_j || r.id_j >= n) throw std::invalid_argument("upload: pair record needs id_i < id_j < N");
+      if (r.id_i >= r.id_j || r.id_j >= n)
+        throw std::invalid_argument("upload: pair record needs id_i < id_j < N");
       cnt[r.id_i]++;
       nbr[e] = r.id_j;
       self[e] = r.id_i;
@@ -541,8 +556,9 @@ struct System::Impl {
       cc = read_ctl();
     }
     if (cc[ctlw::kLostBridges])
-      throw std::invalid_argument(fmt::format(
-          "upload: {} pair record(s) with a bridge lie beyond the interaction range", cc[ctlw::kLostBridges]));
+      throw std::invalid_argument(
+          fmt::format("upload: {} pair record(s) with a bridge lie beyond the interaction range",
+                      cc[ctlw::kLostBridges]));
     check_health(cc);
     ctr.rebuilds = 0;
     uploaded = true;
@@ -609,7 +625,8 @@ struct System::Impl {
       PairRecord r;
       r.id_i = id[self[e]];
       r.id_j = id[nbr[e]];
-      if (r.id_i > r.id_j) throw std::runtime_error("download: owner entry is not the lower id (internal error)");
+      if (r.id_i > r.id_j)
+        throw std::runtime_error("download: owner entry is not the lower id (internal error)");
       for (int a = 0; a < 3; ++a) {
         r.spring_t[a] = st[4 * e + a];
         r.spring_r[a] = sr[4 * e + a];
@@ -633,7 +650,8 @@ struct System::Impl {
     for (uint32_t e = 0; e < E; ++e) {
       uint32_t a = uint32_t(pos[4 * self[e] + 3]), b = uint32_t(pos[4 * nbr[e] + 3]);
       // Every pair appears twice (both segments): keep the owner's entry, check the mirror's link.
-      if (mir[e] == e) out.emplace_back(std::min(a, b), std::max(a, b));
+      if (mir[e] == e)
+        out.emplace_back(std::min(a, b), std::max(a, b));
       else if (mir[e] >= E || self[mir[e]] != nbr[e] || nbr[mir[e]] != self[e])
         throw std::runtime_error("neighbour list: mirror entry does not point at its pair");
     }
@@ -645,7 +663,6 @@ struct System::Impl {
   std::vector<uint8_t> snapshot();
   void restore(const std::vector<uint8_t>& blob);
 };
-
 
 namespace {
 constexpr uint64_t kSnapMagic = 0x3130504E53444D57ull;  // "WMDSNP01"
@@ -687,7 +704,8 @@ void System::Impl::restore(const std::vector<uint8_t>& blob) {
   if (blob.size() < sizeof(hd)) throw std::invalid_argument("restore: snapshot too short");
   std::memcpy(&hd, blob.data(), sizeof(hd));
   if (hd.magic != kSnapMagic) throw std::invalid_argument("restore: not a wetdem snapshot");
-  if (hd.n != n) throw std::invalid_argument(fmt::format("restore: snapshot has {} particles, system {}", hd.n, n));
+  if (hd.n != n)
+    throw std::invalid_argument(fmt::format("restore: snapshot has {} particles, system {}", hd.n, n));
   size_t need = sizeof(hd) + ctlw::kWords * 4 + size_t(n) * 16;
   for (uint32_t f = 0; f < gpu::kNumParticleFields; ++f) need += size_t(n) * gpu::kParticleFieldBytes[f];
   for (uint32_t f = 0; f < gpu::kNumEntryFields; ++f) need += size_t(hd.entries) * gpu::kEntryFieldBytes[f];
@@ -740,28 +758,56 @@ void System::Impl::restore(const std::vector<uint8_t>& blob) {
 System::System(vk::Context& ctx, const SimParams& prm, size_t num_particles, SystemOptions opt)
     : impl_(std::make_unique<Impl>(ctx, prm, num_particles, opt)) {}
 System::~System() = default;
-void System::upload(const SystemState& s) { impl_->upload(s); }
-SystemState System::download() { return impl_->download(); }
-void System::step(uint64_t n) { impl_->step(n); }
-std::vector<uint8_t> System::snapshot() { return impl_->snapshot(); }
-void System::restore(const std::vector<uint8_t>& blob) { impl_->restore(blob); }
+void System::upload(const SystemState& s) {
+  impl_->upload(s);
+}
+SystemState System::download() {
+  return impl_->download();
+}
+void System::step(uint64_t n) {
+  impl_->step(n);
+}
+std::vector<uint8_t> System::snapshot() {
+  return impl_->snapshot();
+}
+void System::restore(const std::vector<uint8_t>& blob) {
+  impl_->restore(blob);
+}
 void System::force_rebuild() {
   uint32_t one = 1;
   impl_->B->ctl.upload(&one, 4, ctlw::kForceRebuild * 4);
 }
-std::vector<std::pair<uint32_t, uint32_t>> System::neighbour_pairs() { return impl_->neighbour_pairs(); }
-Observables System::observables() { return compute_observables(impl_->download(), impl_->prm); }
+std::vector<std::pair<uint32_t, uint32_t>> System::neighbour_pairs() {
+  return impl_->neighbour_pairs();
+}
+Observables System::observables() {
+  return compute_observables(impl_->download(), impl_->prm);
+}
 EventCounts System::read_events() {
   EventCounts e = impl_->events;
   impl_->events = {};
   return e;
 }
-SystemCounters System::counters() const { return impl_->ctr; }
-std::vector<PassTiming> System::pass_timings() const { return impl_->prof.timings(); }
-void System::reset_pass_timings() { impl_->prof.reset(); }
-const SimParams& System::params() const { return impl_->prm; }
-size_t System::size() const { return impl_->n; }
-std::string System::device_name() const { return impl_->ctx.info().name; }
-double System::tick_size() const { return impl_->h; }
+SystemCounters System::counters() const {
+  return impl_->ctr;
+}
+std::vector<PassTiming> System::pass_timings() const {
+  return impl_->prof.timings();
+}
+void System::reset_pass_timings() {
+  impl_->prof.reset();
+}
+const SimParams& System::params() const {
+  return impl_->prm;
+}
+size_t System::size() const {
+  return impl_->n;
+}
+std::string System::device_name() const {
+  return impl_->ctx.info().name;
+}
+double System::tick_size() const {
+  return impl_->h;
+}
 
 }  // namespace wetdem

@@ -15,8 +15,8 @@ void make_buffer(Context& ctx, VkDeviceSize bytes, VkBufferUsageFlags usage, VkM
   bi.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
   VkResult r = vkCreateBuffer(ctx.device(), &bi, nullptr, &buf);
   if (r != VK_SUCCESS)
-    throw std::runtime_error("cannot create a Vulkan buffer of " + std::to_string(bytes) + " bytes (VkResult " +
-                             std::to_string(int(r)) + ")");
+    throw std::runtime_error("cannot create a Vulkan buffer of " + std::to_string(bytes) +
+                             " bytes (VkResult " + std::to_string(int(r)) + ")");
   VkMemoryRequirements req;
   vkGetBufferMemoryRequirements(ctx.device(), buf, &req);
   VkMemoryAllocateFlagsInfo fi{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
@@ -33,8 +33,9 @@ void make_buffer(Context& ctx, VkDeviceSize bytes, VkBufferUsageFlags usage, VkM
 Buffer::Buffer(Context& ctx, VkDeviceSize bytes) : ctx_(&ctx), size_(bytes) {
   if (bytes == 0) bytes = size_ = 16;
   make_buffer(ctx, bytes,
-              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
-                  VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
+              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
+                  VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
+                  VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
               VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, true, buf_, mem_);
   VkBufferDeviceAddressInfo ai{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
   ai.buffer = buf_;
@@ -42,7 +43,9 @@ Buffer::Buffer(Context& ctx, VkDeviceSize bytes) : ctx_(&ctx), size_(bytes) {
   zero();
 }
 
-Buffer::~Buffer() { release(); }
+Buffer::~Buffer() {
+  release();
+}
 
 void Buffer::release() {
   if (buf_) {
@@ -53,7 +56,9 @@ void Buffer::release() {
   mem_ = VK_NULL_HANDLE;
 }
 
-Buffer::Buffer(Buffer&& o) noexcept { *this = std::move(o); }
+Buffer::Buffer(Buffer&& o) noexcept {
+  *this = std::move(o);
+}
 
 Buffer& Buffer::operator=(Buffer&& o) noexcept {
   if (this != &o) {

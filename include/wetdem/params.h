@@ -23,12 +23,12 @@ struct ContactParams {
 // Liquid-bridge coefficients of one interaction type, §4-5. Volumes are fixed-point integers
 // in units of SimParams::liquid_unit_m3 so that total liquid is conserved exactly.
 struct LiquidParams {
-  bool enabled = false;   // particle-particle: bridges on; a wall: particle-wall bridges on
-  double gamma = 0.0;     // surface tension (N/m), already scaled by l (gamma_scaled = l gamma)
-  double theta = 0.0;     // contact angle (rad)
-  int64_t v_min = 0;      // formation threshold: V_f,i + V_f,j > v_min (units)
-  int64_t v_max = 0;      // bridge volume cap (units)
-  double d_c = 1.0;       // distribution coefficient on rupture, [0, 1]
+  bool enabled = false;  // particle-particle: bridges on; a wall: particle-wall bridges on
+  double gamma = 0.0;    // surface tension (N/m), already scaled by l (gamma_scaled = l gamma)
+  double theta = 0.0;    // contact angle (rad)
+  int64_t v_min = 0;     // formation threshold: V_f,i + V_f,j > v_min (units)
+  int64_t v_max = 0;     // bridge volume cap (units)
+  double d_c = 1.0;      // distribution coefficient on rupture, [0, 1]
 };
 
 // One flat end plate of the drum (normal along the drum axis z).
@@ -39,10 +39,10 @@ struct PlateParams {
 
 // The drum: a cylinder of radius R about the z axis, centred at the origin, gravity in -y.
 struct DrumParams {
-  double radius = 0.07;       // inner radius (m)
-  double length = 0.18;       // axial length (m); end plates at z = +-length/2
-  double omega = 0.0;         // angular velocity about +z (rad/s)
-  bool periodic_z = false;    // thin periodic slice: no end plates, z wraps with period `length`
+  double radius = 0.07;     // inner radius (m)
+  double length = 0.18;     // axial length (m); end plates at z = +-length/2
+  double omega = 0.0;       // angular velocity about +z (rad/s)
+  bool periodic_z = false;  // thin periodic slice: no end plates, z wraps with period `length`
   PlateParams plate_lo, plate_hi;
 };
 
@@ -50,15 +50,15 @@ struct DrumParams {
 enum WallIndex : uint32_t { kWallCylinder = 0, kWallPlateLo = 1, kWallPlateHi = 2, kNumWalls = 3 };
 
 struct SimParams {
-  double dt = 1e-5;                       // time step (s), §6
-  glm::dvec3 gravity{0.0, -9.81, 0.0};    // m/s^2
-  double skin = 0.0;                      // neighbour-list skin (m); rebuild when max displacement > skin/2;
-                                          // 0 = automatic, 0.1 x the smallest radius
-  ContactParams pp;                       // particle-particle
-  ContactParams pw[kNumWalls];            // particle-wall, per wall
-  LiquidParams liq_pp;                    // particle-particle bridges
-  LiquidParams liq_pw[kNumWalls];         // particle-wall bridges (off by default)
-  double liquid_unit_m3 = 1e-21;          // volume of one liquid unit (m^3); V-bar_S * 2^-40 in drum runs
+  double dt = 1e-5;                     // time step (s), §6
+  glm::dvec3 gravity{0.0, -9.81, 0.0};  // m/s^2
+  double skin = 0.0;                    // neighbour-list skin (m); rebuild when max displacement > skin/2;
+                                        // 0 = automatic, 0.1 x the smallest radius
+  ContactParams pp;                     // particle-particle
+  ContactParams pw[kNumWalls];          // particle-wall, per wall
+  LiquidParams liq_pp;                  // particle-particle bridges
+  LiquidParams liq_pw[kNumWalls];       // particle-wall bridges (off by default)
+  double liquid_unit_m3 = 1e-21;        // volume of one liquid unit (m^3); V-bar_S * 2^-40 in drum runs
   DrumParams drum;
 
   // Interaction range of a particle pair beyond contact: S_c,max = (1 + theta/2) V_max^(1/3), §4.

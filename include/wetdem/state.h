@@ -38,11 +38,11 @@ struct WallRecord {
 
 // Particles in stable-id order: index k holds the particle whose id is k.
 struct ParticleArrays {
-  std::vector<glm::dvec3> x, v, w;      // position (m), velocity (m/s), angular velocity (rad/s)
-  std::vector<glm::dvec3> f, t;         // last computed force (N) and torque (N m), used by the next half kick
+  std::vector<glm::dvec3> x, v, w;  // position (m), velocity (m/s), angular velocity (rad/s)
+  std::vector<glm::dvec3> f, t;     // last computed force (N) and torque (N m), used by the next half kick
   std::vector<double> radius, mass, inertia;
-  std::vector<int64_t> film;            // film volume V_f (liquid units)
-  std::vector<WallRecord> wall;         // kNumWalls records per particle: wall[k * kNumWalls + w]
+  std::vector<int64_t> film;     // film volume V_f (liquid units)
+  std::vector<WallRecord> wall;  // kNumWalls records per particle: wall[k * kNumWalls + w]
 
   size_t size() const { return x.size(); }
   void resize(size_t n);

@@ -19,14 +19,14 @@ class Context;
 }
 
 struct SystemOptions {
-  uint32_t steps_per_submit = 200;  // steps recorded into one command buffer
+  uint32_t steps_per_submit = 200;             // steps recorded into one command buffer
   uint32_t initial_entries_per_particle = 16;  // neighbour-list capacity hint; grows on overflow
-  bool profile_passes = false;  // timestamp every pass (benchmarks)
+  bool profile_passes = false;                 // timestamp every pass (benchmarks)
 };
 
 struct PassTiming {
   std::string name;
-  double seconds = 0.0;   // summed over the profiled steps
+  double seconds = 0.0;  // summed over the profiled steps
   uint64_t dispatches = 0;
 };
 

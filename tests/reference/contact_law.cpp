@@ -15,7 +15,7 @@ double hertz_stiffness(double E_star, double R_star, double delta) {
 double hertz_normal_force(const ContactParams& cp, double R_star, double m_star, double delta, double v_n) {
   const double k_n = hertz_stiffness(cp.E_star, R_star, delta);
   const double eta_n = damping_factor(cp.restitution) * std::sqrt(m_star * k_n);  // §1
-  return k_n * delta - eta_n * v_n;  // §1: not clipped at zero
+  return k_n * delta - eta_n * v_n;                                               // §1: not clipped at zero
 }
 
 double hertz_energy(double E_star, double R_star, double delta) {
@@ -36,10 +36,10 @@ glm::dvec3 rotate_into_plane(const glm::dvec3& xi, const glm::dvec3& n) {
   return p * (len / lp);
 }
 
-glm::dvec3 sliding_friction(const ContactParams& cp, double k_t, double m_star, double f_n, const glm::dvec3& n,
-                            const glm::dvec3& v_t, double dt, glm::dvec3& xi) {
-  xi = rotate_into_plane(xi, n);  // §2.1
-  xi += v_t * dt;                 // §2.2
+glm::dvec3 sliding_friction(const ContactParams& cp, double k_t, double m_star, double f_n,
+                            const glm::dvec3& n, const glm::dvec3& v_t, double dt, glm::dvec3& xi) {
+  xi = rotate_into_plane(xi, n);                   // §2.1
+  xi += v_t * dt;                                  // §2.2
   const glm::dvec3 f_e = -(2.0 / 3.0) * k_t * xi;  // §2.3
   const double limit = cp.mu_s * std::fabs(f_n);
   const double le = glm::length(f_e);
@@ -57,7 +57,7 @@ glm::dvec3 sliding_friction(const ContactParams& cp, double k_t, double m_star, 
 glm::dvec3 rolling_torque(const ContactParams& cp, double k_t, double R_star, double f_n, const glm::dvec3& n,
                           const glm::dvec3& w_rel, double dt, glm::dvec3& xi_r) {
   const glm::dvec3 v_r = -R_star * glm::cross(n, w_rel);  // §3.1
-  xi_r = rotate_into_plane(xi_r, n);                       // §3.2
+  xi_r = rotate_into_plane(xi_r, n);                      // §3.2
   xi_r += v_r * dt;
   glm::dvec3 f_r = -k_t * xi_r - cp.eta_r * v_r;  // §3.3
   const double limit = cp.mu_r * std::fabs(f_n);
@@ -80,7 +80,9 @@ double capillary_force(double f0, double R_h, double volume_m3, double gap) {
   return f0 / (1.0 + 1.05 * s + 2.5 * s * s);
 }
 
-double harmonic_radius(double r_i, double r_j) { return 2.0 * r_i * r_j / (r_i + r_j); }
+double harmonic_radius(double r_i, double r_j) {
+  return 2.0 * r_i * r_j / (r_i + r_j);
+}
 
 ContactKinematics pair_kinematics(const glm::dvec3& d, double r_i, double r_j, double m_i, double m_j,
                                   const glm::dvec3& v_i, const glm::dvec3& v_j, const glm::dvec3& w_i,
@@ -90,7 +92,7 @@ ContactKinematics pair_kinematics(const glm::dvec3& d, double r_i, double r_j, d
   k.n = d / dist;  // §0: from j to i
   k.delta = r_i + r_j - dist;
   k.r_ci = -(r_i - 0.5 * k.delta) * k.n;  // c - x_i
-  k.r_cj = k.r_ci + d;                   // c - x_j
+  k.r_cj = k.r_ci + d;                    // c - x_j
   k.v_rel = v_i + glm::cross(w_i, k.r_ci) - v_j - glm::cross(w_j, k.r_cj);
   k.w_rel = w_i - w_j;
   k.R_star = r_i * r_j / (r_i + r_j);
@@ -99,8 +101,8 @@ ContactKinematics pair_kinematics(const glm::dvec3& d, double r_i, double r_j, d
   return k;
 }
 
-PairForce evaluate_contact(const ContactParams& cp, const LiquidParams& lp, double liquid_unit_m3, double range,
-                           double dt, const ContactKinematics& k, ContactHistory& h) {
+PairForce evaluate_contact(const ContactParams& cp, const LiquidParams& lp, double liquid_unit_m3,
+                           double range, double dt, const ContactKinematics& k, ContactHistory& h) {
   PairForce out;
   out.overlap = k.delta;
   glm::dvec3 f(0.0), t(0.0);

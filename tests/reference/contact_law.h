@@ -27,8 +27,8 @@ glm::dvec3 rotate_into_plane(const glm::dvec3& xi, const glm::dvec3& n);
 
 // §2: Mindlin sliding friction with history. Updates the spring xi and returns F_t. f_n is F_n of §1
 // (only |F_n| enters the Coulomb limit). Caller guarantees delta > 0 and mu_s > 0.
-glm::dvec3 sliding_friction(const ContactParams& cp, double k_t, double m_star, double f_n, const glm::dvec3& n,
-                            const glm::dvec3& v_t, double dt, glm::dvec3& xi);
+glm::dvec3 sliding_friction(const ContactParams& cp, double k_t, double m_star, double f_n,
+                            const glm::dvec3& n, const glm::dvec3& v_t, double dt, glm::dvec3& xi);
 
 // §3: rolling resistance, rolling stiffness = k_t. w_rel = omega_i - omega_j (a wall contributes its own
 // omega). Updates xi_r and returns the pure torque t on i (-t on j). Caller guarantees delta > 0, mu_r > 0.
@@ -45,12 +45,12 @@ double harmonic_radius(double r_i, double r_j);
 
 // Geometry and kinematics of one contact (pair or particle-wall), §0.
 struct ContactKinematics {
-  glm::dvec3 n{0.0};     // unit normal from j to i
-  double delta = 0.0;    // overlap (negative: gap)
-  glm::dvec3 r_ci{0.0};  // c - x_i
-  glm::dvec3 r_cj{0.0};  // c - x_j (a wall: unused, torque_j left 0)
-  glm::dvec3 v_rel{0.0}; // v_i(c) - v_j(c)
-  glm::dvec3 w_rel{0.0}; // omega_i - omega_j
+  glm::dvec3 n{0.0};      // unit normal from j to i
+  double delta = 0.0;     // overlap (negative: gap)
+  glm::dvec3 r_ci{0.0};   // c - x_i
+  glm::dvec3 r_cj{0.0};   // c - x_j (a wall: unused, torque_j left 0)
+  glm::dvec3 v_rel{0.0};  // v_i(c) - v_j(c)
+  glm::dvec3 w_rel{0.0};  // omega_i - omega_j
   double R_star = 0.0, m_star = 0.0, R_h = 0.0;
 };
 
@@ -71,7 +71,7 @@ struct ContactHistory {
 // - springs kept while the gap S = -delta < range (interaction range of §4, 0 when dry), zeroed otherwise;
 // - capillary force whenever the bridge holds liquid, whatever the gap (rupture is the event pass' job).
 // Returns the force on i and the torques T_i = t + r_ci x F, T_j = -t - r_cj x F.
-PairForce evaluate_contact(const ContactParams& cp, const LiquidParams& lp, double liquid_unit_m3, double range,
-                           double dt, const ContactKinematics& k, ContactHistory& h);
+PairForce evaluate_contact(const ContactParams& cp, const LiquidParams& lp, double liquid_unit_m3,
+                           double range, double dt, const ContactKinematics& k, ContactHistory& h);
 
 }  // namespace wetdem::ref

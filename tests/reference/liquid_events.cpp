@@ -8,7 +8,7 @@ namespace wetdem::ref {
 int64_t split_proportional(int64_t V, int64_t a, int64_t b, int64_t a_cap, int64_t b_cap) {
   if (V <= 0 || a + b <= 0) return 0;
   const uint64_t ua = uint64_t(a), ub = uint64_t(b), uv = uint64_t(V);
-  const uint64_t q = (ua << 16) / (ua + ub);                        // a/(a+b) in 1/65536 steps, floor
+  const uint64_t q = (ua << 16) / (ua + ub);                            // a/(a+b) in 1/65536 steps, floor
   const uint64_t part = (uv >> 16) * q + (((uv & 0xFFFFu) * q) >> 16);  // V q / 65536 without overflow
   int64_t part_a = int64_t(part);
   part_a = std::max(part_a, std::max<int64_t>(0, V - b_cap));
@@ -46,13 +46,17 @@ int64_t overflow_of(int64_t b, int64_t received, int64_t cap) {
 
 // ---------------------------------------------------------------------------------------------------------
 // Two-phase rule, §5 "Simultaneous events". Choices the text leaves open, all [ours]:
-// - A particle keeps two kinds of receipts: halves of ruptured particle-particle bridges (one sum, shared with
+// - A particle keeps two kinds of receipts: halves of ruptured particle-particle bridges (one sum, shared
+// with
 //   liq_pp.d_c over its surviving particle-particle bridges only) and whole volumes of ruptured wall bridges
-//   (one receipt per wall, shared with that wall's d_c over its surviving particle-particle AND wall bridges).
-//   Each receipt gives distribution_give(h, d_c) / N to each bridge; the remainder stays in the particle's film.
-// - Shares arriving at a bridge add up; the cap (liq_pp.v_max, or the wall's v_max) then applies once, and the
+//   (one receipt per wall, shared with that wall's d_c over its surviving particle-particle AND wall
+//   bridges). Each receipt gives distribution_give(h, d_c) / N to each bridge; the remainder stays in the
+//   particle's film.
+// - Shares arriving at a bridge add up; the cap (liq_pp.v_max, or the wall's v_max) then applies once, and
+// the
 //   overflow returns to the two films by split_proportional of the two shares.
-// - Flags: a pair without bridge and S > 0 loses kFlagWasInContact; a pair or wall with delta >= 0 and no flag
+// - Flags: a pair without bridge and S > 0 loses kFlagWasInContact; a pair or wall with delta >= 0 and no
+// flag
 //   is a formation candidate only where its bridges are enabled (dry runs keep no flags). Every candidate
 //   gets the flag; those above the threshold (pairs: V_f,i + V_f,j > V_min; walls: V_f,i >= V_min) are the
 //   k "forming" contacts of each particle. Only a bridge that takes V_b > 0 counts as a formation.

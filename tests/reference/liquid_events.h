@@ -21,7 +21,8 @@ namespace wetdem::ref {
 int64_t split_proportional(int64_t V, int64_t a, int64_t b, int64_t a_cap, int64_t b_cap);
 
 // §5 "d_c h" as an integer: the part of a received volume h that a particle shares over its bridges
-// (floor(h q / 65536) with q = round(65536 d_c), the same integer on every device); the rest stays in its film.
+// (floor(h q / 65536) with q = round(65536 d_c), the same integer on every device); the rest stays in its
+// film.
 int64_t distribution_give(int64_t h, double d_c);
 
 // One particle pair examined in the step: stable ids i < j, surface gap S at the end of the step, its record.

@@ -47,11 +47,11 @@ class ReferenceSystem {
  private:
   using PairKey = std::pair<uint32_t, uint32_t>;  // (id_i, id_j), id_i < id_j
 
-  void kick(double half_dt);                        // §0 half kick with the stored F, T and gravity
-  void drift();                                     // §0 x += dt v, periodic wrap of z
-  void compute_forces();                            // §1-4 at the current x, all pairs and walls
-  void liquid_events();                             // §5 at the end of the step
-  std::vector<PairKey> touching_pairs() const;      // pairs with delta >= 0 (sweep along x)
+  void kick(double half_dt);                            // §0 half kick with the stored F, T and gravity
+  void drift();                                         // §0 x += dt v, periodic wrap of z
+  void compute_forces();                                // §1-4 at the current x, all pairs and walls
+  void liquid_events();                                 // §5 at the end of the step
+  std::vector<PairKey> touching_pairs() const;          // pairs with delta >= 0 (sweep along x)
   glm::dvec3 separation(uint32_t i, uint32_t j) const;  // x_i - x_j, minimum image in periodic z
 
   SimParams prm_;

@@ -20,7 +20,8 @@ void ReferenceSystem::set_state(const SystemState& s) {
   p_.resize(s.p.size());  // tolerate a state without wall records
   pairs_.clear();
   for (const PairRecord& r : s.pairs) {
-    if (r.id_i >= r.id_j || r.id_j >= p_.size()) throw std::invalid_argument("pair record needs id_i < id_j < n");
+    if (r.id_i >= r.id_j || r.id_j >= p_.size())
+      throw std::invalid_argument("pair record needs id_i < id_j < n");
     if (!r.empty()) pairs_[{r.id_i, r.id_j}] = r;
   }
   time_ = s.time;
@@ -38,10 +39,18 @@ SystemState ReferenceSystem::state() const {
   return s;
 }
 
-const std::vector<glm::dvec3>& ReferenceSystem::forces() const { return p_.f; }
-const std::vector<glm::dvec3>& ReferenceSystem::torques() const { return p_.t; }
-const SimParams& ReferenceSystem::params() const { return prm_; }
-void ReferenceSystem::set_sequential_events(bool on) { sequential_ = on; }
+const std::vector<glm::dvec3>& ReferenceSystem::forces() const {
+  return p_.f;
+}
+const std::vector<glm::dvec3>& ReferenceSystem::torques() const {
+  return p_.t;
+}
+const SimParams& ReferenceSystem::params() const {
+  return prm_;
+}
+void ReferenceSystem::set_sequential_events(bool on) {
+  sequential_ = on;
+}
 
 EventCounts ReferenceSystem::read_events() {
   EventCounts e = events_;
@@ -51,11 +60,11 @@ EventCounts ReferenceSystem::read_events() {
 
 void ReferenceSystem::step() {
   const double dt = prm_.dt;
-  kick(0.5 * dt);      // with F, T of the previous step
-  drift();             // x^{n+1}
-  compute_forces();    // at x^{n+1} with the half-step velocities
+  kick(0.5 * dt);    // with F, T of the previous step
+  drift();           // x^{n+1}
+  compute_forces();  // at x^{n+1} with the half-step velocities
   kick(0.5 * dt);
-  liquid_events();     // §5, after the second half kick
+  liquid_events();  // §5, after the second half kick
   time_ += dt;
   ++step_;
 }
@@ -128,8 +137,8 @@ void ReferenceSystem::compute_forces() {
     const auto [i, j] = examined_[e];
     const glm::dvec3 d = separation(i, j);
     if (d == glm::dvec3(0.0)) continue;  // coincident centres: no normal, no force (never in a valid state)
-    const ContactKinematics k = pair_kinematics(d, p_.radius[i], p_.radius[j], p_.mass[i], p_.mass[j], p_.v[i],
-                                                p_.v[j], p_.w[i], p_.w[j]);
+    const ContactKinematics k = pair_kinematics(d, p_.radius[i], p_.radius[j], p_.mass[i], p_.mass[j],
+                                                p_.v[i], p_.v[j], p_.w[i], p_.w[j]);
     pair_gap_[e] = -k.delta;
 
     PairRecord& rec = pairs_[examined_[e]];
@@ -159,7 +168,8 @@ void ReferenceSystem::compute_forces() {
       wall_gap_[i * kNumWalls + w] = -delta;
       WallRecord& rec = p_.wall[i * kNumWalls + w];
       ContactHistory h{rec.spring_t, rec.spring_r, rec.bridge};
-      const PairForce pf = evaluate_contact(prm_.pw[w], prm_.liq_pw[w], prm_.liquid_unit_m3, range, prm_.dt, k, h);
+      const PairForce pf =
+          evaluate_contact(prm_.pw[w], prm_.liq_pw[w], prm_.liquid_unit_m3, range, prm_.dt, k, h);
       rec.spring_t = h.spring_t;
       rec.spring_r = h.spring_r;
       p_.f[i] += pf.force;
@@ -185,7 +195,8 @@ void ReferenceSystem::liquid_events() {
   events_.formations += ev.formations;
   events_.ruptures += ev.ruptures;
   // Keep the map small: records with no springs, bridge or flag carry nothing.
-  for (auto it = pairs_.begin(); it != pairs_.end();) it = it->second.empty() ? pairs_.erase(it) : std::next(it);
+  for (auto it = pairs_.begin(); it != pairs_.end();)
+    it = it->second.empty() ? pairs_.erase(it) : std::next(it);
 }
 
 }  // namespace wetdem::ref

@@ -24,11 +24,14 @@ struct BackendName {
 
 // Unit round-off of a backend's arithmetic, for tolerances of conservation tests: the reference computes in
 // double precision, the GPU system in float32.
-inline double unit_roundoff(const std::string& backend) { return backend == "reference" ? 0x1p-52 : 0x1p-23; }
+inline double unit_roundoff(const std::string& backend) {
+  return backend == "reference" ? 0x1p-52 : 0x1p-23;
+}
 
 // One material for particles and all walls: E*, G* given directly (§1 allows it), no friction, no gravity,
 // a large drum with no plates so that nothing touches a wall unless a test puts it there.
-inline SimParams dry_params(double E_star = 5e6, double G_star = 2e6, double restitution = 0.5, double dt = 1e-6) {
+inline SimParams dry_params(double E_star = 5e6, double G_star = 2e6, double restitution = 0.5,
+                            double dt = 1e-6) {
   SimParams prm;
   prm.dt = dt;
   prm.gravity = glm::dvec3(0.0);
@@ -61,8 +64,8 @@ inline SystemState empty_state(size_t n) {
   return s;
 }
 
-inline void put_sphere(SystemState& s, size_t k, glm::dvec3 x, double r, double rho, glm::dvec3 v = glm::dvec3(0.0),
-                       glm::dvec3 w = glm::dvec3(0.0)) {
+inline void put_sphere(SystemState& s, size_t k, glm::dvec3 x, double r, double rho,
+                       glm::dvec3 v = glm::dvec3(0.0), glm::dvec3 w = glm::dvec3(0.0)) {
   set_sphere(s.p, k, x, r, rho);
   s.p.v[k] = v;
   s.p.w[k] = w;
@@ -79,7 +82,8 @@ inline double hertz_contact_time(double m_star, double R_star, double E_star, do
 inline double kinetic_energy(const SystemState& s) {
   double e = 0.0;
   for (size_t k = 0; k < s.p.size(); ++k)
-    e += 0.5 * s.p.mass[k] * glm::dot(s.p.v[k], s.p.v[k]) + 0.5 * s.p.inertia[k] * glm::dot(s.p.w[k], s.p.w[k]);
+    e += 0.5 * s.p.mass[k] * glm::dot(s.p.v[k], s.p.v[k]) +
+         0.5 * s.p.inertia[k] * glm::dot(s.p.w[k], s.p.w[k]);
   return e;
 }
 

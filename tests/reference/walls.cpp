@@ -10,7 +10,8 @@ bool wall_present(const DrumParams& drum, uint32_t w) {
   return w == kWallPlateLo ? drum.plate_lo.present : drum.plate_hi.present;
 }
 
-bool wall_geometry(const DrumParams& drum, uint32_t w, const glm::dvec3& x, double r, glm::dvec3& n, double& delta) {
+bool wall_geometry(const DrumParams& drum, uint32_t w, const glm::dvec3& x, double r, glm::dvec3& n,
+                   double& delta) {
   if (w == kWallCylinder) {
     const double rho = std::sqrt(x.x * x.x + x.y * x.y);
     if (rho == 0.0) return false;
@@ -30,7 +31,8 @@ bool wall_geometry(const DrumParams& drum, uint32_t w, const glm::dvec3& x, doub
 }
 
 ContactKinematics wall_kinematics(const DrumParams& drum, uint32_t w, const glm::dvec3& x, double r, double m,
-                                  const glm::dvec3& v, const glm::dvec3& omega, const glm::dvec3& n, double delta) {
+                                  const glm::dvec3& v, const glm::dvec3& omega, const glm::dvec3& n,
+                                  double delta) {
   bool rotates = true;
   if (w == kWallPlateLo) rotates = drum.plate_lo.rotates;
   if (w == kWallPlateHi) rotates = drum.plate_hi.rotates;
@@ -44,7 +46,7 @@ ContactKinematics wall_kinematics(const DrumParams& drum, uint32_t w, const glm:
   k.r_cj = glm::dvec3(0.0);
   k.v_rel = v + glm::cross(omega, k.r_ci) - glm::cross(wall_w, c);  // wall: rigid rotation about the z axis
   k.w_rel = omega - wall_w;
-  k.R_star = r;    // §0: flat or cylindrical wall
+  k.R_star = r;  // §0: flat or cylindrical wall
   k.m_star = m;
   k.R_h = 2.0 * r;  // §4
   return k;

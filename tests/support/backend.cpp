@@ -35,8 +35,8 @@ std::unique_ptr<Backend> make_backend(const std::string& which, const SimParams&
 }
 
 const std::vector<std::string>& backends() {
-  // WETDEM_TEST_BACKENDS (comma-separated, e.g. "reference,gpu") overrides the list, to try a backend on every
-  // parameterised test before it joins the default list.
+  // WETDEM_TEST_BACKENDS (comma-separated, e.g. "reference,gpu") overrides the list, to try a backend on
+  // every parameterised test before it joins the default list.
   static const std::vector<std::string> all = [] {
     std::vector<std::string> v;
     if (const char* env = std::getenv("WETDEM_TEST_BACKENDS")) {

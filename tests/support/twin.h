@@ -18,8 +18,8 @@ namespace wetdem::test {
 SimParams twin_drum_params(double radius, double length, double r_min, bool periodic);
 
 // n particles of radius in [r_lo, r_hi] on a jittered cubic lattice of spacing 0.99 (r_lo + r_hi), filled
-// from the bottom of the drum, so that about half the neighbours overlap, with random velocities and spins. Some touch the
-// cylinder and the plates.
+// from the bottom of the drum, so that about half the neighbours overlap, with random velocities and spins.
+// Some touch the cylinder and the plates.
 SystemState random_drum_packing(const SimParams& prm, size_t n, double r_lo, double r_hi, uint64_t seed,
                                 double speed = 0.02);
 
