@@ -6,6 +6,18 @@
 
 namespace wetdem {
 
+void set_polypropylene_contacts(SimParams& prm, double mu_s, double mu_r, double r_min, double rho) {
+  const double G = 400e6 / 1000.0;
+  EffectiveModuli m = effective_moduli(1325e6 / 1000.0, G);
+  prm.pp.E_star = m.E_star;
+  prm.pp.G_star = m.G_star;
+  prm.pp.restitution = 0.5;
+  prm.pp.mu_s = mu_s;
+  prm.pp.mu_r = mu_r;
+  for (auto& w : prm.pw) w = prm.pp;
+  prm.dt = 0.2 * rayleigh_time(r_min, rho, G, m.nu);
+}
+
 Scenario tumbling_wet_slice(size_t n, uint64_t seed, double speed) {
   constexpr double kPi = 3.14159265358979323846;
   Scenario sc;
@@ -15,18 +27,11 @@ Scenario tumbling_wet_slice(size_t n, uint64_t seed, double speed) {
   const double L = 12 * 2 * r_hi;
   const double v_mean = 4.0 / 3.0 * kPi * std::pow(1e-3, 3);
   const double R = std::sqrt(double(n) * v_mean / (0.6 * 0.30 * kPi * L));
-  EffectiveModuli m = effective_moduli(1325e6 / 1000.0, 400e6 / 1000.0);
-  prm.pp.E_star = m.E_star;
-  prm.pp.G_star = m.G_star;
-  prm.pp.restitution = 0.5;
-  prm.pp.mu_s = 0.5;
-  prm.pp.mu_r = 0.1;
-  for (auto& w : prm.pw) w = prm.pp;
+  set_polypropylene_contacts(prm, 0.5, 0.1, r_lo, rho);
   prm.drum.radius = R;
   prm.drum.length = L;
   prm.drum.periodic_z = true;
   prm.drum.omega = 6.0;  // ~57 rpm: a cascading bed, contacts open and close everywhere
-  prm.dt = 0.2 * rayleigh_time(r_lo, rho, 400e6 / 1000.0, m.nu);
   prm.liquid_unit_m3 = v_mean * std::ldexp(1.0, -40);
   LiquidParams l;
   l.enabled = true;

@@ -8,6 +8,11 @@
 
 namespace wetdem {
 
+// The paper's polypropylene contact set on every interaction (particle-particle and all walls): E = 1325 MPa,
+// G = 400 MPa reduced 1000-fold (nu = 0.656, accepted as in the paper, physics.md §1), e = 0.5, the given
+// friction; dt = 0.2 Rayleigh time of the smallest particle (radius r_min, density rho), physics.md §6.
+void set_polypropylene_contacts(SimParams& prm, double mu_s, double mu_r, double r_min, double rho = 900.0);
+
 struct Scenario {
   SimParams prm;
   SystemState state;

@@ -43,18 +43,10 @@ Setup make_drum(size_t n, bool wet, uint64_t seed) {
   FillResult fr = fill_drum(fs, psd);
   const double rho = 900.0;
   SimParams& prm = s.prm;
-  EffectiveModuli m = effective_moduli(1325e6 / 1000.0, 400e6 / 1000.0);
-  prm.pp.E_star = m.E_star;
-  prm.pp.G_star = m.G_star;
-  prm.pp.restitution = 0.5;
-  prm.pp.mu_s = 0.8;
-  prm.pp.mu_r = 0.3;
-  for (auto& w : prm.pw) w = prm.pp;
+  set_polypropylene_contacts(prm, 0.8, 0.3, *std::min_element(fr.radius.begin(), fr.radius.end()), rho);
   prm.drum.radius = R;
   prm.drum.length = L;
   prm.drum.omega = 5.0 * 2.0 * 3.14159265358979 / 60.0;
-  double r_min = *std::min_element(fr.radius.begin(), fr.radius.end());
-  prm.dt = 0.2 * rayleigh_time(r_min, rho, 400e6 / 1000.0, m.nu);
   s.state.p.resize(fr.x.size());
   double vs = 0.0;
   for (size_t k = 0; k < fr.x.size(); ++k) {

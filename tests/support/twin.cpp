@@ -2,23 +2,17 @@
 
 #include <algorithm>
 
+#include "app/scenarios.h"
+
 namespace wetdem::test {
 
 SimParams twin_drum_params(double radius, double length, double r_min, bool periodic) {
   SimParams prm;
-  EffectiveModuli m = effective_moduli(1325e6 / 1000.0, 400e6 / 1000.0);
-  // nu = 0.656 for the paper's E, G (physics.md §1): accepted, as in the paper.
-  prm.pp.E_star = m.E_star;
-  prm.pp.G_star = m.G_star;
-  prm.pp.restitution = 0.5;
-  prm.pp.mu_s = 0.8;
-  prm.pp.mu_r = 0.3;
-  for (auto& w : prm.pw) w = prm.pp;
+  set_polypropylene_contacts(prm, 0.8, 0.3, r_min, 900.0);
   prm.drum.radius = radius;
   prm.drum.length = length;
   prm.drum.omega = 0.5236;  // 5 rpm
   prm.drum.periodic_z = periodic;
-  prm.dt = 0.2 * rayleigh_time(r_min, 900.0, 400e6 / 1000.0, m.nu);
   prm.skin = 0.2 * r_min;
   return prm;
 }
