@@ -1,0 +1,137 @@
+// Internals of the GPU system (include/wetdem/system.h): the Impl that owns the buffers, kernels and
+// counters. system.cpp holds set-up, recording and the step loop; system_state.cpp moves state in and out.
+#pragma once
+
+#include "wetdem/system.h"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <stdexcept>
+
+#include "gpu/buffer_set.h"
+#include "gpu/dispatcher.h"
+#include "gpu/gpu_layout.h"
+#include "gpu/profiler.h"
+#include "gpu/radix_sort.h"
+#include "gpu/scan.h"
+#include "vk/buffer.h"
+#include "vk/context.h"
+#include "vk/kernel.h"
+
+namespace wetdem {
+
+using gpu::BufferSet;
+namespace ctlw = gpu::ctl;
+
+namespace gpu {
+struct Push {
+  uint64_t table;
+  uint32_t a0, a1;
+};
+
+inline constexpr uint32_t kGroup = 256;
+inline uint32_t groups_for(uint64_t n) {
+  return uint32_t((n + kGroup - 1) / kGroup);
+}
+
+// Records each dispatch as an indirect one whose size lives in a ctl slot; rebuild_decide writes the
+// nominal size there on rebuild steps and zero otherwise. Slots are shared by equal group counts.
+class GatedDispatcher final : public Dispatcher {
+ public:
+  void dispatch(VkCommandBuffer cb, const vk::Kernel& k, uint32_t groups, const void* push,
+                uint32_t push_bytes) override {
+    auto it = std::find(groups_.begin(), groups_.end(), groups);
+    size_t slot = size_t(it - groups_.begin());
+    if (it == groups_.end()) {
+      if (groups_.size() >= ctlw::kMaxGates)
+        throw std::runtime_error("too many distinct gated dispatch sizes");
+      groups_.push_back(groups);
+    }
+    if (prof_) prof_->mark(cb, k.name());
+    k.dispatch_indirect(cb, ctl_, (ctlw::kGateArgs + 4 * slot) * 4, push, push_bytes);
+  }
+  void set(VkBuffer ctl, Profiler* prof) {
+    ctl_ = ctl;
+    prof_ = prof;
+  }
+  const std::vector<uint32_t>& groups() const { return groups_; }
+
+ private:
+  VkBuffer ctl_ = VK_NULL_HANDLE;
+  Profiler* prof_ = nullptr;
+  std::vector<uint32_t> groups_;
+};
+}  // namespace gpu
+
+struct System::Impl {
+  vk::Context& ctx;
+  SimParams prm;
+  SystemOptions opt;
+  uint32_t n;
+  double h = 0.0, inv_h = 0.0;  // tick size (m)
+  gpu::GpuParams gp{};
+  uint32_t cells = 0, key_bits = 1;
+  std::unique_ptr<BufferSet> B;
+  std::map<std::string, std::unique_ptr<vk::Kernel>> kernels;
+  std::unique_ptr<gpu::RadixSort> sort;
+  std::unique_ptr<gpu::Scan> scan;
+  gpu::GatedDispatcher gate;
+  gpu::Profiler prof;
+  std::map<uint32_t, VkCommandBuffer> cached;  // recorded k-step command buffers, by k
+  VkFence fence = VK_NULL_HANDLE;
+  double time0 = 0.0;
+  uint64_t step0 = 0, steps = 0;
+  uint32_t last_steps_word = 0, last_form = 0, last_rupt = 0, last_rebuilds = 0;
+  EventCounts events;
+  SystemCounters ctr;
+  bool uploaded = false;
+
+  Impl(vk::Context& c, const SimParams& p, size_t num, SystemOptions o);
+  ~Impl();
+  void drop_cache();
+  // ---- parameters and grid -------------------------------------------------------------------------
+  void setup(double r_max, double r_min);
+  // ---- recording -----------------------------------------------------------------------------------
+  gpu::Push push() const { return gpu::Push{B->table_buf.address(), 0, 0}; }
+  void run(VkCommandBuffer cb, const char* name, uint32_t groups);
+  void run_indirect(VkCommandBuffer cb, const char* name, uint32_t word);
+  void gated(VkCommandBuffer cb, const char* name, uint32_t groups);
+  // Rebuild chain 6a-6k (ARCHITECTURE.md); every dispatch is gated by rebuild_decide.
+  void record_rebuild(VkCommandBuffer cb);
+  // 6g-6k: fill, mirror, history, lost check, flip. Direct dispatches when finishing a halted rebuild.
+  void record_list_tail(VkCommandBuffer cb, bool direct);
+  void record_step(VkCommandBuffer cb);
+  VkCommandBuffer allocate_cb();
+  template <class Fn>
+  VkCommandBuffer record(Fn&& fn) {
+    VkCommandBuffer cb = allocate_cb();
+    VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    WETDEM_VK(vkBeginCommandBuffer(cb, &bi));
+    if (opt.profile_passes) prof.begin(cb);
+    fn(cb);
+    if (opt.profile_passes) prof.end(cb);
+    WETDEM_VK(vkEndCommandBuffer(cb));
+    // Gate sizes are known once recorded: publish them before the first submit.
+    const auto& g = gate.groups();
+    if (!g.empty()) B->ctl.upload(g.data(), g.size() * 4, ctlw::kGateGroups * 4);
+    return cb;
+  }
+  void submit(VkCommandBuffer cb);
+  std::vector<uint32_t> read_ctl() { return B->ctl.download_as<uint32_t>(32); }
+  void recover(const std::vector<uint32_t>& c, bool finish_step);
+  void check_health(const std::vector<uint32_t>& c);
+  void step(uint64_t count);
+  // ---- state transfer --------------------------------------------------------------------------------
+  void upload(const SystemState& s);
+  SystemState download();
+  std::vector<std::pair<uint32_t, uint32_t>> neighbour_pairs();
+  // ---- snapshots -------------------------------------------------------------------------------------
+  std::vector<uint8_t> snapshot();
+  void restore(const std::vector<uint8_t>& blob);
+};
+
+}  // namespace wetdem

@@ -1,0 +1,346 @@
+// The GPU system's state transfer: upload (host state -> device sets, pair records as the "old list" that the
+// history map carries over), download (device -> canonical host state), the neighbour list for tests, and
+// raw snapshots for bitwise restarts.
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+#include <tuple>
+
+#include "gpu/system_impl.h"
+
+namespace wetdem {
+
+using gpu::groups_for;
+
+void System::Impl::upload(const SystemState& s) {
+  if (s.p.size() != n)
+    throw std::invalid_argument(fmt::format("upload: state has {} particles, system {}", s.p.size(), n));
+  double r_max = 0.0, r_min = 1e300;
+  for (double r : s.p.radius) {
+    if (!(r > 0)) throw std::invalid_argument("upload: particle radius must be > 0");
+    r_max = std::max(r_max, r);
+    r_min = std::min(r_min, r);
+  }
+  setup(r_max, r_min);
+  time0 = s.time;
+  step0 = s.step;
+  steps = 0;
+
+  // Particles into set 0 in stable-id order.
+  std::vector<int32_t> pos(4 * n);
+  std::vector<float> frac(4 * size_t(n));
+  std::vector<float> vel(4 * n), omg(4 * n), props(4 * n), frc(4 * n), trq(4 * n);
+  std::vector<float> wst(12 * size_t(n)), wsr(12 * size_t(n));
+  std::vector<int64_t> wliq(3 * size_t(n));
+  std::vector<uint32_t> wfl(3 * size_t(n));
+  const int64_t lim = int64_t(1) << 30;
+  for (uint32_t k = 0; k < n; ++k) {
+    for (int a = 0; a < 3; ++a) {
+      const double xt = s.p.x[k][a] * inv_h;
+      int64_t t = std::llround(xt);
+      frac[4 * k + a] = float(xt - double(t));
+      if (a == 2 && gp.period_ticks > 0) {
+        int64_t P = gp.period_ticks, lo = -(P / 2);
+        t = ((t - lo) % P + P) % P + lo;
+      }
+      if (t <= -lim || t >= lim)
+        throw std::invalid_argument(fmt::format("upload: particle {} lies far outside the drum", k));
+      pos[4 * k + a] = int32_t(t);
+      vel[4 * k + a] = float(s.p.v[k][a]);
+      omg[4 * k + a] = float(s.p.w[k][a]);
+      frc[4 * k + a] = float(s.p.f[k][a]);
+      trq[4 * k + a] = float(s.p.t[k][a]);
+    }
+    pos[4 * k + 3] = int32_t(k);
+    props[4 * k + 0] = float(s.p.radius[k]);
+    props[4 * k + 1] = float(s.p.mass[k]);
+    props[4 * k + 2] = float(s.p.inertia[k]);
+    // Radius in ticks, bit-cast into props.w: overlaps are formed from exact integers (pair_force.comp).
+    const double rt = s.p.radius[k] * inv_h;
+    const int32_t r_ticks = int32_t(std::llround(rt));
+    std::memcpy(&props[4 * k + 3], &r_ticks, 4);
+    frac[4 * k + 3] = float(rt - double(r_ticks));
+    for (uint32_t w = 0; w < kNumWalls; ++w) {
+      const WallRecord& r = s.p.wall[k * kNumWalls + w];
+      size_t q = 3 * size_t(k) + w;
+      for (int a = 0; a < 3; ++a) {
+        wst[4 * q + a] = float(r.spring_t[a]);
+        wsr[4 * q + a] = float(r.spring_r[a]);
+      }
+      wliq[q] = r.bridge;
+      wfl[q] = r.flags & kFlagWasInContact;
+    }
+  }
+  auto& P0 = B->pset[0];
+  P0[gpu::kPos].upload(pos);
+  P0[gpu::kFrac].upload(frac);
+  P0[gpu::kVel].upload(vel);
+  P0[gpu::kOmg].upload(omg);
+  P0[gpu::kProps].upload(props);
+  P0[gpu::kForce].upload(frc);
+  P0[gpu::kTorque].upload(trq);
+  P0[gpu::kFilm].upload(s.p.film);
+  P0[gpu::kWallSt].upload(wst);
+  P0[gpu::kWallSr].upload(wsr);
+  P0[gpu::kWallLiq].upload(wliq);
+  P0[gpu::kWallFlags].upload(wfl);
+
+  // Pair records become the "old list" of set 0 (owner entries in the lower id's segment), so that the
+  // regular history-mapping pass carries them into the first real list.
+  std::vector<PairRecord> recs = s.pairs;
+  std::sort(recs.begin(), recs.end(), [](const PairRecord& a, const PairRecord& b) {
+    return std::tie(a.id_i, a.id_j) < std::tie(b.id_i, b.id_j);
+  });
+  const uint32_t E = uint32_t(recs.size());
+  std::vector<uint32_t> cnt(n, 0), off(n, 0), nbr(E), self(E), mir(E), fl(E);
+  std::vector<float> st(4 * size_t(E)), sr(4 * size_t(E));
+  std::vector<int64_t> liq(E);
+  for (uint32_t e = 0; e < E; ++e) {
+    const PairRecord& r = recs[e];
+    if (r.id_i >= r.id_j || r.id_j >= n)
+      throw std::invalid_argument("upload: pair record needs id_i < id_j < N");
+    cnt[r.id_i]++;
+    nbr[e] = r.id_j;
+    self[e] = r.id_i;
+    mir[e] = e;
+    for (int a = 0; a < 3; ++a) {
+      st[4 * e + a] = float(r.spring_t[a]);
+      sr[4 * e + a] = float(r.spring_r[a]);
+    }
+    liq[e] = r.bridge;
+    fl[e] = r.flags & kFlagWasInContact;
+  }
+  for (uint32_t k = 1; k < n; ++k) off[k] = off[k - 1] + cnt[k - 1];
+  const uint32_t guess = std::max<uint32_t>(E, n * std::max<uint32_t>(opt.initial_entries_per_particle, 1));
+  B->grow_entries(0, guess);
+  B->grow_entries(1, guess);
+  P0[gpu::kNbrCount].upload(cnt);
+  P0[gpu::kNbrOffset].upload(off);
+  auto& E0 = B->eset[0];
+  E0[gpu::kNbr].upload(nbr);
+  E0[gpu::kSelf].upload(self);
+  E0[gpu::kMirror].upload(mir);
+  E0[gpu::kSt].upload(st);
+  E0[gpu::kSr].upload(sr);
+  E0[gpu::kLiq].upload(liq);
+  E0[gpu::kFlags].upload(fl);
+  B->upload_table();
+
+  std::vector<uint32_t> c(ctlw::kWords, 0);
+  c[ctlw::kForceRebuild] = 1;
+  c[ctlw::kEntries] = E;
+  c[ctlw::kEntryArgs] = groups_for(E);
+  c[ctlw::kEntryArgs + 1] = c[ctlw::kEntryArgs + 2] = 1;
+  c[ctlw::kCapacity0] = B->capacity(0);
+  c[ctlw::kCapacity0 + 1] = B->capacity(1);
+  B->ctl.upload(c);
+  last_steps_word = last_form = last_rupt = last_rebuilds = 0;
+
+  VkCommandBuffer cb = record([&](VkCommandBuffer r) {
+    run(r, "rebuild_decide", 1);
+    record_rebuild(r);
+  });
+  submit(cb);
+  vkFreeCommandBuffers(ctx.device(), ctx.pool(), 1, &cb);
+  auto cc = read_ctl();
+  if (cc[ctlw::kHalt]) {
+    recover(cc, false);
+    cc = read_ctl();
+  }
+  if (cc[ctlw::kLostBridges])
+    throw std::invalid_argument(fmt::format(
+        "upload: {} pair record(s) with a bridge lie beyond the interaction range", cc[ctlw::kLostBridges]));
+  check_health(cc);
+  ctr.rebuilds = 0;
+  uploaded = true;
+}
+
+SystemState System::Impl::download() {
+  auto c = read_ctl();
+  const uint32_t s = c[ctlw::kParity], E = c[ctlw::kEntries];
+  auto& P = B->pset[s];
+  auto pos = P[gpu::kPos].download_as<int32_t>(4 * size_t(n));
+  auto vel = P[gpu::kVel].download_as<float>(4 * size_t(n));
+  auto omg = P[gpu::kOmg].download_as<float>(4 * size_t(n));
+  auto props = P[gpu::kProps].download_as<float>(4 * size_t(n));
+  auto frc = P[gpu::kForce].download_as<float>(4 * size_t(n));
+  auto trq = P[gpu::kTorque].download_as<float>(4 * size_t(n));
+  auto film = P[gpu::kFilm].download_as<int64_t>(n);
+  auto frac = P[gpu::kFrac].download_as<float>(4 * size_t(n));
+  auto wst = P[gpu::kWallSt].download_as<float>(12 * size_t(n));
+  auto wsr = P[gpu::kWallSr].download_as<float>(12 * size_t(n));
+  auto wliq = P[gpu::kWallLiq].download_as<int64_t>(3 * size_t(n));
+  auto wfl = P[gpu::kWallFlags].download_as<uint32_t>(3 * size_t(n));
+  SystemState out;
+  out.p.resize(n);
+  out.time = time0 + double(steps) * prm.dt;
+  out.step = step0 + steps;
+  std::vector<uint32_t> id(n);
+  for (uint32_t k = 0; k < n; ++k) {
+    uint32_t i = uint32_t(pos[4 * k + 3]);
+    id[k] = i;
+    for (int a = 0; a < 3; ++a) {
+      out.p.x[i][a] = (double(pos[4 * k + a]) + double(frac[4 * k + a])) * h;
+      out.p.v[i][a] = vel[4 * k + a];
+      out.p.w[i][a] = omg[4 * k + a];
+      out.p.f[i][a] = frc[4 * k + a];
+      out.p.t[i][a] = trq[4 * k + a];
+    }
+    int32_t r_ticks;
+    std::memcpy(&r_ticks, &props[4 * k + 3], 4);
+    out.p.radius[i] = (double(r_ticks) + double(frac[4 * k + 3])) * h;
+    out.p.mass[i] = props[4 * k + 1];
+    out.p.inertia[i] = props[4 * k + 2];
+    out.p.film[i] = film[k];
+    for (uint32_t w = 0; w < kNumWalls; ++w) {
+      size_t q = 3 * size_t(k) + w;
+      WallRecord& r = out.p.wall[size_t(i) * kNumWalls + w];
+      for (int a = 0; a < 3; ++a) {
+        r.spring_t[a] = wst[4 * q + a];
+        r.spring_r[a] = wsr[4 * q + a];
+      }
+      r.bridge = wliq[q];
+      r.flags = wfl[q] & kFlagWasInContact;
+    }
+  }
+  auto& Es = B->eset[s];
+  auto nbr = Es[gpu::kNbr].download_as<uint32_t>(E);
+  auto self = Es[gpu::kSelf].download_as<uint32_t>(E);
+  auto mir = Es[gpu::kMirror].download_as<uint32_t>(E);
+  auto st = Es[gpu::kSt].download_as<float>(4 * size_t(E));
+  auto sr = Es[gpu::kSr].download_as<float>(4 * size_t(E));
+  auto liq = Es[gpu::kLiq].download_as<int64_t>(E);
+  auto fl = Es[gpu::kFlags].download_as<uint32_t>(E);
+  for (uint32_t e = 0; e < E; ++e) {
+    if (mir[e] != e) continue;
+    PairRecord r;
+    r.id_i = id[self[e]];
+    r.id_j = id[nbr[e]];
+    if (r.id_i > r.id_j)
+      throw std::runtime_error("download: owner entry is not the lower id (internal error)");
+    for (int a = 0; a < 3; ++a) {
+      r.spring_t[a] = st[4 * e + a];
+      r.spring_r[a] = sr[4 * e + a];
+    }
+    r.bridge = liq[e];
+    r.flags = fl[e] & kFlagWasInContact;
+    if (!r.empty()) out.pairs.push_back(r);
+  }
+  out.canonicalize();
+  return out;
+}
+
+std::vector<std::pair<uint32_t, uint32_t>> System::Impl::neighbour_pairs() {
+  auto c = read_ctl();
+  const uint32_t s = c[ctlw::kParity], E = c[ctlw::kEntries];
+  auto pos = B->pset[s][gpu::kPos].download_as<int32_t>(4 * size_t(n));
+  auto nbr = B->eset[s][gpu::kNbr].download_as<uint32_t>(E);
+  auto self = B->eset[s][gpu::kSelf].download_as<uint32_t>(E);
+  auto mir = B->eset[s][gpu::kMirror].download_as<uint32_t>(E);
+  std::vector<std::pair<uint32_t, uint32_t>> out;
+  for (uint32_t e = 0; e < E; ++e) {
+    uint32_t a = uint32_t(pos[4 * self[e] + 3]), b = uint32_t(pos[4 * nbr[e] + 3]);
+    // Every pair appears twice (both segments): keep the owner's entry, check the mirror's link.
+    if (mir[e] == e)
+      out.emplace_back(std::min(a, b), std::max(a, b));
+    else if (mir[e] >= E || self[mir[e]] != nbr[e] || nbr[mir[e]] != self[e])
+      throw std::runtime_error("neighbour list: mirror entry does not point at its pair");
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+namespace {
+constexpr uint64_t kSnapMagic = 0x3130504E53444D57ull;  // "WMDSNP01"
+struct SnapHeader {
+  uint64_t magic;
+  uint32_t n, parity, entries, pad;
+  double time0;
+  uint64_t step0, steps;
+};
+void put(std::vector<uint8_t>& out, const void* p, size_t bytes) {
+  const uint8_t* b = static_cast<const uint8_t*>(p);
+  out.insert(out.end(), b, b + bytes);
+}
+}  // namespace
+
+// Snapshot = header + ctl + skin reference + every field of the current particle set + the current list.
+// The other set is scratch that the next rebuild overwrites, so this is all the state a step reads.
+std::vector<uint8_t> System::Impl::snapshot() {
+  auto c = B->ctl.download_as<uint32_t>(ctlw::kWords);
+  SnapHeader hd{kSnapMagic, n, c[ctlw::kParity], c[ctlw::kEntries], 0, time0, step0, steps};
+  std::vector<uint8_t> out;
+  put(out, &hd, sizeof(hd));
+  put(out, c.data(), c.size() * 4);
+  auto dl = [&](const vk::Buffer& b, size_t bytes) {
+    size_t at = out.size();
+    out.resize(at + bytes);
+    b.download(out.data() + at, bytes);
+  };
+  dl(B->ref_pos, size_t(n) * 16);
+  for (uint32_t f = 0; f < gpu::kNumParticleFields; ++f)
+    dl(B->pset[hd.parity][f], size_t(n) * gpu::kParticleFieldBytes[f]);
+  for (uint32_t f = 0; f < gpu::kNumEntryFields; ++f)
+    dl(B->eset[hd.parity][f], size_t(hd.entries) * gpu::kEntryFieldBytes[f]);
+  return out;
+}
+
+void System::Impl::restore(const std::vector<uint8_t>& blob) {
+  SnapHeader hd;
+  if (blob.size() < sizeof(hd)) throw std::invalid_argument("restore: snapshot too short");
+  std::memcpy(&hd, blob.data(), sizeof(hd));
+  if (hd.magic != kSnapMagic) throw std::invalid_argument("restore: not a wetdem snapshot");
+  if (hd.n != n)
+    throw std::invalid_argument(fmt::format("restore: snapshot has {} particles, system {}", hd.n, n));
+  size_t need = sizeof(hd) + ctlw::kWords * 4 + size_t(n) * 16;
+  for (uint32_t f = 0; f < gpu::kNumParticleFields; ++f) need += size_t(n) * gpu::kParticleFieldBytes[f];
+  for (uint32_t f = 0; f < gpu::kNumEntryFields; ++f) need += size_t(hd.entries) * gpu::kEntryFieldBytes[f];
+  if (blob.size() != need) throw std::invalid_argument("restore: snapshot size does not match its header");
+  const uint8_t* at = blob.data() + sizeof(hd);
+  std::vector<uint32_t> c(ctlw::kWords);
+  std::memcpy(c.data(), at, c.size() * 4);
+  at += c.size() * 4;
+  const uint8_t* ref = at;
+  at += size_t(n) * 16;
+  // Radii (props.x of the current set) fix the cell grid, exactly as the original upload did.
+  const uint8_t* props = at;
+  for (uint32_t f = 0; f < gpu::kProps; ++f) props += size_t(n) * gpu::kParticleFieldBytes[f];
+  double r_max = 0.0, r_min = 1e300;
+  for (uint32_t k = 0; k < n; ++k) {
+    float r;
+    std::memcpy(&r, props + size_t(k) * 16, 4);
+    r_max = std::max(r_max, double(r));
+    r_min = std::min(r_min, double(r));
+  }
+  setup(r_max, r_min);
+  const uint32_t s = hd.parity;
+  B->grow_entries(s, std::max<uint32_t>(c[ctlw::kCapacity0 + s], hd.entries));
+  B->grow_entries(1 - s, std::max<uint32_t>(c[ctlw::kCapacity0 + 1 - s], 1));
+  c[ctlw::kCapacity0] = B->capacity(0);
+  c[ctlw::kCapacity0 + 1] = B->capacity(1);
+  B->upload_table();
+  B->ref_pos.upload(ref, size_t(n) * 16);
+  for (uint32_t f = 0; f < gpu::kNumParticleFields; ++f) {
+    size_t bytes = size_t(n) * gpu::kParticleFieldBytes[f];
+    B->pset[s][f].upload(at, bytes);
+    at += bytes;
+  }
+  for (uint32_t f = 0; f < gpu::kNumEntryFields; ++f) {
+    size_t bytes = size_t(hd.entries) * gpu::kEntryFieldBytes[f];
+    B->eset[s][f].upload(at, bytes);
+    at += bytes;
+  }
+  B->ctl.upload(c);
+  time0 = hd.time0;
+  step0 = hd.step0;
+  steps = hd.steps;
+  last_steps_word = c[ctlw::kStepsDone];
+  last_form = c[ctlw::kFormations];
+  last_rupt = c[ctlw::kRuptures];
+  last_rebuilds = c[ctlw::kRebuilds];
+  uploaded = true;
+}
+}  // namespace wetdem
