@@ -14,51 +14,12 @@
 
 #include "app/run.h"
 #include "support/gpu.h"
+#include "support/small_case.h"
 
 namespace wetdem::test {
 namespace {
 
 namespace fs = std::filesystem;
-
-const char* kSlice = R"(
-name = "physics-slice"
-scaling = 5
-[material]
-E = "1325 MPa"
-G = "400 MPa"
-restitution = 0.5
-density = "900 kg/m3"
-stiffness_reduction = 1e5
-[friction]
-mu_s = 0.8
-mu_r = 0.3
-[psd]
-d10 = "506.0 um"
-d25 = "712.7 um"
-d50 = "904.6 um"
-d75 = "1123 um"
-d90 = "1345 um"
-[liquid]
-gamma = "21.7 mN/m"
-theta = "30 deg"
-content = 0
-v_min = 0
-v_max = "1 %"
-[drum]
-diameter = "60 mm"
-rpm = 30
-fill = 0.36
-periodic_slice = true
-slice_thickness = "18 mm"
-[run]
-settle = "0.25 s"
-duration = "2.25 s"
-steady_state_start = "0.75 s"
-sample_interval = "0.025 s"
-seed = 5
-steps_per_submit = 200
-skin = "0.8 mm"
-)";
 
 struct Outcome {
   double aor_mean, first_half, second_half;
@@ -71,11 +32,14 @@ Outcome run_slice(const std::string& name, const std::vector<std::string>& sets)
       fs::temp_directory_path() / ("wetdem_test_physics_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
-  std::ofstream(dir / "slice.toml") << kSlice;
+  std::ofstream(dir / "slice.toml") << kSmall;
   app::RunOptions o;
   o.case_path = (dir / "slice.toml").string();
   o.out_dir = (dir / "run").string();
-  o.overrides = sets;
+  // The small test case, run longer: 2.25 s of rotation (1.1 revolutions), AoR averaged over the last 1.5 s.
+  o.overrides = {"run.duration=\"2.25 s\"", "run.steady_state_start=\"0.75 s\"", "run.seed=5",
+                 "output.checkpoint_interval=0"};
+  o.overrides.insert(o.overrides.end(), sets.begin(), sets.end());
   o.quiet = true;
   o.context = &gpu();
   std::vector<app::Sample> window;
@@ -101,7 +65,7 @@ Outcome run_slice(const std::string& name, const std::vector<std::string>& sets)
 class DrumPhysics : public GpuTest {};
 
 TEST_F(DrumPhysics, DrySliceIsSteadyAndWetSliceStandsSteeper) {
-  const Outcome dry = run_slice("dry", {});
+  const Outcome dry = run_slice("dry", {"liquid.content=0"});
   // Moderate cohesion (Bond number f0/mg ~ 3) and bridges to the cylinder too. Measured: without cylinder
   // bridges the bridged bed moves as a cohesive block that slips on the dry wall and stands *lower* (35
   // degrees against 39 dry, with Bond 1.5-6 alike); with them it stands at ~50 degrees. In a 13-particle-wide
