@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -89,6 +90,7 @@ int soak(vk::Context& ctx, uint64_t steps, size_t n) {
     double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     fmt::print("soak: {} / {} steps, {} formations, {} ruptures, liquid {} ({}), {:.0f} steps/s\n", done,
                steps, formations, ruptures, now, now == total ? "exact" : "CHANGED", double(done) / el);
+    std::fflush(stdout);  // progress lines must reach a log file as they happen
     if (now != total) return 1;
   }
   return 0;
@@ -149,6 +151,7 @@ int main(int argc, char** argv) {
           "\n{} particles (PP2 scaled x{:.2f}), {} steps, dt {:.3g} s, {} contacts, {} bridges, {} "
           "rebuilds\n",
           n, s.scale, steps, s.prm.dt, o.contacts, o.bridges, c.rebuilds);
+      std::fflush(stdout);
       fmt::print("  step: {:.3g} particle-steps/s ({:.3g} s wall per step) on {}\n", pss,
                  wall / double(steps), ctx.info().name);
       nlohmann::json jn;
