@@ -6,8 +6,8 @@
 #include <cmath>
 #include <random>
 
-#include "app/aor.h"
-#include "app/psd.h"  // uniform01
+#include "app/drum/aor.h"
+#include "app/drum/psd.h"  // uniform01
 
 using namespace wetdem;
 

@@ -10,9 +10,9 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "app/case.h"
-#include "app/run.h"
-#include "app/units.h"
+#include "app/case/case.h"
+#include "app/run/run.h"
+#include "app/case/units.h"
 
 namespace wetdem::app {
 namespace {

@@ -9,8 +9,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "app/case.h"
-#include "app/psd.h"
+#include "app/case/case.h"
+#include "app/drum/psd.h"
 
 namespace wetdem::app {
 namespace {

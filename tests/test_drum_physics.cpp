@@ -12,7 +12,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "app/run.h"
+#include "app/run/run.h"
 #include "support/gpu.h"
 #include "support/small_case.h"
 

@@ -11,7 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "app/run.h"
+#include "app/run/run.h"
 #include "support/gpu.h"
 #include "support/small_case.h"
 

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "app/fill.h"
+#include "app/drum/fill.h"
 
 using namespace wetdem;
 

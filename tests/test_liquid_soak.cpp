@@ -3,7 +3,7 @@
 // every 100 steps. CI runs 2,000 steps; `wetdem_bench --soak 1000000` runs the full count.
 #include <gtest/gtest.h>
 
-#include "app/scenarios.h"
+#include "app/drum/scenarios.h"
 #include "support/gpu.h"
 #include "wetdem/system.h"
 

@@ -12,9 +12,9 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "app/colormap.h"
-#include "app/gltf_writer.h"
-#include "app/vtk_writer.h"
+#include "app/output/colormap.h"
+#include "app/output/gltf_writer.h"
+#include "app/output/vtk_writer.h"
 
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wshadow"

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "app/psd.h"
+#include "app/drum/psd.h"
 
 using namespace wetdem;
 

@@ -13,9 +13,9 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "app/fill.h"
-#include "app/psd.h"
-#include "app/scenarios.h"
+#include "app/drum/fill.h"
+#include "app/drum/psd.h"
+#include "app/drum/scenarios.h"
 #include "vk/context.h"
 #include "wetdem/system.h"
 

@@ -11,9 +11,9 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
-#include "app/case.h"
-#include "app/psd.h"
-#include "app/run.h"
+#include "app/case/case.h"
+#include "app/drum/psd.h"
+#include "app/run/run.h"
 #include "vk/context.h"
 
 namespace {

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "app/scenarios.h"
+#include "app/drum/scenarios.h"
 
 namespace wetdem::test {
 

@@ -1,4 +1,4 @@
-#include "app/case_reader.h"
+#include "app/case/case_reader.h"
 
 #include <fmt/format.h>
 

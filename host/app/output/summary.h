@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "app/case.h"
+#include "app/case/case.h"
 #include "wetdem/state.h"
 #include "wetdem/system.h"
 

@@ -1,4 +1,4 @@
-#include "app/summary.h"
+#include "app/output/summary.h"
 
 #include <fcntl.h>
 #include <fmt/format.h>
@@ -9,8 +9,8 @@
 #include <cstring>
 #include <stdexcept>
 
-#include "app/aor.h"
-#include "app/psd.h"
+#include "app/drum/aor.h"
+#include "app/drum/psd.h"
 #include "wetdem/observables.h"
 
 #ifndef WETDEM_VERSION

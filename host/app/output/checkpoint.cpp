@@ -1,4 +1,4 @@
-#include "app/checkpoint.h"
+#include "app/output/checkpoint.h"
 
 #include <fmt/format.h>
 
@@ -7,7 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "app/summary.h"
+#include "app/output/summary.h"
 
 namespace fs = std::filesystem;
 

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "app/case.h"
-#include "app/units.h"
+#include "app/case/case.h"
+#include "app/case/units.h"
 
 namespace wetdem::app {
 

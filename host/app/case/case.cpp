@@ -1,5 +1,5 @@
 // Case-file parsing and validation. Every check runs here, before any particle is made or any file written.
-#include "app/case.h"
+#include "app/case/case.h"
 
 #include <fmt/format.h>
 
@@ -8,7 +8,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "app/case_reader.h"
+#include "app/case/case_reader.h"
 
 namespace wetdem::app {
 

@@ -1,4 +1,4 @@
-#include "app/units.h"
+#include "app/case/units.h"
 
 #include <cctype>
 #include <cmath>

@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "app/case.h"
-#include "app/summary.h"
+#include "app/case/case.h"
+#include "app/output/summary.h"
 #include "wetdem/params.h"
 #include "wetdem/state.h"
 

@@ -6,7 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "app/case.h"
+#include "app/case/case.h"
 
 namespace wetdem::app {
 

@@ -1,8 +1,8 @@
-#include "app/scenarios.h"
+#include "app/drum/scenarios.h"
 
 #include <cmath>
 
-#include "app/fill.h"
+#include "app/drum/fill.h"
 
 namespace wetdem {
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "app/psd.h"
+#include "app/drum/psd.h"
 #include "wetdem/params.h"
 
 namespace wetdem::app {

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-#include "app/case.h"
+#include "app/case/case.h"
 
 namespace wetdem::app {
 

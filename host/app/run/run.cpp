@@ -1,4 +1,4 @@
-#include "app/run.h"
+#include "app/run/run.h"
 
 #include <fmt/format.h>
 
@@ -12,13 +12,13 @@
 #include <memory>
 #include <optional>
 
-#include "app/aor.h"
-#include "app/checkpoint.h"
-#include "app/fill.h"
-#include "app/gltf_writer.h"
-#include "app/progress.h"
-#include "app/psd.h"
-#include "app/vtk_writer.h"
+#include "app/drum/aor.h"
+#include "app/output/checkpoint.h"
+#include "app/drum/fill.h"
+#include "app/output/gltf_writer.h"
+#include "app/output/progress.h"
+#include "app/drum/psd.h"
+#include "app/output/vtk_writer.h"
 #include "vk/context.h"
 #include "wetdem/observables.h"
 #include "wetdem/system.h"
