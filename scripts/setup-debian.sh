@@ -9,7 +9,7 @@ PKGS=(
   glslang-tools spirv-tools
   libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev
   libgtest-dev libgmock-dev
-  libtomlplusplus-dev libcli11-dev libfmt-dev
+  libtomlplusplus-dev libcli11-dev libfmt-dev libeigen3-dev
   clang-format
 )
 
