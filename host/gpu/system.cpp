@@ -18,11 +18,11 @@ System::Impl::Impl(vk::Context& c, const SimParams& p, size_t num, SystemOptions
   if (num == 0 || num >= (1u << 31))
     throw std::invalid_argument("System: particle count must be in [1, 2^31)");
   const char* names[] = {
-      "kick_drift",     "pair_force",     "gather_kick",   "liq_rupture_share", "liq_rupture_apply",
-      "liq_form_offer", "liq_form_apply", "liq_form_take", "rebuild_decide",    "cell_key",
-      "reorder",        "fill_u32",       "cell_ranges",   "nbr_count",         "build_args",
-      "nbr_fill",       "mirror",         "history_map",   "lost_check",        "flip",
-      "end_step"};
+      "kick_drift",     "pair_force",      "gather_kick",   "liq_rupture_share", "liq_rupture_apply",
+      "liq_form_offer", "liq_form_apply",  "liq_form_take", "rebuild_decide",    "cell_key",
+      "reorder",        "fill_u32",        "cell_ranges",   "nbr_count",         "build_args",
+      "nbr_fill",       "mirror",          "history_map",   "lost_check",        "flip",
+      "end_step",       "liq_upload_flags"};
   for (const char* nm : names) kernels[nm] = std::make_unique<vk::Kernel>(ctx, nm);
   sort = std::make_unique<gpu::RadixSort>(ctx, n);
   scan = std::make_unique<gpu::Scan>(ctx, n);

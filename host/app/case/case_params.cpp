@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/case/case.h"
+#include "wetdem/timestep.h"
 
 namespace wetdem::app {
 
@@ -114,10 +115,8 @@ SimParams make_sim_params(const Case& c, const std::vector<double>& radii, Deriv
       throw CaseError("liquid.content",
                       "total liquid exceeds the int64 range of liquid units; reduce content");
     // §6: capillary stiffness k_c = 1.05 f0 sqrt(R_h/V_b) at the smallest bridge the initial films can form
-    // (two smallest particles); warn when dt > 0.1 pi sqrt(m*/k_c).
-    const double vf = l.films == FilmMode::MeanVolume ? l.content * d.mean_solid_volume
-                                                      : l.content * sphere_volume(d.r_min);
-    const double vb = std::min(2.0 * vf, l.v_max * d.mean_solid_volume);
+    // (smallest_formable_bridge, between two of the smallest particles); warn when dt > 0.1 pi sqrt(m*/k_c).
+    const double vb = double(smallest_formable_bridge(lp, films)) * d.liquid_unit_m3;
     if (vb > 0) {
       const double rh = d.r_min;  // harmonic mean 2 r r / (2 r)
       const double f0 = 2.0 * kPi * rh * d.gamma_scaled * std::cos(l.theta);
@@ -127,8 +126,9 @@ SimParams make_sim_params(const Case& c, const std::vector<double>& radii, Deriv
       if (d.dt > d.dt_capillary_limit)
         d.notes.push_back(
             fmt::format("dt = {:.4g} s exceeds the capillary limit 0.1 pi sqrt(m*/k_c) = {:.4g} s at "
-                        "the smallest initial bridge (physics.md §6)",
-                        d.dt, d.dt_capillary_limit));
+                        "the smallest bridge the initial films can form ({:.3g} m^3): divide "
+                        "run.dt_rayleigh_fraction by at least {:.3g} (physics.md §6)",
+                        d.dt, d.dt_capillary_limit, vb, d.dt / d.dt_capillary_limit));
     }
   }
   if (out) *out = d;

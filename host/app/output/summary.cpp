@@ -11,6 +11,7 @@
 
 #include "app/drum/aor.h"
 #include "app/drum/psd.h"
+#include "app/output/timeseries_stats.h"
 #include "wetdem/observables.h"
 
 #ifndef WETDEM_VERSION
@@ -156,9 +157,27 @@ nlohmann::json make_summary(const Case& c, const Derived& d, const std::vector<S
   j["aor_deg_mean"] = flag ? json(nullptr) : number_or_null(as.abs_deg.mean);
   j["aor_deg_std"] = flag ? json(nullptr) : number_or_null(as.abs_deg.stddev);
   j["aor_sem_block"] = flag ? json(nullptr) : number_or_null(as.abs_deg.sem);
-  j["aor_sem_reliable"] = as.abs_deg.sem_reliable;
-  j["aor_stationary"] = as.abs_deg.stationary;
+  // Issue 12: the window must span >= 10 integrated autocorrelation times and its halves must agree
+  // (timeseries_stats.h); the blocked SEM must also find its plateau (aor.h). Both verdicts carry a reason.
+  std::vector<double> abs_window;
+  for (size_t i = 0; i < samples.size(); ++i)
+    if (times[i] >= t_from && !aor[i].flagged) abs_window.push_back(aor[i].abs_deg);
+  const WindowStats ws = window_stats(abs_window, c.run.sample_interval);
+  std::string stat_reason = ws.stationary_reason, sem_reason = ws.sem_reliable_reason;
+  if (stat_reason.empty() && !as.abs_deg.stationary)
+    stat_reason = fmt::format("the halves of the window differ by {:.2f} blocked standard errors (|z| >= 3)",
+                              as.abs_deg.drift_z);
+  if (sem_reason.empty() && !stat_reason.empty()) sem_reason = "not stationary: " + stat_reason;
+  if (sem_reason.empty() && !as.abs_deg.sem_reliable)
+    sem_reason = "the blocked standard error found no plateau (window short for its correlation time)";
+  j["aor_sem_reliable"] = !flag && sem_reason.empty();
+  j["aor_sem_reliable_reason"] = flag ? std::string("AoR flagged") : sem_reason;
+  j["aor_stationary"] = !flag && stat_reason.empty();
+  j["aor_stationary_reason"] = flag ? std::string("AoR flagged") : stat_reason;
   j["aor_drift_z"] = number_or_null(as.abs_deg.drift_z);
+  j["aor_tau_int_s"] = number_or_null(ws.tau_int_s);
+  j["aor_n_eff"] = number_or_null(ws.n_eff);
+  j["aor_sem_tau"] = flag ? json(nullptr) : number_or_null(ws.sem);
   j["aor_signed_deg_mean"] = flag ? json(nullptr) : number_or_null(as.signed_deg.mean);
   j["aor_window_s"] = {t_from, c.run.settle + c.run.duration};
   j["aor_window_length_s"] = c.run.duration - c.run.steady_state_start;
@@ -206,6 +225,21 @@ nlohmann::json make_summary(const Case& c, const Derived& d, const std::vector<S
   j["derived"] = derived_to_json(d);
   j["notes"] = c.notes;
   return j;
+}
+
+std::string aor_log_line(const nlohmann::json& s) {
+  if (s.at("aor_flag").get<bool>()) return "AoR: flagged (bed near the drum centre: no angle reported)";
+  const auto& w = s.at("aor_window_s");
+  std::string line = fmt::format(
+      "AoR = {:.2f}° ± {:.2f}° (sd {:.2f}°, {} samples over {:.4g}-{:.4g} s, tau_int {:.3g} s, n_eff {:.1f})",
+      s.at("aor_deg_mean").get<double>(), s.at("aor_sem_block").get<double>(),
+      s.at("aor_deg_std").get<double>(), s.at("aor_samples").get<size_t>(), w.at(0).get<double>(),
+      w.at(1).get<double>(), s.value("aor_tau_int_s", 0.0), s.value("aor_n_eff", 0.0));
+  if (!s.at("aor_stationary").get<bool>())
+    line += "; NOT STATIONARY, do not quote: " + s.at("aor_stationary_reason").get<std::string>();
+  else if (!s.at("aor_sem_reliable").get<bool>())
+    line += "; error bar NOT RELIABLE: " + s.at("aor_sem_reliable_reason").get<std::string>();
+  return line;
 }
 
 }  // namespace wetdem::app

@@ -58,4 +58,8 @@ struct RunTotals {
 nlohmann::json make_summary(const Case& c, const Derived& d, const std::vector<Sample>& samples,
                             const RunTotals& t);
 
+// The run's final AoR log line from a summary: mean ± blocked SEM, sd, window, tau_int, n_eff, and, when the
+// window is not stationary or its error bar not reliable, that verdict with its reason.
+std::string aor_log_line(const nlohmann::json& summary);
+
 }  // namespace wetdem::app
