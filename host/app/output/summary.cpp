@@ -11,6 +11,7 @@
 
 #include "app/drum/aor.h"
 #include "app/drum/psd.h"
+#include "app/observe/window.h"
 #include "app/output/timeseries_stats.h"
 #include "wetdem/observables.h"
 
@@ -45,21 +46,35 @@ void write_file_atomic(const std::string& path, const std::string& content) {
 }
 
 std::string timeseries_header() {
-  return "time,aor_deg,com_x,com_y,contacts,bridges,f_wet,kinetic_energy\n";
+  std::string h = "time,aor_deg,com_x,com_y,contacts,bridges,f_wet,kinetic_energy";
+  for (const observe::CameraField& f : observe::kCameraFields) h += std::string(",") + f.name;
+  return h + "\n";
 }
 
 std::string timeseries_row(const Sample& s) {
-  // aor_deg is |angle|, empty when the bed is flagged (near-centred: no angle reported, drum.md).
+  // aor_deg is |angle|, empty when the bed is flagged (near-centred: no angle reported, drum.md); a camera
+  // observable is empty when it has no value (NaN), e.g. the plate angles on a periodic slice.
   const std::string aor = s.flagged ? "" : fmt::format("{:.9g}", std::fabs(s.aor_signed_deg));
-  return fmt::format("{:.9g},{},{:.9g},{:.9g},{},{},{:.9g},{:.9g}\n", s.time, aor, s.com_x, s.com_y,
-                     s.contacts, s.bridges, s.f_wet, s.kinetic_energy);
+  std::string row = fmt::format("{:.9g},{},{:.9g},{:.9g},{},{},{:.9g},{:.9g}", s.time, aor, s.com_x, s.com_y,
+                                s.contacts, s.bridges, s.f_wet, s.kinetic_energy);
+  for (const observe::CameraField& f : observe::kCameraFields) {
+    const double v = s.camera.*f.value;
+    row += std::isfinite(v) ? fmt::format(",{:.9g}", v) : std::string(",");
+  }
+  return row + "\n";
 }
 
 nlohmann::json samples_to_json(const std::vector<Sample>& v) {
   nlohmann::json j = nlohmann::json::array();
-  for (const Sample& s : v)
+  for (const Sample& s : v) {
+    nlohmann::json cam = nlohmann::json::array();  // kCameraFields order, null for NaN
+    for (const observe::CameraField& f : observe::kCameraFields) {
+      const double x = s.camera.*f.value;
+      cam.push_back(std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr));
+    }
     j.push_back({s.step, s.time, s.aor_signed_deg, s.com_x, s.com_y, s.flagged, s.contacts, s.bridges,
-                 s.f_wet, s.kinetic_energy});
+                 s.f_wet, s.kinetic_energy, cam});
+  }
   return j;
 }
 
@@ -77,6 +92,14 @@ std::vector<Sample> samples_from_json(const nlohmann::json& j) {
     s.bridges = e.at(7).get<uint64_t>();
     s.f_wet = e.at(8).get<double>();
     s.kinetic_energy = e.at(9).get<double>();
+    if (e.size() > 10) {  // checkpoints written before the camera observables have none
+      const nlohmann::json& cam = e.at(10);
+      size_t i = 0;
+      for (const observe::CameraField& f : observe::kCameraFields) {
+        if (i < cam.size() && cam[i].is_number()) s.camera.*f.value = cam[i].get<double>();
+        ++i;
+      }
+    }
     v.push_back(s);
   }
   return v;
@@ -108,6 +131,28 @@ double window_mean(const std::vector<Sample>& s, double t_from, F f) {
 
 nlohmann::json number_or_null(double x) {
   return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
+}
+
+// diagnosis.md §2: each camera observable as <name> (window mean of the samples that have a value) and
+// <name>_sem (blocked standard error, as aor_sem_block); null when no sample of the window has one; the plate
+// and centre slab angles are absent on a periodic slice. The AoR drift over the window, per revolution.
+void add_camera_observables(nlohmann::json& j, const Case& c, const std::vector<Sample>& samples,
+                            double t_from, bool aor_flag) {
+  for (const observe::CameraField& f : observe::kCameraFields) {
+    if (f.needs_plates && c.drum.periodic_slice) continue;
+    std::vector<double> v;
+    for (const Sample& s : samples)
+      if (s.time >= t_from) v.push_back(s.camera.*f.value);
+    const observe::WindowMean w = observe::window_mean(v);
+    j[f.name] = w.n ? number_or_null(w.mean) : nlohmann::json(nullptr);
+    j[std::string(f.name) + "_sem"] = w.n ? number_or_null(w.sem) : nlohmann::json(nullptr);
+  }
+  std::vector<double> t, a;
+  for (const Sample& s : samples)
+    if (s.time >= t_from && !s.flagged) t.push_back(s.time), a.push_back(std::fabs(s.aor_signed_deg));
+  const observe::Drift d = observe::aor_drift(t, a, c.drum.omega);
+  j["aor_drift_deg_per_rev"] = aor_flag ? nlohmann::json(nullptr) : number_or_null(d.slope_deg_per_rev);
+  j["aor_drift_deg_per_rev_sem"] = aor_flag ? nlohmann::json(nullptr) : number_or_null(d.se_deg_per_rev);
 }
 
 }  // namespace
@@ -196,6 +241,7 @@ nlohmann::json make_summary(const Case& c, const Derived& d, const std::vector<S
       number_or_null(window_mean(samples, t_from, [](const Sample& s) { return double(s.contacts); }));
   j["kinetic_energy_mean_J"] =
       number_or_null(window_mean(samples, t_from, [](const Sample& s) { return s.kinetic_energy; }));
+  add_camera_observables(j, c, samples, t_from, flag);
   j["particles"] = t.particles;
   j["steps"] = t.steps;
   j["dt_s"] = t.dt;

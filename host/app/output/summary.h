@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "app/case/case.h"
+#include "app/observe/camera.h"
 #include "wetdem/state.h"
 #include "wetdem/system.h"
 
@@ -23,6 +24,7 @@ struct Sample {
   bool flagged = true;          // |COM| < 0.2 R: no angle reported
   uint64_t contacts = 0, bridges = 0;
   double f_wet = 0, kinetic_energy = 0;
+  observe::CameraSample camera;  // diagnosis.md §2 (app/observe/camera.h); NaN: no value this sample
 };
 
 // path.tmp, flushed and fsync'ed, then renamed over path. Throws std::runtime_error on failure.
@@ -54,7 +56,8 @@ struct RunTotals {
 };
 
 // summary.json content: the AoR over the steady window (mean, sd, blocked SEM, flag), window means of f_wet,
-// bridges and contacts, liquid conservation, performance, the resolved case and derived values, code version.
+// bridges and contacts, the camera observables (<name>, <name>_sem; plate keys absent on a periodic slice)
+// and the AoR drift, liquid conservation, performance, the resolved case and derived values, code version.
 nlohmann::json make_summary(const Case& c, const Derived& d, const std::vector<Sample>& samples,
                             const RunTotals& t);
 
