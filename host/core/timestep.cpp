@@ -10,8 +10,9 @@ namespace wetdem {
 namespace {
 constexpr double kPi = 3.14159265358979323846;
 
+// The pull of a bridge just separated (S -> 0+), whose slope is k_c: cos(theta_r) with hysteresis.
 double f0_of(const LiquidParams& l, double R_h) {
-  return 2.0 * kPi * R_h * l.gamma * std::cos(l.theta);
+  return 2.0 * kPi * R_h * l.gamma * std::cos(l.theta_r());
 }
 }  // namespace
 
@@ -99,6 +100,41 @@ std::optional<std::string> capillary_timestep_warning(const SimParams& prm, cons
     }
   }
   return verdict(prm, w);
+}
+
+double viscous_damping_coefficient(double eta, double s_min, double R_star, double volume_m3) {
+  const double b = 1.0 - 1.0 / std::sqrt(1.0 + volume_m3 / (kPi * R_star * s_min * s_min));
+  return 6.0 * kPi * eta * R_star * R_star / s_min * b * b;  // dF_v/dv_n at S = S_min (Pitois 2000)
+}
+
+double viscous_dt_limit(double m_star, double R_star, double eta, double s_min, double volume_m3) {
+  return 2.0 * m_star / viscous_damping_coefficient(eta, s_min, R_star, volume_m3);
+}
+
+std::optional<std::string> viscous_timestep_warning(const SimParams& prm, const SystemState& s) {
+  if (s.p.size() == 0) return std::nullopt;
+  size_t a = 0;
+  for (size_t k = 1; k < s.p.size(); ++k)
+    if (s.p.radius[k] < s.p.radius[a]) a = k;
+  const double r = s.p.radius[a], m = s.p.mass[a];
+  // m*/c grows with the radius (m* ~ r^3, c ~ R*^2) and with smaller bridges: the two smallest particles with
+  // a bridge of V_max are the worst pair; a wall (R* = r, m* = m) is worse still by a factor 2.
+  double worst = 1e300;
+  std::string where;
+  auto consider = [&](const LiquidParams& l, double m_star, double R_star, const char* what) {
+    if (!l.enabled || !(l.viscosity > 0) || l.v_max <= 0) return;
+    const double lim = viscous_dt_limit(m_star, R_star, l.viscosity, l.lubrication_cutoff,
+                                        double(l.v_max) * prm.liquid_unit_m3);
+    if (lim < worst) worst = lim, where = what;
+  };
+  consider(prm.liq_pp, 0.5 * m, 0.5 * r, "two smallest particles with a bridge of V_max");
+  for (uint32_t w = 0; w < kNumWalls; ++w)
+    consider(prm.liq_pw[w], m, r, "smallest particle bridged to a wall");
+  if (prm.dt < worst) return std::nullopt;
+  return fmt::format(
+      "time step {:.3g} s exceeds the viscous limit 2 m*/c = {:.3g} s (c = dF_v/dv_n at S_min; {}): the "
+      "explicit lubrication damping is unstable; lower dt or raise liquid.lubrication_cutoff",
+      prm.dt, worst, where);
 }
 
 }  // namespace wetdem
