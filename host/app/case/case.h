@@ -53,7 +53,16 @@ struct LiquidSpec {
   double v_max = 0;      // fraction of V-bar_S
   double d_c = 1.0;
   FilmMode films = FilmMode::PerParticleVolume;
+  double evaporation_time = 0;  // s, tau of evaporation; 0 = off (diagnosis.md §3 `evaporation`)
+  double wetted_fraction = 1;   // fraction of the particles that hold all the liquid at the start (`spread`)
   bool on() const { return present && content > 0; }
+};
+
+// Pore absorption (diagnosis.md §3 `absorption`), off by default.
+struct AbsorptionSpec {
+  double capacity = 0;  // pore volume / particle volume, [0, 0.3]
+  double rate = 0;      // k (1/s); +infinity = "instantaneous"
+  bool on() const { return capacity > 0 && rate > 0; }
 };
 
 struct DrumSpec {
@@ -96,6 +105,7 @@ struct Case {
   // psd.scale = scaling, so Psd(psd) is the distribution actually inserted.
   wetdem::PsdSpec psd;
   LiquidSpec liquid;
+  AbsorptionSpec absorption;
   DrumSpec drum;
   RunSpec run;
   OutputSpec output;
@@ -129,7 +139,13 @@ struct Derived {
 SimParams make_sim_params(const Case& c, const std::vector<double>& radii, Derived* derived = nullptr);
 nlohmann::json derived_to_json(const Derived& d);
 
-// Initial film volumes (liquid units) of the particles: phi_L * V_i or phi_L * V-bar_S (FilmMode).
+// Initial film volumes (liquid units) of the particles: phi_L * V_i or phi_L * V-bar_S (FilmMode). With
+// liquid.wetted_fraction f < 1, round(f N) particles drawn with run.seed hold the same total, split in
+// proportion to the same weights (own or mean volume), exactly in integers (spread_films).
 std::vector<int64_t> initial_films(const Case& c, const std::vector<double>& radii, double liquid_unit_m3);
+// Puts all of Σ films on round(f N) (at least 1) particles chosen by a seeded Fisher-Yates draw
+// (mt19937_64), films in proportion to `weight`; the total is unchanged exactly.
+std::vector<int64_t> spread_films(const std::vector<int64_t>& films, const std::vector<double>& weight,
+                                  double wetted_fraction, uint64_t seed);
 
 }  // namespace wetdem::app

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
+#include <cmath>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -71,7 +72,18 @@ toml::table to_table(const Case& c) {
                                       {"v_max", l.v_max},
                                       {"d_c", l.d_c},
                                       {"films", l.films == FilmMode::MeanVolume ? "mean_volume"
-                                                                                : "per_particle_volume"}});
+                                                                                : "per_particle_volume"},
+                                      {"evaporation_time_s", l.evaporation_time},
+                                      {"wetted_fraction", l.wetted_fraction}});
+  {
+    const AbsorptionSpec& a = c.absorption;
+    toml::table ab{{"capacity", a.capacity}};
+    if (std::isinf(a.rate))
+      ab.insert("rate", "instantaneous");
+    else
+      ab.insert("rate_per_s", a.rate);
+    root.insert("absorption", std::move(ab));
+  }
 
   const DrumSpec& d = c.drum;
   toml::table drum{{"diameter_m", d.diameter},
