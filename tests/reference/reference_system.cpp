@@ -219,6 +219,9 @@ void ReferenceSystem::liquid_events() {
   view.film = &p_.film;
   view.wall = &p_.wall;
   view.wall_gap = wall_gap_;
+  view.pore = &p_.pore;
+  view.evaporated = &p_.evaporated;
+  view.radius = &p_.radius;
   view.pairs.reserve(examined_.size());
   for (size_t e = 0; e < examined_.size(); ++e) {
     auto it = pairs_.find(examined_[e]);

@@ -46,7 +46,9 @@ void write_file_atomic(const std::string& path, const std::string& content) {
 }
 
 std::string timeseries_header() {
-  std::string h = "time,aor_deg,com_x,com_y,contacts,bridges,f_wet,kinetic_energy";
+  std::string h = "time,aor_deg,com_x,com_y,contacts,bridges,f_wet,kinetic_energy,"
+                  "liquid_films_units,liquid_bridges_units,liquid_pores_units,liquid_evaporated_units,"
+                  "liquid_films_m3,liquid_bridges_m3,liquid_pores_m3,liquid_evaporated_m3";
   for (const observe::CameraField& f : observe::kCameraFields) h += std::string(",") + f.name;
   return h + "\n";
 }
@@ -55,8 +57,12 @@ std::string timeseries_row(const Sample& s) {
   // aor_deg is |angle|, empty when the bed is flagged (near-centred: no angle reported, drum.md); a camera
   // observable is empty when it has no value (NaN), e.g. the plate angles on a periodic slice.
   const std::string aor = s.flagged ? "" : fmt::format("{:.9g}", std::fabs(s.aor_signed_deg));
-  std::string row = fmt::format("{:.9g},{},{:.9g},{:.9g},{},{},{:.9g},{:.9g}", s.time, aor, s.com_x, s.com_y,
-                                s.contacts, s.bridges, s.f_wet, s.kinetic_energy);
+  const double u = s.liquid_unit_m3;
+  std::string row =
+      fmt::format("{:.9g},{},{:.9g},{:.9g},{},{},{:.9g},{:.9g},{},{},{},{},{:.9g},{:.9g},{:.9g},{:.9g}", s.time, aor,
+                  s.com_x, s.com_y, s.contacts, s.bridges, s.f_wet, s.kinetic_energy, s.liquid_films,
+                  s.liquid_bridges, s.liquid_pores, s.liquid_evaporated, double(s.liquid_films) * u,
+                  double(s.liquid_bridges) * u, double(s.liquid_pores) * u, double(s.liquid_evaporated) * u);
   for (const observe::CameraField& f : observe::kCameraFields) {
     const double v = s.camera.*f.value;
     row += std::isfinite(v) ? fmt::format(",{:.9g}", v) : std::string(",");
@@ -73,7 +79,8 @@ nlohmann::json samples_to_json(const std::vector<Sample>& v) {
       cam.push_back(std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr));
     }
     j.push_back({s.step, s.time, s.aor_signed_deg, s.com_x, s.com_y, s.flagged, s.contacts, s.bridges,
-                 s.f_wet, s.kinetic_energy, cam});
+                 s.f_wet, s.kinetic_energy, s.liquid_films, s.liquid_bridges, s.liquid_pores,
+                 s.liquid_evaporated, s.liquid_unit_m3, cam});
   }
   return j;
 }
@@ -92,8 +99,15 @@ std::vector<Sample> samples_from_json(const nlohmann::json& j) {
     s.bridges = e.at(7).get<uint64_t>();
     s.f_wet = e.at(8).get<double>();
     s.kinetic_energy = e.at(9).get<double>();
-    if (e.size() > 10) {  // checkpoints written before the camera observables have none
-      const nlohmann::json& cam = e.at(10);
+    if (e.size() >= 15) {
+      s.liquid_films = e.at(10).get<int64_t>();
+      s.liquid_bridges = e.at(11).get<int64_t>();
+      s.liquid_pores = e.at(12).get<int64_t>();
+      s.liquid_evaporated = e.at(13).get<int64_t>();
+      s.liquid_unit_m3 = e.at(14).get<double>();
+    }
+    if (e.size() >= 16) {  // checkpoints written before the camera observables have none
+      const nlohmann::json& cam = e.at(15);
       size_t i = 0;
       for (const observe::CameraField& f : observe::kCameraFields) {
         if (i < cam.size() && cam[i].is_number()) s.camera.*f.value = cam[i].get<double>();
@@ -163,6 +177,7 @@ std::string state_hash(const SystemState& s) {
   f.vec(p.x), f.vec(p.v), f.vec(p.w), f.vec(p.f), f.vec(p.t), f.vec(p.radius), f.vec(p.mass),
       f.vec(p.inertia);
   f.vec(p.film);
+  f.vec(p.pore), f.vec(p.evaporated);
   for (const WallRecord& w : p.wall)
     f.bytes(&w.spring_t, sizeof(w.spring_t)), f.bytes(&w.spring_r, sizeof(w.spring_r)),
         f.bytes(&w.bridge, sizeof(w.bridge)), f.bytes(&w.flags, sizeof(w.flags));
@@ -251,6 +266,18 @@ nlohmann::json make_summary(const Case& c, const Derived& d, const std::vector<S
   j["liquid_total_m3_start"] = double(t.liquid_start) * t.liquid_unit_m3;
   j["liquid_total_m3_end"] = double(t.liquid_end) * t.liquid_unit_m3;
   j["liquid_conserved"] = t.liquid_start == t.liquid_end;  // exact: liquid is integer units (physics.md §5)
+  {
+    const LiquidBudget& b = t.liquid_budget_end;
+    const double u = t.liquid_unit_m3;
+    j["liquid_end"] = {{"films_units", b.films},          {"bridges_units", b.bridges},
+                       {"pores_units", b.pores},          {"evaporated_units", b.evaporated},
+                       {"films_m3", double(b.films) * u}, {"bridges_m3", double(b.bridges) * u},
+                       {"pores_m3", double(b.pores) * u}, {"evaporated_m3", double(b.evaporated) * u}};
+    j["liquid_conserved_definition"] =
+        "films + bridges (pair and wall) + pores + evaporated at the end == liquid put in at the start, "
+        "exactly "
+        "(integer units of liquid_unit_m3)";
+  }
   j["particle_steps_per_s"] = t.particle_steps_per_s;
   j["wall_time_s"] = t.wall_s;
   j["resumed_from_step"] = t.resumed_from_step;
