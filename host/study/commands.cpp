@@ -201,7 +201,8 @@ class Impl : public Commands {
         "inside run processes %.1f s, inside the runs (their wall_time_s) %.1f s: overhead %.1f s "
         "(%.1f %%)\n",
         s.name.c_str(), r.total, r.already_complete, r.completed, r.failed + r.skipped_failed, r.stopped,
-        r.wall_s, r.process_wall_s, r.run_wall_s, outside, r.wall_s > 0 ? 100.0 * outside / r.wall_s : 0.0);
+        r.wall_s, r.process_wall_s, r.run_wall_s, outside,
+        r.run_wall_s > 0 ? 100.0 * outside / r.wall_s : 0.0);
     if (r.interrupted) {
       std::printf("interrupted: finished runs are kept; `wetdem study run` again continues the others\n");
       return 1;
