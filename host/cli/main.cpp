@@ -4,6 +4,8 @@
 //   wetdem devices                                   list Vulkan devices
 //   wetdem study plan|run|run-one|slurm|collect ...  studies (host/study/, README "Studies and calibration")
 //   wetdem calibrate DIR [--refine K]                fit a study to its observation table
+//   wetdem diagnose D.toml --out DIR                 sim-to-real diagnosis (host/diagnose/, README)
+//   wetdem twin T.toml --out DIR                     observations from a model with a withheld effect
 // Exit codes: 0 done; 2 bad input (one line naming the key, nothing written); 1 the run or the device failed.
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
@@ -19,6 +21,9 @@
 #include "vk/context.h"
 #ifdef WETDEM_HAVE_STUDY
 #include "study/commands.h"
+#endif
+#ifdef WETDEM_HAVE_DIAGNOSE
+#include "diagnose/commands.h"
 #endif
 
 namespace {
@@ -82,6 +87,10 @@ int main(int argc, char** argv) {
   // Studies and calibration: registered and run by host/study/commands.cpp.
   const auto study_cmds = wetdem::study::add_commands(cli);
 #endif
+#ifdef WETDEM_HAVE_DIAGNOSE
+  // The sim-to-real diagnosis and twins: registered and run by host/diagnose/commands.cpp.
+  const auto diagnose_cmds = wetdem::diagnose::add_commands(cli);
+#endif
 
   try {
     cli.parse(argc, argv);
@@ -97,6 +106,9 @@ int main(int argc, char** argv) {
     if (*chk) return check(check_path, check_sets);
 #ifdef WETDEM_HAVE_STUDY
     if (study_cmds->selected()) return study_cmds->execute();
+#endif
+#ifdef WETDEM_HAVE_DIAGNOSE
+    if (diagnose_cmds->selected()) return diagnose_cmds->execute();
 #endif
     if (ro.case_path.empty() && ro.resume_dir.empty()) {
       std::fprintf(stderr, "wetdem run: give a case file (or --resume DIR)\n");
