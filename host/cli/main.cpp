@@ -17,6 +17,7 @@
 
 #include "app/case/case.h"
 #include "app/drum/psd.h"
+#include "app/run/resources.h"
 #include "app/run/run.h"
 #include "vk/context.h"
 #ifdef WETDEM_HAVE_STUDY
@@ -48,6 +49,16 @@ int check(const std::string& path, const std::vector<std::string>& sets) {
       "# about %.0f particles; r_min = %.4g m, Rayleigh time %.4g s, dt = %.4g s, %.0f steps (%.3g "
       "particle-steps)\n",
       n, r_min, tr, dt, steps, n * steps);
+  {  // Issue 12: the resource estimate (host/app/run/resources.h) and whether this host could hold it.
+    const app::ResourceEstimate e = app::estimate_resources(c);
+    std::printf("%s",
+                app::describe_resources(e, app::kLavapipeThroughput, app::kLavapipeThroughputSource).c_str());
+    try {
+      app::check_resources(e, {std::nullopt, "", app::host_available_bytes()});
+    } catch (const app::CaseError& err) {
+      std::printf("# WARNING: a run would be refused: %s\n", err.what());
+    }
+  }
   std::printf("%s", app::case_to_toml(c).c_str());
   return 0;
 }

@@ -77,7 +77,7 @@ const Sample& DrumSession::sample() {
   const Observables o = compute_observables(st, sys_->params());
   // physics.md §6: warn (once) when dt is too large for the stiffest bridge present.
   if (!dt_warned_)
-    if (auto w = capillary_timestep_warning(sys_->params(), st)) {
+    if (auto w = capillary_timestep_warning_present(sys_->params(), st)) {
       log_("WARNING: " + *w);
       dt_warned_ = true;
     }
