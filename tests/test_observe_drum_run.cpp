@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -45,7 +46,9 @@ TEST_F(ObserveDrumRun, ClosedDrumReportsEveryCameraObservableWithAnError) {
   o.out_dir = (base / "run").string();
   o.quiet = true;
   o.context = &gpu();
-  o.overrides = {"output.formats=[\"vtk\"]", "output.checkpoint_interval=0"};
+  // A shorter run than the small case's: 0.5 s of rotation, 16 samples in the window 0.2-0.5 s.
+  o.overrides = {"output.formats=[\"vtk\"]", "output.checkpoint_interval=0", "run.duration=\"0.5 s\"",
+                 "run.steady_state_start=\"0.2 s\"", "run.sample_interval=\"0.02 s\""};
   const app::RunResult r = app::run_case(o);
   ASSERT_TRUE(r.completed);
   const nlohmann::json& s = r.summary;
@@ -61,10 +64,10 @@ TEST_F(ObserveDrumRun, ClosedDrumReportsEveryCameraObservableWithAnError) {
     ASSERT_TRUE(s.contains(k) && s[k].is_number()) << k;
   EXPECT_GT(s["aor_drift_deg_per_rev_sem"].get<double>(), 0.0);
 
-  // Plausibility on this bed (wet, V_min = 0, rolling at 30 rpm): the surface and slab angles are AoR-like,
-  // bridges make clusters of more than one particle, and no liquid has left films and bridges.
+  // Plausibility on this bed (wet, V_min = 0, 30 rpm, plates turning with the drum: the whole bed is bridged
+  // into one or a few agglomerates and is carried up far): the slab angles are centre-of-mass angles like
+  // aor_deg, bridges make clusters of more than one particle, no liquid has left films and bridges.
   const double aor = s["aor_deg_mean"].get<double>();
-  EXPECT_NEAR(s["aor_surface_deg"].get<double>(), aor, 15.0);
   EXPECT_NEAR(s["aor_plate_deg"].get<double>(), aor, 15.0);
   EXPECT_NEAR(s["aor_centre_deg"].get<double>(), aor, 15.0);
   EXPECT_GT(s["agglomerate_size_mean"].get<double>(), 1.0);
@@ -74,14 +77,39 @@ TEST_F(ObserveDrumRun, ClosedDrumReportsEveryCameraObservableWithAnError) {
   EXPECT_EQ(s["liquid_free_fraction_sem"].get<double>(), 0.0);
   EXPECT_GE(s["flowing_layer_depth_m"].get<double>(), 0.0);
 
-  // timeseries.csv: one column per observable, filled in the rotating part.
+  // timeseries.csv: one column per observable, each filled in some sample of the window; sample by sample
+  // the fitted surface follows the centre-of-mass angle (median difference below 10°; the two differ when
+  // the bed is lifted as a block, so the means may not).
   std::ifstream ts(base / "run" / "timeseries.csv");
-  std::string header, line, last;
+  std::string header, line;
   std::getline(ts, header);
-  for (const observe::CameraField& f : observe::kCameraFields)
-    EXPECT_NE(header.find(f.name), std::string::npos) << f.name;
-  while (std::getline(ts, line)) last = line;
-  EXPECT_EQ(last.find(",,"), std::string::npos) << last;  // the last sample has every value
+  std::vector<std::string> names;
+  {
+    std::stringstream hs(header);
+    for (std::string cell; std::getline(hs, cell, ',');) names.push_back(cell);
+  }
+  std::vector<size_t> filled(names.size(), 0);
+  std::vector<double> diff;
+  const size_t i_aor = 1,
+               i_surface = size_t(std::find(names.begin(), names.end(), "aor_surface_deg") - names.begin());
+  while (std::getline(ts, line)) {
+    std::vector<std::string> cells;
+    std::stringstream ls(line);
+    for (std::string cell; std::getline(ls, cell, ',');) cells.push_back(cell);
+    cells.resize(names.size());
+    if (std::stod(cells[0]) < 0.25 + 0.2) continue;
+    for (size_t i = 0; i < names.size(); ++i) filled[i] += !cells[i].empty();
+    if (!cells[i_aor].empty() && !cells[i_surface].empty())
+      diff.push_back(std::fabs(std::stod(cells[i_surface]) - std::stod(cells[i_aor])));
+  }
+  for (const observe::CameraField& f : observe::kCameraFields) {
+    const size_t i = size_t(std::find(names.begin(), names.end(), f.name) - names.begin());
+    ASSERT_LT(i, names.size()) << f.name;
+    EXPECT_GT(filled[i], 0u) << f.name;
+  }
+  ASSERT_GE(diff.size(), 8u);
+  std::nth_element(diff.begin(), diff.begin() + long(diff.size() / 2), diff.end());
+  EXPECT_LT(diff[diff.size() / 2], 10.0);
 
   // The last frame colours agglomerates: cluster label and size per particle.
   const auto frames = read_pvd((base / "run" / "frames" / "frames.pvd").string());

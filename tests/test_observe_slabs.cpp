@@ -68,11 +68,13 @@ TEST(ObserveSlabs, AbsentOnAPeriodicSlice) {
   EXPECT_NEAR(closed.aor_centre_deg, 30.0, 0.5);
 }
 
-TEST(ObserveSlabs, FreeLiquidFractionCountsFilmsAndBridges) {
+TEST(ObserveSlabs, FreeLiquidFractionCountsFilmsAndBridgesOnly) {
   SystemState s;
   s.p.resize(3);
   for (size_t k = 0; k < 3; ++k) set_sphere(s.p, k, {0.01 * double(k), -0.05, 0.0}, 1e-3, 900.0);
   s.p.film = {100, 50, 0};
+  s.p.pore = {100, 0, 0};        // absorbed: not free
+  s.p.evaporated = {0, 0, 100};  // gone: not free
   s.p.wall[2 * kNumWalls + kWallCylinder].bridge = 25;
   PairRecord pr;
   pr.id_i = 0, pr.id_j = 1, pr.bridge = 25;

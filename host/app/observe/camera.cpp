@@ -9,11 +9,8 @@
 namespace wetdem::observe {
 
 int64_t free_liquid(const SystemState& s) {
-  int64_t v = 0;
-  for (int64_t f : s.p.film) v += f;
-  for (const WallRecord& w : s.p.wall) v += w.bridge;
-  for (const PairRecord& r : s.pairs) v += r.bridge;
-  return v;
+  const LiquidBudget b = s.liquid_budget();
+  return b.films + b.bridges;  // pair and wall bridges; pores and evaporated liquid are not free
 }
 
 CameraSample observe_camera(const SystemState& s, const SimParams& prm, int64_t liquid_start) {

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "app/drum/aor.h"
+#include "app/observe/camera.h"
 #include "wetdem/observables.h"
 #include "wetdem/timestep.h"
 
@@ -102,6 +103,7 @@ const Sample& DrumSession::sample() {
   x.bridges = o.bridges;
   x.f_wet = o.f_wet;
   x.kinetic_energy = o.kinetic_energy;
+  x.camera = observe::observe_camera(st, prep_.prm, liquid_start_);  // diagnosis.md §2
   samples_.push_back(x);
   return samples_.back();
 }
