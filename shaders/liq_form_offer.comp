@@ -3,6 +3,8 @@
 // Liquid pass 4c (per particle), §5 two-phase rule, phase 2 set-up: the film after ruptures (received
 // remainders + overflow returned by its bridges) is the "full film" of the threshold; a particle with k
 // forming contacts (pairs and walls) offers floor(V_f / k) to each. Wall bridges form here (film only).
+// The liquid sinks act first, on that film (params.h LiquidSinkParams): pore absorption, then evaporation of
+// the film, of the pair bridges this particle owns and of its wall bridges, credited to its own counter.
 #include "liquid.glsl"
 layout(local_size_x = 256) in;
 void main() {
@@ -26,6 +28,34 @@ void main() {
   Uints wfl = Uints(paddr(s, PF_WFLAGS));
   for (uint w = 0u; w < 3u; ++w)
     if ((wfl.v[3u * i + w] & FLAG_FORM) != 0u) k++;
+  if (P.absorb_mode != 0u) {
+    Int64s pore = Int64s(paddr(s, PF_PORE));
+    int64_t room = Int64s(paddr(s, PF_PORECAP)).v[i] - pore.v[i];
+    int64_t m = min(P.absorb_mode == 2u ? f : mul_q64(f, P.absorb_q64), room);
+    if (m > 0) {
+      f -= m;
+      pore.v[i] += m;
+    }
+  }
+  if (P.evap_on != 0u) {
+    int64_t lost = mul_q64(f, P.evap_q64);
+    f -= lost;
+    Int64s liq = Int64s(eaddr(s, EF_LIQ));
+    for (uint e = b; e < b + c; ++e) {  // owner entries only: no other thread writes them in this pass
+      if (mirror.v[e] != e) continue;
+      int64_t d = mul_q64(liq.v[e], P.evap_q64);
+      if (d > 0) {
+        liq.v[e] -= d;
+        lost += d;
+      }
+    }
+    for (uint w = 0u; w < 3u; ++w) {
+      int64_t d = mul_q64(wliq.v[3u * i + w], P.evap_q64);
+      wliq.v[3u * i + w] -= d;
+      lost += d;
+    }
+    Int64s(paddr(s, PF_EVAP)).v[i] += lost;
+  }
   int64_t offer = k > 0u ? f / int64_t(k) : 0;
   const int64_t full = f;
   Int64s(T().p_full).v[i] = full;

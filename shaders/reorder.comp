@@ -20,6 +20,9 @@ void main() {
   Vec4s(paddr(t, PF_TORQUE)).v[i] = Vec4s(paddr(s, PF_TORQUE)).v[o];
   Int64s(paddr(t, PF_FILM)).v[i] = Int64s(paddr(s, PF_FILM)).v[o];
   Vec4s(paddr(t, PF_FRAC)).v[i] = Vec4s(paddr(s, PF_FRAC)).v[o];
+  Int64s(paddr(t, PF_PORE)).v[i] = Int64s(paddr(s, PF_PORE)).v[o];
+  Int64s(paddr(t, PF_EVAP)).v[i] = Int64s(paddr(s, PF_EVAP)).v[o];
+  Int64s(paddr(t, PF_PORECAP)).v[i] = Int64s(paddr(s, PF_PORECAP)).v[o];
   for (uint w = 0u; w < 3u; ++w) {
     Vec4s(paddr(t, PF_WST)).v[3u * i + w] = Vec4s(paddr(s, PF_WST)).v[3u * o + w];
     Vec4s(paddr(t, PF_WSR)).v[3u * i + w] = Vec4s(paddr(s, PF_WSR)).v[3u * o + w];

@@ -29,7 +29,10 @@ TEST(TimeStep, WarnsOnlyWhenTheStepIsTooLargeForTheStiffestBridge) {
   s.p.film = {500000000, 500000000};
   const double m = s.p.mass[0];
   const double f0 = 2 * 3.14159265358979 * 1e-3 * 0.072 * std::cos(0.3);
-  const double lim = capillary_dt_limit(0.5 * m, 1e-3, f0, 1e-12);
+  // The smallest bridge these films can form is one film (5e8 units): a partner whose film an earlier bridge
+  // spent adds nothing.
+  EXPECT_EQ(smallest_formable_bridge(prm.liq_pp, s.p.film), 500000000);
+  const double lim = capillary_dt_limit(0.5 * m, 1e-3, f0, 5e-13);
   prm.dt = 0.9 * lim;
   EXPECT_FALSE(capillary_timestep_warning(prm, s).has_value());
   prm.dt = 1.1 * lim;

@@ -38,6 +38,8 @@ Observables compute_observables(const SystemState& s, const SimParams& prm) {
     o.com += m * s.p.x[k];
     mass += m;
     o.liquid_films += s.p.film[k];
+    if (k < s.p.pore.size()) o.liquid_pores += s.p.pore[k];
+    if (k < s.p.evaporated.size()) o.liquid_evaporated += s.p.evaporated[k];
     r_max = std::max(r_max, s.p.radius[k]);
     for (uint32_t w = 0; w < kNumWalls; ++w) {
       const WallRecord& r = s.p.wall[k * kNumWalls + w];

@@ -20,6 +20,20 @@ double SimParams::bridge_range_pw(uint32_t wall) const {
   return rupture_distance(std::max(l.theta, l.theta_r()), double(l.v_max) * liquid_unit_m3);
 }
 
+int64_t pore_capacity_units(double capacity, double radius, double unit) {
+  const double pi = 3.14159265358979323846;
+  if (!(capacity > 0.0)) return 0;
+  return int64_t(std::floor(capacity * 4.0 / 3.0 * pi * radius * radius * radius / unit));
+}
+
+uint64_t loss_fraction_q64(double x) {
+  if (!(x > 0.0)) return 0;
+  const double a = -std::expm1(-x);    // 1 - e^-x without cancellation for small x
+  const double q = std::ldexp(a, 64);  // exact scaling; a < 1 so q < 2^64 unless a rounds to 1
+  if (q >= 18446744073709551615.0) return ~uint64_t(0);
+  return uint64_t(q);
+}
+
 double damping_factor(double e) {
   if (e <= 0.0) return std::sqrt(5.0);  // §1: phi_n = sqrt(5) for e = 0
   const double pi = 3.14159265358979323846;

@@ -15,15 +15,23 @@ void ParticleArrays::resize(size_t n) {
   mass.resize(n);
   inertia.resize(n);
   film.resize(n);
+  pore.resize(n);
+  evaporated.resize(n);
   wall.resize(n * kNumWalls);
 }
 
 int64_t SystemState::total_liquid() const {
-  int64_t s = 0;
-  for (int64_t v : p.film) s += v;
-  for (const auto& r : pairs) s += r.bridge;
-  for (const auto& r : p.wall) s += r.bridge;
-  return s;
+  return liquid_budget().total();
+}
+
+LiquidBudget SystemState::liquid_budget() const {
+  LiquidBudget b;
+  for (int64_t v : p.film) b.films += v;
+  for (const auto& r : pairs) b.bridges += r.bridge;
+  for (const auto& r : p.wall) b.bridges += r.bridge;
+  for (int64_t v : p.pore) b.pores += v;
+  for (int64_t v : p.evaporated) b.evaporated += v;
+  return b;
 }
 
 void SystemState::canonicalize() {

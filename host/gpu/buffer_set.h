@@ -26,14 +26,17 @@ enum ParticleField : uint32_t {
   kNbrCount,
   kNbrOffset,
   kFrac,
+  kPore,     // int64: liquid in the pores (absorption)
+  kEvap,     // int64: liquid evaporated from this particle's film and owned bridges
+  kPoreCap,  // int64: pore capacity (liquid units), set at upload
   kNumParticleFields
 };
 // Entry (neighbour-list) fields of one set (order = EF_* in access.glsl).
 enum EntryField : uint32_t { kNbr, kSelf, kMirror, kSt, kSr, kLiq, kFlags, kNumEntryFields };
 
 // Bytes per element of each field.
-inline constexpr std::array<uint32_t, kNumParticleFields> kParticleFieldBytes = {16, 16, 16, 16, 16, 16, 8,
-                                                                                 48, 48, 24, 12, 4,  4,  16};
+inline constexpr std::array<uint32_t, kNumParticleFields> kParticleFieldBytes = {
+    16, 16, 16, 16, 16, 16, 8, 48, 48, 24, 12, 4, 4, 16, 8, 8, 8};
 inline constexpr std::array<uint32_t, kNumEntryFields> kEntryFieldBytes = {4, 4, 4, 16, 16, 8, 4};
 
 // Address table, std430 (all uint64), mirror of `Table` in access.glsl.

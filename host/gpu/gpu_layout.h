@@ -60,9 +60,15 @@ struct GpuParams {
   uint32_t hash_mask;  // 0: dense cell grid; else cells are hashed into hash_mask + 1 buckets
   float drum_r_frac;   // R/h - drum_r_ticks
   GpuEffects fx[4];    // candidate effects: [0] particle-particle, [1 + w] wall w
+  // Liquid sinks (pore absorption, evaporation): 64-bit loss fractions as (lo, hi) words, see
+  // loss_fraction_q64 in params.h; absorb_mode 0 off, 1 rate, 2 instantaneous (all the film).
+  uint32_t absorb_q64[2];
+  uint32_t evap_q64[2];
+  uint32_t absorb_mode;
+  uint32_t evap_on;
 };
 static_assert(sizeof(GpuParams) ==
-              32 * 4 + 48 * 4 + 8 + 4 * 4 + 12 * 2 + 8 * 2 + 8 + 16 + 12 + 12 + 8 + 16 * 4);
+              32 * 4 + 48 * 4 + 8 + 4 * 4 + 12 * 2 + 8 * 2 + 8 + 16 + 12 + 12 + 8 + 16 * 4 + 24);
 
 // Control block (uint32 words); see shaders/common/ctl.glsl.
 namespace ctl {

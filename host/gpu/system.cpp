@@ -18,11 +18,11 @@ System::Impl::Impl(vk::Context& c, const SimParams& p, size_t num, SystemOptions
   if (num == 0 || num >= (1u << 31))
     throw std::invalid_argument("System: particle count must be in [1, 2^31)");
   const char* names[] = {
-      "kick_drift",     "pair_force",     "gather_kick",   "liq_rupture_share", "liq_rupture_apply",
-      "liq_form_offer", "liq_form_apply", "liq_form_take", "rebuild_decide",    "cell_key",
-      "reorder",        "fill_u32",       "cell_ranges",   "nbr_count",         "build_args",
-      "nbr_fill",       "mirror",         "history_map",   "lost_check",        "flip",
-      "end_step"};
+      "kick_drift",     "pair_force",      "gather_kick",   "liq_rupture_share", "liq_rupture_apply",
+      "liq_form_offer", "liq_form_apply",  "liq_form_take", "rebuild_decide",    "cell_key",
+      "reorder",        "fill_u32",        "cell_ranges",   "nbr_count",         "build_args",
+      "nbr_fill",       "mirror",          "history_map",   "lost_check",        "flip",
+      "end_step",       "liq_upload_flags"};
   for (const char* nm : names) kernels[nm] = std::make_unique<vk::Kernel>(ctx, nm);
   sort = std::make_unique<gpu::RadixSort>(ctx, n);
   scan = std::make_unique<gpu::Scan>(ctx, n);
@@ -163,6 +163,21 @@ void System::Impl::setup(double r_max, double r_min) {
   gp.num_particles = n;
   bool liquid_on = prm.liq_pp.enabled;
   for (auto& l : prm.liq_pw) liquid_on = liquid_on || l.enabled;
+  // The sinks live in the liquid passes (4c): they run every step when either is on, bridges or not.
+  const LiquidSinkParams& sk = prm.sinks;
+  if (sk.absorbs()) {
+    gp.absorb_mode = std::isinf(sk.absorption_rate) ? 2u : 1u;
+    const uint64_t a = loss_fraction_q64(sk.absorption_rate * prm.dt);
+    gp.absorb_q64[0] = uint32_t(a);
+    gp.absorb_q64[1] = uint32_t(a >> 32);
+  }
+  if (sk.evaporates()) {
+    gp.evap_on = 1u;
+    const uint64_t e = loss_fraction_q64(prm.dt / sk.evaporation_time);
+    gp.evap_q64[0] = uint32_t(e);
+    gp.evap_q64[1] = uint32_t(e >> 32);
+  }
+  liquid_on = liquid_on || gp.absorb_mode != 0u || gp.evap_on != 0u;
   gp.liquid_on = liquid_on ? 1u : 0u;
   gp.dt = float(prm.dt);
   gp.h = float(h);

@@ -87,6 +87,16 @@ void System::Impl::upload(const SystemState& s) {
   P0[gpu::kWallSr].upload(wsr);
   P0[gpu::kWallLiq].upload(wliq);
   P0[gpu::kWallFlags].upload(wfl);
+  // Pore store and evaporated counter (zero when the state has none); capacity from the radius (params.h).
+  std::vector<int64_t> pore(n, 0), evap(n, 0), pcap(n, 0);
+  for (uint32_t k = 0; k < n; ++k) {
+    if (k < s.p.pore.size()) pore[k] = s.p.pore[k];
+    if (k < s.p.evaporated.size()) evap[k] = s.p.evaporated[k];
+    pcap[k] = pore_capacity_units(prm.sinks.pore_capacity, s.p.radius[k], prm.liquid_unit_m3);
+  }
+  P0[gpu::kPore].upload(pore);
+  P0[gpu::kEvap].upload(evap);
+  P0[gpu::kPoreCap].upload(pcap);
 
   // Pair records become the "old list" of set 0 (owner entries in the lower id's segment), so that the
   // regular history-mapping pass carries them into the first real list.
@@ -154,6 +164,22 @@ void System::Impl::upload(const SystemState& s) {
     throw std::invalid_argument(fmt::format(
         "upload: {} pair record(s) with a bridge lie beyond the interaction range", cc[ctlw::kLostBridges]));
   check_health(cc);
+  if (gp.liquid_on) {
+    // §5 events of the uploaded positions (issue 12): touching pairs without a bridge or flag form their
+    // bridges now, as MercuryDPM's initialiseSolve does, rather than after a separation and a new touch.
+    const uint32_t gN = groups_for(n);
+    VkCommandBuffer lb = record([&](VkCommandBuffer r) {
+      run(r, "liq_upload_flags", gN);
+      run(r, "liq_rupture_share", gN);
+      run_indirect(r, "liq_rupture_apply", ctlw::kEntryArgs);
+      run(r, "liq_form_offer", gN);
+      run_indirect(r, "liq_form_apply", ctlw::kEntryArgs);
+      run(r, "liq_form_take", gN);
+    });
+    submit(lb);
+    vkFreeCommandBuffers(ctx.device(), ctx.pool(), 1, &lb);
+    check_health(read_ctl());
+  }
   ctr.rebuilds = 0;
   uploaded = true;
 }
@@ -174,6 +200,8 @@ SystemState System::Impl::download() {
   auto wsr = P[gpu::kWallSr].download_as<float>(12 * size_t(n));
   auto wliq = P[gpu::kWallLiq].download_as<int64_t>(3 * size_t(n));
   auto wfl = P[gpu::kWallFlags].download_as<uint32_t>(3 * size_t(n));
+  auto pore = P[gpu::kPore].download_as<int64_t>(n);
+  auto evap = P[gpu::kEvap].download_as<int64_t>(n);
   SystemState out;
   out.p.resize(n);
   out.time = time0 + double(steps) * prm.dt;
@@ -195,6 +223,8 @@ SystemState System::Impl::download() {
     out.p.mass[i] = props[4 * k + 1];
     out.p.inertia[i] = props[4 * k + 2];
     out.p.film[i] = film[k];
+    out.p.pore[i] = pore[k];
+    out.p.evaporated[i] = evap[k];
     for (uint32_t w = 0; w < kNumWalls; ++w) {
       size_t q = 3 * size_t(k) + w;
       WallRecord& r = out.p.wall[size_t(i) * kNumWalls + w];
@@ -254,7 +284,7 @@ std::vector<std::pair<uint32_t, uint32_t>> System::Impl::neighbour_pairs() {
 }
 
 namespace {
-constexpr uint64_t kSnapMagic = 0x3130504E53444D57ull;  // "WMDSNP01"
+constexpr uint64_t kSnapMagic = 0x3230504E53444D57ull;  // "WMDSNP02": with pore, evaporated, capacity
 struct SnapHeader {
   uint64_t magic;
   uint32_t n, parity, entries, pad;

@@ -43,6 +43,18 @@ struct LiquidParams {
   double theta_r() const { return theta_receding < 0.0 ? theta : theta_receding; }
 };
 
+// Liquid sinks (diagnosis.md §3 `absorption`, `evaporation`), off by default. Each step, before the formation
+// phase of §5, a particle moves floor(V_f a_k) of its film into its pores (up to its capacity), then its film
+// and each bridge it owns (and its wall bridges) lose floor(V e_t) to its evaporated counter, with a_k = 1 -
+// exp(-k dt), e_t = 1 - exp(-dt/tau) as 64-bit fractions (loss_fraction_q64). Integers throughout.
+struct LiquidSinkParams {
+  double pore_capacity = 0.0;    // absorption.capacity: pore volume / particle volume, [0, 0.3]; 0 = off
+  double absorption_rate = 0.0;  // absorption.rate k (1/s); 0 = off; +infinity = instantaneous (all the film)
+  double evaporation_time = 0.0;  // liquid.evaporation_time tau (s); 0 = off
+  bool absorbs() const { return pore_capacity > 0.0 && absorption_rate > 0.0; }
+  bool evaporates() const { return evaporation_time > 0.0; }
+};
+
 // One flat end plate of the drum (normal along the drum axis z).
 struct PlateParams {
   bool present = true;
@@ -72,6 +84,7 @@ struct SimParams {
   LiquidParams liq_pw[kNumWalls];       // particle-wall bridges (off by default)
   double liquid_unit_m3 = 1e-21;        // volume of one liquid unit (m^3); V-bar_S * 2^-40 in drum runs
   DrumParams drum;
+  LiquidSinkParams sinks;  // pore absorption and evaporation (off by default)
 
   // Interaction range of a particle pair beyond contact: S_c,max = (1 + theta/2) V_max^(1/3), §4, with
   // max(theta, theta_r) when the receding angle differs (hysteresis).
@@ -82,6 +95,11 @@ struct SimParams {
 
 // Rupture distance of a bridge of volume v (m^3): S_c = (1 + theta/2) V^(1/3), §4.
 double rupture_distance(double theta, double volume_m3);
+// Pore capacity of a particle of radius r (liquid units): floor(capacity * 4/3 pi r^3 / unit).
+int64_t pore_capacity_units(double capacity, double radius, double liquid_unit_m3);
+// The fraction 1 - exp(-x) (x >= 0) as a 64-bit fixed-point number floor(2^64 (1 - e^-x)), saturated at
+// 2^64 - 1; the per-step loss of a volume V is then floor(V F / 2^64), exact in integers on every device.
+uint64_t loss_fraction_q64(double x);
 // Normal damping factor phi_n(e), §1.
 double damping_factor(double restitution);
 // Single-material effective moduli from E and G, §1: nu = E/(2G) - 1, E* = E/(2(1-nu^2)), G* = G/(2(2-nu)).

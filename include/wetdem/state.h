@@ -41,11 +41,19 @@ struct ParticleArrays {
   std::vector<glm::dvec3> x, v, w;  // position (m), velocity (m/s), angular velocity (rad/s)
   std::vector<glm::dvec3> f, t;     // last computed force (N) and torque (N m), used by the next half kick
   std::vector<double> radius, mass, inertia;
-  std::vector<int64_t> film;     // film volume V_f (liquid units)
-  std::vector<WallRecord> wall;  // kNumWalls records per particle: wall[k * kNumWalls + w]
+  std::vector<int64_t> film;        // film volume V_f (liquid units)
+  std::vector<int64_t> pore;        // liquid absorbed into the particle's pores (units); never bridges
+  std::vector<int64_t> evaporated;  // liquid evaporated from its film and the bridges it owns (units)
+  std::vector<WallRecord> wall;     // kNumWalls records per particle: wall[k * kNumWalls + w]
 
   size_t size() const { return x.size(); }
   void resize(size_t n);
+};
+
+// Where the liquid is (liquid units). films + bridges + pores + evaporated is conserved exactly.
+struct LiquidBudget {
+  int64_t films = 0, bridges = 0, pores = 0, evaporated = 0;  // bridges: pair and wall bridges
+  int64_t total() const { return films + bridges + pores + evaporated; }
 };
 
 struct SystemState {
@@ -54,8 +62,10 @@ struct SystemState {
   double time = 0.0;
   uint64_t step = 0;
 
-  // Σ films + Σ pair bridges + Σ wall bridges (liquid units): conserved exactly (§5).
+  // Σ films + Σ pair bridges + Σ wall bridges + Σ pores + Σ evaporated (liquid units): conserved exactly
+  // (§5).
   int64_t total_liquid() const;
+  LiquidBudget liquid_budget() const;
   // Sorts pairs by (id_i, id_j) and drops empty records: the canonical form both backends produce.
   void canonicalize();
 };

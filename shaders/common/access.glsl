@@ -20,7 +20,10 @@
 #define PF_NCOUNT 11
 #define PF_NOFFSET 12
 #define PF_FRAC 13  // vec4: sub-tick position fraction (xyz) and radius fraction (w), in ticks
-#define PF_COUNT 14
+#define PF_PORE 14     // int64: liquid in the pores (absorption)
+#define PF_EVAP 15     // int64: liquid evaporated from this particle's film and owned bridges
+#define PF_PORECAP 16  // int64: pore capacity (liquid units)
+#define PF_COUNT 17
 
 #define EF_NBR 0
 #define EF_SELF 1

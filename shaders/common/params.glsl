@@ -40,5 +40,9 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Pa
   uint hash_mask;
   float drum_r_frac;
   Effects fx[4];
+  uint absorb_q64[2];  // liquid sinks: 64-bit loss fractions (lo, hi), see gpu_layout.h
+  uint evap_q64[2];
+  uint absorb_mode;  // 0 off, 1 rate, 2 instantaneous
+  uint evap_on;
 };
 #endif

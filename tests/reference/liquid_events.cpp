@@ -156,6 +156,8 @@ EventCounts liquid_events_two_phase(LiquidView& L) {
     }
   }
 
+  liquid_sinks(L);
+
   // Phase 2: flags and formations on the films after phase 1.
   std::vector<PairSlot*> form_pp;
   std::vector<size_t> form_w;  // k * kNumWalls + w
@@ -213,6 +215,53 @@ EventCounts liquid_events_two_phase(LiquidView& L) {
   }
   for (size_t k = 0; k < n; ++k) film[k] -= take[k];
   return ev;
+}
+
+namespace {
+__extension__ typedef unsigned __int128 U128;
+// floor(V F / 2^64), in 128-bit arithmetic.
+int64_t fraction_of(int64_t V, uint64_t F) {
+  if (V <= 0) return 0;
+  return int64_t((U128(uint64_t(V)) * U128(F)) >> 64);
+}
+}  // namespace
+
+void liquid_sinks(LiquidView& L) {
+  const SimParams& prm = *L.prm;
+  const LiquidSinkParams& sk = prm.sinks;
+  std::vector<int64_t>& film = *L.film;
+  const size_t n = film.size();
+  if (sk.absorbs()) {
+    const bool all = std::isinf(sk.absorption_rate);
+    const uint64_t F = loss_fraction_q64(sk.absorption_rate * prm.dt);
+    for (size_t k = 0; k < n; ++k) {
+      const int64_t cap = pore_capacity_units(sk.pore_capacity, (*L.radius)[k], prm.liquid_unit_m3);
+      const int64_t want = all ? film[k] : fraction_of(film[k], F);
+      const int64_t moved = std::max<int64_t>(0, std::min(want, cap - (*L.pore)[k]));
+      film[k] -= moved;
+      (*L.pore)[k] += moved;
+    }
+  }
+  if (sk.evaporates()) {
+    const uint64_t F = loss_fraction_q64(prm.dt / sk.evaporation_time);
+    std::vector<int64_t>& ev = *L.evaporated;
+    for (size_t k = 0; k < n; ++k) {
+      const int64_t d = fraction_of(film[k], F);
+      film[k] -= d;
+      ev[k] += d;
+      for (uint32_t w = 0; w < kNumWalls; ++w) {
+        int64_t& b = (*L.wall)[k * kNumWalls + w].bridge;
+        const int64_t dw = fraction_of(b, F);
+        b -= dw;
+        ev[k] += dw;
+      }
+    }
+    for (PairSlot& s : L.pairs) {
+      const int64_t d = fraction_of(s.rec->bridge, F);
+      s.rec->bridge -= d;
+      ev[std::min(s.i, s.j)] += d;
+    }
+  }
 }
 
 // ---------------------------------------------------------------------------------------------------------

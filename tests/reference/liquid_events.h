@@ -40,7 +40,16 @@ struct LiquidView {
   std::vector<WallRecord>* wall = nullptr;
   std::vector<PairSlot> pairs;
   std::vector<double> wall_gap;
+  // Liquid sinks (params.h LiquidSinkParams); may be null when the sinks are off.
+  std::vector<int64_t>* pore = nullptr;
+  std::vector<int64_t>* evaporated = nullptr;
+  const std::vector<double>* radius = nullptr;  // for the pore capacity
 };
+
+// The liquid sinks on the films after the rupture phase (what the two-phase rule runs between its phases):
+// each particle moves min(floor(V_f a_k), capacity - pore) (all of V_f when instantaneous) into its pores;
+// then films, pair bridges (credited to the lower id) and wall bridges lose floor(V e_t) to `evaporated`.
+void liquid_sinks(LiquidView& view);
 
 // §5 two-phase rule: ruptures (received halves summed per particle, then shared), then formations.
 EventCounts liquid_events_two_phase(LiquidView& view);

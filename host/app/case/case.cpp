@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "app/case/case_reader.h"
@@ -264,6 +265,32 @@ void read_liquid(Section s, Case& c) {
     require_in(*q, 0, false, kPi / 2, true, "[0, 90) deg (searched range 0 to 80 deg)");
     l.theta_receding = q->v;
   }
+  if (auto q = s.quantity("evaporation_time", Dim::Time)) {
+    if (q->v != 0) require_in(*q, 1, false, 1000, false, "[1, 1000] s (0 = off)");
+    l.evaporation_time = q->v;
+  }
+  if (auto q = s.quantity("wetted_fraction", Dim::Fraction))
+    require_in(*q, 0.1, false, 1, false, "[0.1, 1]"), l.wetted_fraction = q->v;
+  s.finish();
+}
+
+// [absorption]: pore capacity (fraction of the particle's own volume) and rate k (1/s, or "instantaneous").
+void read_absorption(Section s, Case& c) {
+  AbsorptionSpec& a = c.absorption;
+  if (!s.present()) return;
+  if (auto q = s.quantity("capacity", Dim::Fraction))
+    require_in(*q, 0, false, 0.3, false, "[0, 0.3] of the particle's own volume"), a.capacity = q->v;
+  if ((*s.table_ptr())["rate"].is_string()) {
+    const std::string v = *s.string("rate");
+    if (v != "instantaneous")
+      throw CaseError(s.key("rate"), "must be a number (1/s) or \"instantaneous\", got \"" + v + "\"");
+    a.rate = std::numeric_limits<double>::infinity();
+  } else if (auto q = s.quantity("rate", Dim::Dimensionless, {{"rate_per_s", 1.0}})) {
+    if (q->v != 0) require_in(*q, 0.01, false, 1e9, false, "[0.01, 1e9] 1/s (0 = off), or \"instantaneous\"");
+    a.rate = q->v;
+  }
+  if ((a.capacity > 0) != (a.rate > 0))
+    c.notes.push_back("absorption: needs both capacity > 0 and rate > 0; it is off");
   s.finish();
 }
 
@@ -381,6 +408,7 @@ Case read_case(const toml::table& root, const std::string& source) {
   read_psd(Section(top.table("psd"), "psd"), c);
   read_liquid(Section(top.table("liquid"), "liquid"), c);
   read_cohesion(Section(top.table("cohesion"), "cohesion"), c);
+  read_absorption(Section(top.table("absorption"), "absorption"), c);
   read_drum(Section(top.table("drum"), "drum"), c);
   if (c.drum.periodic_slice && walls.has("plates"))
     throw CaseError("walls.plates", "a periodic slice has no end plates");
@@ -414,6 +442,9 @@ Case read_case(const toml::table& root, const std::string& source) {
     throw CaseError("liquid.lubrication_cutoff",
                     fmt::format("must be below the largest particle radius ({:.4g} m), got {:.4g} m",
                                 0.5 * d_largest, *c.liquid.lubrication_cutoff));
+  if ((c.absorption.on() || c.liquid.evaporation_time > 0 || c.liquid.wetted_fraction < 1) && !c.liquid.on())
+    c.notes.push_back(
+        "absorption, liquid.evaporation_time, liquid.wetted_fraction: no effect without liquid");
   if ((c.cylinder.liquid_bridges || c.plates.liquid_bridges) && !c.liquid.on())
     c.notes.push_back("walls: liquid_bridges = true has no effect without liquid (liquid.content = 0)");
   return c;

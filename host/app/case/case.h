@@ -57,7 +57,16 @@ struct LiquidSpec {
   double viscosity = 0;                      // eta, Pa s: lubrication of bridged pairs (0 = off)
   std::optional<double> lubrication_cutoff;  // S_min, m; default 1 % of the mean particle radius
   std::optional<double> theta_receding;      // theta_r, rad; absent = theta (no hysteresis)
+  double evaporation_time = 0;  // s, tau of evaporation; 0 = off (diagnosis.md §3 `evaporation`)
+  double wetted_fraction = 1;   // fraction of the particles that hold all the liquid at the start (`spread`)
   bool on() const { return present && content > 0; }
+};
+
+// Pore absorption (diagnosis.md §3 `absorption`), off by default.
+struct AbsorptionSpec {
+  double capacity = 0;  // pore volume / particle volume, [0, 0.3]
+  double rate = 0;      // k (1/s); +infinity = "instantaneous"
+  bool on() const { return capacity > 0 && rate > 0; }
 };
 
 // Candidate effect `cohesion`: dry JKR adhesion of every contact (particles and walls).
@@ -106,6 +115,7 @@ struct Case {
   wetdem::PsdSpec psd;
   LiquidSpec liquid;
   CohesionSpec cohesion;
+  AbsorptionSpec absorption;
   DrumSpec drum;
   RunSpec run;
   OutputSpec output;
@@ -143,7 +153,13 @@ struct Derived {
 SimParams make_sim_params(const Case& c, const std::vector<double>& radii, Derived* derived = nullptr);
 nlohmann::json derived_to_json(const Derived& d);
 
-// Initial film volumes (liquid units) of the particles: phi_L * V_i or phi_L * V-bar_S (FilmMode).
+// Initial film volumes (liquid units) of the particles: phi_L * V_i or phi_L * V-bar_S (FilmMode). With
+// liquid.wetted_fraction f < 1, round(f N) particles drawn with run.seed hold the same total, split in
+// proportion to the same weights (own or mean volume), exactly in integers (spread_films).
 std::vector<int64_t> initial_films(const Case& c, const std::vector<double>& radii, double liquid_unit_m3);
+// Puts all of Σ films on round(f N) (at least 1) particles chosen by a seeded Fisher-Yates draw
+// (mt19937_64), films in proportion to `weight`; the total is unchanged exactly.
+std::vector<int64_t> spread_films(const std::vector<int64_t>& films, const std::vector<double>& weight,
+                                  double wetted_fraction, uint64_t seed);
 
 }  // namespace wetdem::app

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
+#include <cmath>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -76,9 +77,20 @@ toml::table to_table(const Case& c) {
     liq.insert("viscosity_Pa_s", l.viscosity);
     if (l.lubrication_cutoff) liq.insert("lubrication_cutoff_m", *l.lubrication_cutoff);
     liq.insert("theta_receding_rad", l.theta_receding.value_or(l.theta));
+    liq.insert("evaporation_time_s", l.evaporation_time);
+    liq.insert("wetted_fraction", l.wetted_fraction);
     root.insert("liquid", std::move(liq));
   }
   root.insert("cohesion", toml::table{{"surface_energy_J_per_m2", c.cohesion.surface_energy}});
+  {
+    const AbsorptionSpec& a = c.absorption;
+    toml::table ab{{"capacity", a.capacity}};
+    if (std::isinf(a.rate))
+      ab.insert("rate", "instantaneous");
+    else
+      ab.insert("rate_per_s", a.rate);
+    root.insert("absorption", std::move(ab));
+  }
 
   const DrumSpec& d = c.drum;
   toml::table drum{{"diameter_m", d.diameter},

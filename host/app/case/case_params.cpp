@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <random>
 
 #include "app/case/case.h"
 #include "wetdem/timestep.h"
@@ -31,7 +32,44 @@ std::vector<int64_t> initial_films(const Case& c, const std::vector<double>& rad
     const double v = c.liquid.films == FilmMode::MeanVolume ? mean_v : sphere_volume(radii[k]);
     films[k] = std::llround(c.liquid.content * v / unit);
   }
+  if (c.liquid.wetted_fraction < 1.0) {
+    std::vector<double> weight(radii.size(), 1.0);
+    if (c.liquid.films != FilmMode::MeanVolume)
+      for (size_t k = 0; k < radii.size(); ++k) weight[k] = sphere_volume(radii[k]);
+    // Its own stream (not the fill's draws): the same seed gives the same wetted particles.
+    films = spread_films(films, weight, c.liquid.wetted_fraction, c.run.seed ^ 0x5350524541440000ull);
+  }
   return films;
+}
+
+std::vector<int64_t> spread_films(const std::vector<int64_t>& films, const std::vector<double>& weight,
+                                  double f, uint64_t seed) {
+  const size_t n = films.size();
+  std::vector<int64_t> out(n, 0);
+  if (n == 0) return out;
+  int64_t total = 0;
+  for (int64_t v : films) total += v;
+  const size_t m = std::clamp<size_t>(size_t(std::llround(f * double(n))), 1, n);
+  // Fisher-Yates on indices with mt19937_64 (fully specified by the standard; the modulo is our own, so the
+  // draw does not depend on the library's distribution implementation).
+  std::vector<size_t> idx(n);
+  for (size_t k = 0; k < n; ++k) idx[k] = k;
+  std::mt19937_64 rng(seed);
+  for (size_t k = n - 1; k > 0; --k) std::swap(idx[k], idx[size_t(rng() % (k + 1))]);
+  std::vector<size_t> wet(idx.begin(), idx.begin() + long(m));
+  std::sort(wet.begin(), wet.end());
+  long double wsum = 0;
+  for (size_t k : wet) wsum += (long double)weight[k];
+  int64_t given = 0;
+  for (size_t k : wet) {
+    out[k] = int64_t(std::floor((long double)total * (long double)weight[k] / wsum));
+    out[k] = std::clamp<int64_t>(out[k], 0, total - given);
+    given += out[k];
+  }
+  // The rounding remainder (0 <= rest < m for exact floors), one unit each in id order, so Σ is exact.
+  int64_t rest = total - given;
+  for (size_t r = 0; rest > 0; r = (r + 1) % m, --rest) out[wet[r]] += 1;
+  return out;
 }
 
 SimParams make_sim_params(const Case& c, const std::vector<double>& radii, Derived* out) {
@@ -126,10 +164,8 @@ SimParams make_sim_params(const Case& c, const std::vector<double>& radii, Deriv
       throw CaseError("liquid.content",
                       "total liquid exceeds the int64 range of liquid units; reduce content");
     // §6: capillary stiffness k_c = 1.05 f0 sqrt(R_h/V_b) at the smallest bridge the initial films can form
-    // (two smallest particles); warn when dt > 0.1 pi sqrt(m*/k_c).
-    const double vf = l.films == FilmMode::MeanVolume ? l.content * d.mean_solid_volume
-                                                      : l.content * sphere_volume(d.r_min);
-    const double vb = std::min(2.0 * vf, l.v_max * d.mean_solid_volume);
+    // (smallest_formable_bridge, between two of the smallest particles); warn when dt > 0.1 pi sqrt(m*/k_c).
+    const double vb = double(smallest_formable_bridge(lp, films)) * d.liquid_unit_m3;
     if (vb > 0) {
       const double rh = d.r_min;  // harmonic mean 2 r r / (2 r)
       const double f0 = 2.0 * kPi * rh * d.gamma_scaled * std::cos(lp.theta_r());  // pull just separated
@@ -139,8 +175,9 @@ SimParams make_sim_params(const Case& c, const std::vector<double>& radii, Deriv
       if (d.dt > d.dt_capillary_limit)
         d.notes.push_back(
             fmt::format("dt = {:.4g} s exceeds the capillary limit 0.1 pi sqrt(m*/k_c) = {:.4g} s at "
-                        "the smallest initial bridge (physics.md §6)",
-                        d.dt, d.dt_capillary_limit));
+                        "the smallest bridge the initial films can form ({:.3g} m^3): divide "
+                        "run.dt_rayleigh_fraction by at least {:.3g} (physics.md §6)",
+                        d.dt, d.dt_capillary_limit, vb, d.dt / d.dt_capillary_limit));
     }
   }
   if (l.on() && l.viscosity > 0) {
@@ -157,6 +194,21 @@ SimParams make_sim_params(const Case& c, const std::vector<double>& radii, Deriv
           "dt = {:.4g} s exceeds the viscous limit 2 m*/(12 c) = {:.4g} s of the lubrication damping at "
           "S_min = {:.4g} m (explicit damping unstable); lower run.dt or raise liquid.lubrication_cutoff",
           d.dt, d.dt_viscous_limit, d.lubrication_cutoff));
+  }
+  // Liquid sinks (diagnosis.md §3): pore absorption and evaporation act inside the liquid passes.
+  if (l.on()) {
+    if (c.absorption.on()) {
+      p.sinks.pore_capacity = c.absorption.capacity;
+      p.sinks.absorption_rate = c.absorption.rate;
+      // Time-step check: 1 - e^-(k dt) is always in [0, 1], so no rate is unstable; but with k dt > 0.1 the
+      // film empties in fewer than ~10 steps and the decay is resolved only coarsely in time.
+      if (std::isfinite(c.absorption.rate) && c.absorption.rate * d.dt > 0.1)
+        d.notes.push_back(
+            fmt::format("absorption.rate x dt = {:.3g} > 0.1: the film is absorbed within a few "
+                        "steps (use \"instantaneous\" if that is intended)",
+                        c.absorption.rate * d.dt));
+    }
+    p.sinks.evaporation_time = l.evaporation_time;
   }
   if (out) *out = d;
   return p;

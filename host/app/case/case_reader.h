@@ -43,8 +43,9 @@ class Section {
   std::optional<std::string> string(const std::string& k);
   std::optional<std::string> choice(const std::string& k, const std::vector<std::string>& allowed);
   std::optional<std::vector<std::string>> strings(const std::string& k);
-  const toml::table* table(const std::string& k);  // nullptr when absent; error when not a table
-  bool has(const std::string& k) const;            // any node under exactly this key (not marked as read)
+  const toml::table* table(const std::string& k);      // nullptr when absent; error when not a table
+  bool has(const std::string& k) const;                // any node under exactly this key (not marked as read)
+  const toml::table* table_ptr() const { return t_; }  // the table itself (nullptr when absent)
 
   // Every key of the table must have been asked for: the first other one is reported as unknown.
   void finish() const;

@@ -1,6 +1,8 @@
 // The run driver: case -> particles in the drum -> GPU system -> settle -> rotate -> samples, snapshots,
-// checkpoints -> summary.json. Everything that can be wrong with the input is found before the run folder is
-// created; a run that fails later leaves FAILED.txt and no summary.json.
+// checkpoints -> summary.json. The phases are parts of their own (prepare_run below; DrumSession in
+// session.h: settle, rotate, sample, checkpoint; RunOutputs in outputs.h) so studies and ensembles can call
+// them. Everything that can be wrong with the input is found before the run folder is created; a run that
+// fails later leaves FAILED.txt and no summary.json.
 #pragma once
 
 #include <cstdint>
