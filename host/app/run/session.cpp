@@ -33,6 +33,8 @@ DrumSession::DrumSession(vk::Context& ctx, const Prepared& prep, LogFn log)
     log_("WARNING: " + *w);
     dt_warned_ = true;
   }
+  // Candidate effect `viscous`: explicit stability of the lubrication damper (README "Candidate effects").
+  if (auto w = viscous_timestep_warning(prep.prm, prep.state)) log_("WARNING: " + *w);
 }
 
 DrumSession::DrumSession(vk::Context& ctx, const Prepared& prep, const Checkpoint& ck, LogFn log)
