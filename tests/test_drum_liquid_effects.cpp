@@ -1,8 +1,9 @@
 // Micro drum runs (tests/support/small_case.h) with each liquid effect of diagnosis.md §3 at a strong
 // strength against the same run without it: the fingerprint observable moves in the expected direction.
 //   absorption (capacity 0.3, rate 20/s): films drain into the pores; fewer bridges, lower f_wet.
-//   evaporation (tau = 1 s, the shortest in range): films + bridges fall, evaporated > 0, f_wet falls.
-//   spread (wetted_fraction 0.2): a fifth of the particles hold all the liquid; f_wet lower.
+//   evaporation (tau = 1 s, the shortest in range): films + bridges fall, evaporated > 0, f_wet below the
+//   base run at the end (0.6 s of rotation is too short for a clear fall within the run itself). spread
+//   (wetted_fraction 0.2): a fifth of the particles hold all the liquid; f_wet lower.
 // V_min = 6 % of V-bar_S (films are 5 % of own volume): a contact bridges only while both films are thick, so
 // liquid leaving the films shows up in f_wet. Liquid accounting exact in every run.
 #ifdef WETDEM_HAVE_APP
@@ -93,8 +94,8 @@ TEST_F(DrumLiquidEffects, EachEffectMovesItsFingerprint) {
   // evaporation: liquid in films + bridges falls over the run, f_wet falls with it.
   EXPECT_LT(double(evap.free_last), 0.7 * double(evap.free_first));
   EXPECT_GT(evap.summary["liquid_end"]["evaporated_units"].get<int64_t>(), 0);
-  EXPECT_LT(evap.f_wet_last, evap.f_wet_first);
-  EXPECT_LT(evap.f_wet_last, base.f_wet_last);
+  EXPECT_LT(evap.f_wet_last, base.f_wet_last - 0.02);
+  EXPECT_LT(evap.summary.value("f_wet_mean", 1.0), base.summary.value("f_wet_mean", 0.0));
   // spread: fewer wet particles, lower f_wet.
   EXPECT_LT(spread.summary.value("f_wet_mean", 1.0), base.summary.value("f_wet_mean", 0.0));
 }
