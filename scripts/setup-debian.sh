@@ -9,8 +9,10 @@ PKGS=(
   glslang-tools spirv-tools
   libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev
   libgtest-dev libgmock-dev
-  libtomlplusplus-dev libcli11-dev libfmt-dev
+  libtomlplusplus-dev libcli11-dev libfmt-dev libeigen3-dev
   clang-format
+  python3-matplotlib libeigen3-dev   # study figures (scripts/plot_study.py), calibration emulator
+  slurm-wlm munge                    # the real single-node Slurm test of `wetdem study slurm`
 )
 
 missing=()

@@ -49,10 +49,20 @@ void main() {
     vec3 vrel = vel.v[i].xyz + cross(wi, ci) - vel.v[j].xyz - cross(wj, cj);
     contact_force(P.pp, P.dt, n, delta, Rs, ms, vrel, wi - wj, st, sr, F, t);
   }
-  if (vb > 0) {  // capillary force after friction (§0 order, §4)
+  Effects X = P.fx[0];
+  if (vb > 0) {  // capillary force after friction (§0 order, §4); a separated bridge pulls with theta_r
     float Rh = 2.0 * pi.x * pj.x / (pi.x + pj.x);
-    float f = capillary_force(S, Rh, float(vb) * P.lpp.unit_m3, P.lpp.f0_per_Rh * Rh);
+    float f0 = (S > 0.0 ? X.f0r_per_Rh : P.lpp.f0_per_Rh) * Rh;
+    float f = capillary_force(S, Rh, float(vb) * P.lpp.unit_m3, f0);
     F -= f * n;
+    if (X.visc_eta > 0.0) {  // `viscous`: lubrication opposing the normal relative velocity
+      float Rs = pi.x * pj.x / (pi.x + pj.x);
+      float vn = dot(vel.v[i].xyz - vel.v[j].xyz, n);  // omega x (c - x) has no normal part
+      F -= lubrication_coef(X, S, Rs, float(vb) * P.lpp.unit_m3) * vn * n;
+    }
+  }
+  if (delta > 0.0 && X.adhesion > 0.0) {  // `cohesion`: JKR pull-off 1.5 pi w R*, outside the Coulomb limit
+    F -= X.adhesion * (pi.x * pj.x / (pi.x + pj.x)) * n;
   }
   if (P.lpp.enabled != 0u) {  // §5 event flags at the end-of-step positions
     if (vb > 0 && S >= rupture_gap(P.lpp, vb)) fl |= FLAG_RUPT;

@@ -2,6 +2,8 @@
 //   wetdem run CASE.toml [--set key=value ...] [--out DIR] [--device NAME] [--resume DIR] [--quiet]
 //   wetdem check CASE.toml [--set key=value ...]    validate and print the resolved case; no run
 //   wetdem devices                                   list Vulkan devices
+//   wetdem study plan|run|run-one|slurm|collect ...  studies (host/study/, README "Studies and calibration")
+//   wetdem calibrate DIR [--refine K]                fit a study to its observation table
 // Exit codes: 0 done; 2 bad input (one line naming the key, nothing written); 1 the run or the device failed.
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
@@ -15,6 +17,9 @@
 #include "app/drum/psd.h"
 #include "app/run/run.h"
 #include "vk/context.h"
+#ifdef WETDEM_HAVE_STUDY
+#include "study/commands.h"
+#endif
 
 namespace {
 
@@ -73,6 +78,11 @@ int main(int argc, char** argv) {
 
   auto* dev = cli.add_subcommand("devices", "list the Vulkan devices");
 
+#ifdef WETDEM_HAVE_STUDY
+  // Studies and calibration: registered and run by host/study/commands.cpp.
+  const auto study_cmds = wetdem::study::add_commands(cli);
+#endif
+
   try {
     cli.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -85,6 +95,9 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (*chk) return check(check_path, check_sets);
+#ifdef WETDEM_HAVE_STUDY
+    if (study_cmds->selected()) return study_cmds->execute();
+#endif
     if (ro.case_path.empty() && ro.resume_dir.empty()) {
       std::fprintf(stderr, "wetdem run: give a case file (or --resume DIR)\n");
       return 2;

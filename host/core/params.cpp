@@ -1,5 +1,6 @@
 #include "wetdem/params.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace wetdem {
@@ -10,13 +11,13 @@ double rupture_distance(double theta, double volume_m3) {
 
 double SimParams::bridge_range_pp() const {
   if (!liq_pp.enabled || liq_pp.v_max <= 0) return 0.0;
-  return rupture_distance(liq_pp.theta, double(liq_pp.v_max) * liquid_unit_m3);
+  return rupture_distance(std::max(liq_pp.theta, liq_pp.theta_r()), double(liq_pp.v_max) * liquid_unit_m3);
 }
 
 double SimParams::bridge_range_pw(uint32_t wall) const {
   const LiquidParams& l = liq_pw[wall];
   if (!l.enabled || l.v_max <= 0) return 0.0;
-  return rupture_distance(l.theta, double(l.v_max) * liquid_unit_m3);
+  return rupture_distance(std::max(l.theta, l.theta_r()), double(l.v_max) * liquid_unit_m3);
 }
 
 int64_t pore_capacity_units(double capacity, double radius, double unit) {

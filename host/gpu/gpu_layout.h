@@ -26,6 +26,16 @@ struct GpuLiquid {
 };
 static_assert(sizeof(GpuLiquid) == 48);
 
+// Candidate effects of one interaction type (diagnosis.md §3; README "Candidate effects"). Zero = off; with
+// theta_r = theta, f0r_per_Rh equals GpuLiquid::f0_per_Rh bit for bit.
+struct GpuEffects {
+  float visc_eta;    // viscosity eta (Pa s): Pitois lubrication on bridged pairs
+  float visc_smin;   // lubrication cut-off S_min (m)
+  float f0r_per_Rh;  // 2 pi gamma cos(theta_r): pull of a separated bridge (hysteresis)
+  float adhesion;    // 1.5 pi w: JKR pull-off F_a = adhesion * R* while touching (cohesion)
+};
+static_assert(sizeof(GpuEffects) == 16);
+
 struct GpuParams {
   GpuContact pp;
   GpuContact pw[3];
@@ -49,6 +59,7 @@ struct GpuParams {
   float drum_r;        // m
   uint32_t hash_mask;  // 0: dense cell grid; else cells are hashed into hash_mask + 1 buckets
   float drum_r_frac;   // R/h - drum_r_ticks
+  GpuEffects fx[4];    // candidate effects: [0] particle-particle, [1 + w] wall w
   // Liquid sinks (pore absorption, evaporation): 64-bit loss fractions as (lo, hi) words, see
   // loss_fraction_q64 in params.h; absorb_mode 0 off, 1 rate, 2 instantaneous (all the film).
   uint32_t absorb_q64[2];
@@ -56,7 +67,8 @@ struct GpuParams {
   uint32_t absorb_mode;
   uint32_t evap_on;
 };
-static_assert(sizeof(GpuParams) == 32 * 4 + 48 * 4 + 8 + 4 * 4 + 12 * 2 + 8 * 2 + 8 + 16 + 12 + 12 + 8 + 24);
+static_assert(sizeof(GpuParams) ==
+              32 * 4 + 48 * 4 + 8 + 4 * 4 + 12 * 2 + 8 * 2 + 8 + 16 + 12 + 12 + 8 + 16 * 4 + 24);
 
 // Control block (uint32 words); see shaders/common/ctl.glsl.
 namespace ctl {

@@ -18,11 +18,11 @@ System::Impl::Impl(vk::Context& c, const SimParams& p, size_t num, SystemOptions
   if (num == 0 || num >= (1u << 31))
     throw std::invalid_argument("System: particle count must be in [1, 2^31)");
   const char* names[] = {
-      "kick_drift",     "pair_force",     "gather_kick",   "liq_rupture_share", "liq_rupture_apply",
-      "liq_form_offer", "liq_form_apply", "liq_form_take", "rebuild_decide",    "cell_key",
-      "reorder",        "fill_u32",       "cell_ranges",   "nbr_count",         "build_args",
-      "nbr_fill",       "mirror",         "history_map",   "lost_check",        "flip",
-      "end_step"};
+      "kick_drift",     "pair_force",      "gather_kick",   "liq_rupture_share", "liq_rupture_apply",
+      "liq_form_offer", "liq_form_apply",  "liq_form_take", "rebuild_decide",    "cell_key",
+      "reorder",        "fill_u32",        "cell_ranges",   "nbr_count",         "build_args",
+      "nbr_fill",       "mirror",          "history_map",   "lost_check",        "flip",
+      "end_step",       "liq_upload_flags"};
   for (const char* nm : names) kernels[nm] = std::make_unique<vk::Kernel>(ctx, nm);
   sort = std::make_unique<gpu::RadixSort>(ctx, n);
   scan = std::make_unique<gpu::Scan>(ctx, n);
@@ -48,6 +48,9 @@ void System::Impl::setup(double r_max, double r_min) {
   const DrumParams& d = prm.drum;
   if (!(d.radius > 0) || !(d.length > 0)) throw std::invalid_argument("drum: radius and length must be > 0");
   if (!(prm.dt > 0)) throw std::invalid_argument("dt must be > 0");
+  for (const LiquidParams* l : {&prm.liq_pp, &prm.liq_pw[0], &prm.liq_pw[1], &prm.liq_pw[2]})
+    if (l->viscosity > 0 && !(l->lubrication_cutoff > 0))
+      throw std::invalid_argument("liquid: viscosity > 0 needs lubrication_cutoff > 0 (S = max(gap, S_min))");
   const double range_pp = prm.bridge_range_pp();
   const double cutoff_extra = range_pp + prm.skin;
   const double cell = 2.0 * r_max + cutoff_extra;
@@ -117,15 +120,26 @@ void System::Impl::setup(double r_max, double r_min) {
     g.v_min = l.v_min;
     g.v_max = l.v_max;
     g.f0_per_Rh = float(2.0 * pi * l.gamma * std::cos(l.theta));
-    g.rupture_coef = float(1.0 + 0.5 * l.theta);
+    g.rupture_coef = float(1.0 + 0.5 * l.theta_r());  // hysteresis: rupture at the receding angle
     g.unit_m3 = float(prm.liquid_unit_m3);
     g.range = float(range);
     g.enabled = l.enabled ? 1u : 0u;
     g.dc_q16 = uint32_t(std::lround(std::clamp(l.d_c, 0.0, 1.0) * 65536.0));
     return g;
   };
+  auto effects = [](const ContactParams& c, const LiquidParams& l) {
+    gpu::GpuEffects g{};
+    const double pi = 3.14159265358979323846;
+    g.visc_eta = float(l.viscosity);
+    g.visc_smin = float(l.lubrication_cutoff);
+    g.f0r_per_Rh = float(2.0 * pi * l.gamma * std::cos(l.theta_r()));
+    g.adhesion = float(1.5 * pi * c.surface_energy);
+    return g;
+  };
   gp = {};
   gp.pp = contact(prm.pp);
+  gp.fx[0] = effects(prm.pp, prm.liq_pp);
+  for (uint32_t w = 0; w < kNumWalls; ++w) gp.fx[1 + w] = effects(prm.pw[w], prm.liq_pw[w]);
   gp.lpp = liquid(prm.liq_pp, range_pp);
   for (uint32_t w = 0; w < kNumWalls; ++w) {
     gp.pw[w] = contact(prm.pw[w]);

@@ -164,6 +164,22 @@ void System::Impl::upload(const SystemState& s) {
     throw std::invalid_argument(fmt::format(
         "upload: {} pair record(s) with a bridge lie beyond the interaction range", cc[ctlw::kLostBridges]));
   check_health(cc);
+  if (gp.liquid_on) {
+    // §5 events of the uploaded positions (issue 12): touching pairs without a bridge or flag form their
+    // bridges now, as MercuryDPM's initialiseSolve does, rather than after a separation and a new touch.
+    const uint32_t gN = groups_for(n);
+    VkCommandBuffer lb = record([&](VkCommandBuffer r) {
+      run(r, "liq_upload_flags", gN);
+      run(r, "liq_rupture_share", gN);
+      run_indirect(r, "liq_rupture_apply", ctlw::kEntryArgs);
+      run(r, "liq_form_offer", gN);
+      run_indirect(r, "liq_form_apply", ctlw::kEntryArgs);
+      run(r, "liq_form_take", gN);
+    });
+    submit(lb);
+    vkFreeCommandBuffers(ctx.device(), ctx.pool(), 1, &lb);
+    check_health(read_ctl());
+  }
   ctr.rebuilds = 0;
   uploaded = true;
 }

@@ -18,6 +18,9 @@ struct ContactParams {
   double mu_r = 0.0;         // rolling friction coefficient, §3 (0 = off)
   double phi_t = 0.0;        // tangential damping factor, eta_t = phi_t sqrt(m* k_t), §2
   double eta_r = 0.0;        // rolling viscous coefficient (kg/s), §3
+  // Candidate effect `cohesion` (diagnosis.md §3, README "Candidate effects"): dry JKR adhesion, pull-off
+  // F_a = 1.5 pi w R*, attractive along n while touching (delta > 0), outside the Coulomb limits. 0 = off.
+  double surface_energy = 0.0;  // w (J/m^2), already scaled by l like gamma (w_scaled = l w)
 };
 
 // Liquid-bridge coefficients of one interaction type, §4-5. Volumes are fixed-point integers
@@ -29,6 +32,15 @@ struct LiquidParams {
   int64_t v_min = 0;     // formation threshold: V_f,i + V_f,j > v_min (units)
   int64_t v_max = 0;     // bridge volume cap (units)
   double d_c = 1.0;      // distribution coefficient on rupture, [0, 1]
+  // Candidate effects (diagnosis.md §3, README "Candidate effects"), off by default:
+  // `viscous`: Pitois lubrication of bridged pairs, F_v = 6 pi eta R*^2 v_n / S (1 - 1/sqrt(1 + V_b/(pi R*
+  // S^2)))^2 with S = max(gap, S_min) (S = S_min while overlapping), opposing v_n. 0 = off.
+  double viscosity = 0.0;           // eta (Pa s)
+  double lubrication_cutoff = 0.0;  // S_min (m), > 0 when viscosity > 0
+  // `hysteresis`: receding angle theta_r: rupture at (1 + theta_r/2) V_b^(1/3), separated bridges (gap > 0)
+  // pull with cos(theta_r). < 0 = equal to theta (off).
+  double theta_receding = -1.0;  // rad
+  double theta_r() const { return theta_receding < 0.0 ? theta : theta_receding; }
 };
 
 // Liquid sinks (diagnosis.md §3 `absorption`, `evaporation`), off by default. Each step, before the formation
@@ -74,7 +86,8 @@ struct SimParams {
   DrumParams drum;
   LiquidSinkParams sinks;  // pore absorption and evaporation (off by default)
 
-  // Interaction range of a particle pair beyond contact: S_c,max = (1 + theta/2) V_max^(1/3), §4.
+  // Interaction range of a particle pair beyond contact: S_c,max = (1 + theta/2) V_max^(1/3), §4, with
+  // max(theta, theta_r) when the receding angle differs (hysteresis).
   // Zero when particle-particle bridges are off. Springs are dropped beyond it (§2).
   double bridge_range_pp() const;
   double bridge_range_pw(uint32_t wall) const;

@@ -3,6 +3,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "wetdem/params.h"
 #include "wetdem/state.h"
@@ -13,9 +14,33 @@ namespace wetdem {
 // stiffness of the Willett law at contact (d f / d S at S = 0).
 double capillary_dt_limit(double m_star, double R_h, double f0, double volume_m3);
 
-// Warning text when dt exceeds the limit of the stiffest bridge: the bridges present in `s` and, before any
-// exist, the stiffest bridge the parameters allow (smallest particles, smallest volume a formation can give:
-// V_min + 1 unit when V_min > 0, else the smallest film pair). Empty when dt is fine or liquid is off.
+// The smallest bridge (units) the §5 formation rule can make from these films: a bridge forms only when
+// V_f,i + V_f,j > V_min and takes min(V_f,i + V_f,j, V_max); a partner whose film an earlier bridge has
+// spent gives nothing, so the smallest is min(max(f_min, V_min + 1), V_max) with f_min the smallest positive
+// film, one formation per particle per step. 0 when no pair of films exceeds V_min (no bridge can form).
+// Smaller bridges can appear later (a film split over k simultaneous first touches, division remainders, a
+// film refilled by a rupture); the run checks the bridges present for those.
+int64_t smallest_formable_bridge(const LiquidParams& l, const std::vector<int64_t>& films);
+
+// At the start of a run: warning text when dt exceeds the limit of the stiffest bridge present in `s` or of
+// the smallest bridge its films can form (smallest_formable_bridge, between the two smallest particles).
+// The text names the bridge, the ratio dt / limit and what to do (a smaller run.dt_rayleigh_fraction).
+// Empty when dt is fine or liquid is off.
 std::optional<std::string> capillary_timestep_warning(const SimParams& prm, const SystemState& s);
+
+// During a run: the same check on the bridges present only.
+std::optional<std::string> capillary_timestep_warning_present(const SimParams& prm, const SystemState& s);
+
+// Candidate effect `viscous`: the damping coefficient c = dF_v/dv_n of the Pitois lubrication force at
+// S = S_min, 6 pi eta R*^2 / S_min (1 - 1/sqrt(1 + V/(pi R* S_min^2)))^2, and the explicit stability limit of
+// that damper on the reduced mass, dt < 2 m*/c (a velocity update v <- v (1 - c dt/m*) must not flip beyond
+// -v).
+double viscous_damping_coefficient(double eta, double s_min, double R_star, double volume_m3);
+double viscous_dt_limit(double m_star, double R_star, double eta, double s_min, double volume_m3);
+
+// Warning text when dt >= 2 m*/c for the stiffest lubricated contact the parameters allow: the smallest
+// particle, a bridge of V_max, against its twin (m* = m/2, R* = r/2) or a wall with bridges (m* = m, R* = r).
+// Empty when viscosity is off or dt is fine.
+std::optional<std::string> viscous_timestep_warning(const SimParams& prm, const SystemState& s);
 
 }  // namespace wetdem

@@ -62,6 +62,18 @@ float capillary_force(float S, float Rh, float V, float f0) {
   return f0 / (1.0 + 1.05 * Sb + 2.5 * Sb * Sb);
 }
 
+// Candidate effect `viscous` (Pitois et al. 2000): damping coefficient c = dF_v/dv_n of a bridge of volume V
+// (m^3) at surface gap `gap`: c = 6 pi eta R*^2 / S (1 - 1/sqrt(1 + x))^2, x = V / (pi R* S^2),
+// S = max(gap, S_min). The force on i is -c v_n n. 1 - 1/sqrt(1 + x) is written x / (sqrt(1 + x)(sqrt(1 + x)
+// + 1)) so that float32 keeps its relative precision when x is small (a wide gap).
+float lubrication_coef(Effects X, float gap, float Rs, float V) {
+  float S = max(gap, X.visc_smin);
+  float x = V / (3.14159265 * Rs * S * S);
+  float q = sqrt(1.0 + x);
+  float a = x / (q * (q + 1.0));
+  return 6.0 * 3.14159265 * X.visc_eta * Rs * Rs / S * (a * a);
+}
+
 // Rupture distance S_c = (1 + theta/2) V^(1/3) (§4).
 float rupture_gap(Liquid L, int64_t v_units) { return L.rupture_coef * pow(float(v_units) * L.unit_m3, 1.0 / 3.0); }
 #endif

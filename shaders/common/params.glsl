@@ -12,6 +12,10 @@ struct Liquid {
   float f0_per_Rh, rupture_coef, unit_m3, range;
   uint enabled, dc_q16, pad0, pad1;
 };
+// Candidate effects of one interaction type (GpuEffects): [0] particle-particle, [1 + w] wall w.
+struct Effects {
+  float visc_eta, visc_smin, f0r_per_Rh, adhesion;
+};
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Params {
   Contact pp;
   Contact pw[3];
@@ -35,6 +39,7 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Pa
   float drum_r;
   uint hash_mask;
   float drum_r_frac;
+  Effects fx[4];
   uint absorb_q64[2];  // liquid sinks: 64-bit loss fractions (lo, hi), see gpu_layout.h
   uint evap_q64[2];
   uint absorb_mode;  // 0 off, 1 rate, 2 instantaneous

@@ -73,10 +73,17 @@ void wall_contact(uint w, uint i, uint s, Params P, inout vec3 F, inout vec3 Tq)
     vec3 vrel = Vec4s(paddr(s, PF_VEL)).v[i].xyz + cross(wi, ci) - vw;
     contact_force(P.pw[w], P.dt, n, delta, r, pr.y, vrel, wi - wom3, st, sr, Fw, t);
   }
+  Effects X = P.fx[1u + w];
   if (vb > 0) {
     float Rh = 2.0 * r;
-    Fw -= capillary_force(S, Rh, float(vb) * L.unit_m3, L.f0_per_Rh * Rh) * n;
+    float f0 = (S > 0.0 ? X.f0r_per_Rh : L.f0_per_Rh) * Rh;  // hysteresis: theta_r once separated
+    Fw -= capillary_force(S, Rh, float(vb) * L.unit_m3, f0) * n;
+    if (X.visc_eta > 0.0) {  // `viscous`, R* = r; the wall's surface velocity has no normal part
+      float vn = dot(Vec4s(paddr(s, PF_VEL)).v[i].xyz, n);
+      Fw -= lubrication_coef(X, S, r, float(vb) * L.unit_m3) * vn * n;
+    }
   }
+  if (delta > 0.0 && X.adhesion > 0.0) Fw -= X.adhesion * r * n;  // `cohesion`, R* = r
   if (L.enabled != 0u) {
     if (vb > 0 && S >= rupture_gap(L, vb)) fl |= FLAG_RUPT;
     if (vb == 0 && (fl & FLAG_WIC) == 0u && delta >= 0.0) fl |= FLAG_FORM;

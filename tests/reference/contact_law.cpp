@@ -1,5 +1,6 @@
 #include "reference/contact_law.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace wetdem::ref {
@@ -80,6 +81,17 @@ double capillary_force(double f0, double R_h, double volume_m3, double gap) {
   return f0 / (1.0 + 1.05 * s + 2.5 * s * s);
 }
 
+double lubrication_force(double eta, double s_min, double R_star, double volume_m3, double gap, double v_n) {
+  if (eta <= 0.0 || volume_m3 <= 0.0) return 0.0;
+  const double S = std::max(gap, s_min);  // [ours] the cut-off also stands for the film of an overlap
+  const double b = 1.0 - 1.0 / std::sqrt(1.0 + volume_m3 / (kPi * R_star * S * S));
+  return -6.0 * kPi * eta * R_star * R_star * v_n / S * b * b;  // Pitois 2000, truncated at the wetted radius
+}
+
+double adhesion_force(double surface_energy, double R_star) {
+  return 1.5 * kPi * surface_energy * R_star;  // JKR pull-off
+}
+
 double harmonic_radius(double r_i, double r_j) {
   return 2.0 * r_i * r_j / (r_i + r_j);
 }
@@ -130,10 +142,15 @@ PairForce evaluate_contact(const ContactParams& cp, const LiquidParams& lp, doub
   }
   // §4 capillary force, after friction; never enters the Coulomb limits above.
   if (h.bridge > 0) {
-    const double f0 = pull_off_force(k.R_h, lp.gamma, lp.theta);
-    const double fc = capillary_force(f0, k.R_h, double(h.bridge) * liquid_unit_m3, gap);
+    // Hysteresis: a separated bridge (gap > 0) is receding and pulls with cos(theta_r).
+    const double f0 = pull_off_force(k.R_h, lp.gamma, gap > 0.0 ? lp.theta_r() : lp.theta);
+    const double volume = double(h.bridge) * liquid_unit_m3;
+    const double fc = capillary_force(f0, k.R_h, volume, gap);
     f -= fc * k.n;
+    const double v_n = glm::dot(k.v_rel, k.n);
+    f += lubrication_force(lp.viscosity, lp.lubrication_cutoff, k.R_star, volume, gap, v_n) * k.n;
   }
+  if (k.delta > 0.0 && cp.surface_energy > 0.0) f -= adhesion_force(cp.surface_energy, k.R_star) * k.n;
   out.force = f;
   out.torque_i = t + glm::cross(k.r_ci, f);
   out.torque_j = -t - glm::cross(k.r_cj, f);

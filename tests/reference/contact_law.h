@@ -43,6 +43,13 @@ double capillary_force(double f0, double R_h, double volume_m3, double gap);
 // §4: harmonic-mean radius R_h = 2 r_i r_j / (r_i + r_j) of a pair (a wall bridge uses R_h = 2 r_i).
 double harmonic_radius(double r_i, double r_j);
 
+// Candidate effect `viscous` (Pitois et al. 2000; diagnosis.md §3): normal lubrication force on i along n,
+// F = -6 pi eta R*^2 v_n / S (1 - 1/sqrt(1 + V/(pi R* S^2)))^2 with S = max(gap, S_min) (S = S_min while
+// overlapping): opposes the normal relative velocity v_n. 0 when V = 0 or eta = 0.
+double lubrication_force(double eta, double s_min, double R_star, double volume_m3, double gap, double v_n);
+// Candidate effect `cohesion` (JKR pull-off, diagnosis.md §3): F_a = 1.5 pi w R*, attraction while delta > 0.
+double adhesion_force(double surface_energy, double R_star);
+
 // Geometry and kinematics of one contact (pair or particle-wall), §0.
 struct ContactKinematics {
   glm::dvec3 n{0.0};      // unit normal from j to i
@@ -69,7 +76,9 @@ struct ContactHistory {
 // Everything of §1-§4 for one contact, in the order of §0 (normal, sliding, rolling, capillary):
 // - while delta > 0: Hertz; springs updated only where mu > 0;
 // - springs kept while the gap S = -delta < range (interaction range of §4, 0 when dry), zeroed otherwise;
-// - capillary force whenever the bridge holds liquid, whatever the gap (rupture is the event pass' job).
+// - capillary force whenever the bridge holds liquid, whatever the gap (rupture is the event pass' job),
+//   with cos(theta_r) instead of cos(theta) once separated (hysteresis);
+// - candidate effects after it: lubrication on a bridged contact (viscous), JKR adhesion while delta > 0.
 // Returns the force on i and the torques T_i = t + r_ci x F, T_j = -t - r_cj x F.
 PairForce evaluate_contact(const ContactParams& cp, const LiquidParams& lp, double liquid_unit_m3,
                            double range, double dt, const ContactKinematics& k, ContactHistory& h);

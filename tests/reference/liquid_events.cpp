@@ -30,9 +30,9 @@ namespace {
 
 constexpr uint32_t kWas = kFlagWasInContact;
 
-// §4: S_c = (1 + theta/2) V^(1/3).
+// §4: S_c = (1 + theta/2) V^(1/3); with hysteresis the bridge recedes: (1 + theta_r/2) V^(1/3).
 double rupture_gap(const LiquidParams& lp, int64_t bridge, double unit) {
-  return rupture_distance(lp.theta, double(bridge) * unit);
+  return rupture_distance(lp.theta_r(), double(bridge) * unit);
 }
 
 // Amount above the cap that a bridge holding `b` after receiving `received` must hand back: never more than

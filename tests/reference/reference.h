@@ -26,8 +26,10 @@ class ReferenceSystem {
  public:
   explicit ReferenceSystem(const SimParams& prm);
 
-  void set_state(const SystemState& s);  // takes particles, pair and wall records, time
-  SystemState state() const;             // canonical (sorted, no empty records)
+  // Takes particles, pair and wall records, time; when liquid is on, applies the §5 events of the state as
+  // given (touching pairs bridge at t = 0, as MercuryDPM's initialiseSolve does).
+  void set_state(const SystemState& s);
+  SystemState state() const;  // canonical (sorted, no empty records)
 
   // One velocity-Verlet step (§0): half kick, drift, forces at x^{n+1}, half kick, liquid events (§5,
   // two-phase rule), time += dt.
@@ -51,6 +53,7 @@ class ReferenceSystem {
   void drift();                                         // §0 x += dt v, periodic wrap of z
   void compute_forces();                                // §1-4 at the current x, all pairs and walls
   void liquid_events();                                 // §5 at the end of the step
+  void events_at_rest();                                // §5 at set_state, on the positions as given
   std::vector<PairKey> touching_pairs() const;          // pairs with delta >= 0 (sweep along x)
   glm::dvec3 separation(uint32_t i, uint32_t j) const;  // x_i - x_j, minimum image in periodic z
 

@@ -26,6 +26,40 @@ void ReferenceSystem::set_state(const SystemState& s) {
   }
   time_ = s.time;
   step_ = s.step;
+  bool wet = prm_.liq_pp.enabled;
+  for (const LiquidParams& l : prm_.liq_pw) wet = wet || l.enabled;
+  if (wet) events_at_rest();
+}
+
+// §5 events of the state as given, before any step (issue 12; MercuryDPM's initialiseSolve): the same
+// geometry the force pass records (gaps of touching and recorded pairs, wall gaps), no force or spring.
+void ReferenceSystem::events_at_rest() {
+  examined_ = touching_pairs();
+  for (const auto& kv : pairs_) examined_.push_back(kv.first);
+  std::sort(examined_.begin(), examined_.end());
+  examined_.erase(std::unique(examined_.begin(), examined_.end()), examined_.end());
+  pair_gap_.assign(examined_.size(), std::numeric_limits<double>::infinity());
+  for (size_t e = 0; e < examined_.size(); ++e) {
+    const auto [i, j] = examined_[e];
+    const glm::dvec3 d = separation(i, j);
+    if (d == glm::dvec3(0.0)) continue;
+    pair_gap_[e] = glm::length(d) - p_.radius[i] - p_.radius[j];
+    PairRecord& rec = pairs_[examined_[e]];
+    rec.id_i = i;
+    rec.id_j = j;
+  }
+  const size_t n = p_.size();
+  wall_gap_.assign(n * kNumWalls, std::numeric_limits<double>::infinity());
+  for (uint32_t w = 0; w < kNumWalls; ++w) {
+    if (!wall_present(prm_.drum, w)) continue;
+    for (size_t i = 0; i < n; ++i) {
+      glm::dvec3 nrm;
+      double delta;
+      if (wall_geometry(prm_.drum, w, p_.x[i], p_.radius[i], nrm, delta))
+        wall_gap_[i * kNumWalls + w] = -delta;
+    }
+  }
+  liquid_events();
 }
 
 SystemState ReferenceSystem::state() const {

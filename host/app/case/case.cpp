@@ -24,7 +24,7 @@ constexpr double kPi = 3.14159265358979323846;
 std::string base_of(const std::string& k) {
   size_t best = 0;
   for (Dim d : {Dim::Fraction, Dim::Length, Dim::Pressure, Dim::SurfaceTension, Dim::Angle, Dim::Time,
-                Dim::AngularRate, Dim::Density})
+                Dim::AngularRate, Dim::Density, Dim::Viscosity, Dim::SurfaceEnergy})
     for (const KeyUnit& u : key_units(d)) {
       const std::string tail = "_" + u.suffix;
       if (k.size() > tail.size() && k.compare(k.size() - tail.size(), tail.size(), tail) == 0)
@@ -254,6 +254,17 @@ void read_liquid(Section s, Case& c) {
     require_in(*q, 0, false, 1, false, "[0, 1]"), l.d_c = q->v;
   if (auto f = s.choice("films", {"per_particle_volume", "mean_volume"}))
     l.films = *f == "mean_volume" ? FilmMode::MeanVolume : FilmMode::PerParticleVolume;
+  // Candidate effects `viscous` and `hysteresis` (README "Candidate effects").
+  if (auto q = s.quantity("viscosity", Dim::Viscosity))
+    require_in(*q, 0, false, 100, false, "[0, 100] Pa s (searched range 1e-4 to 1 Pa s)"), l.viscosity = q->v;
+  if (auto q = s.quantity("lubrication_cutoff", Dim::Length)) {
+    require_positive(*q);
+    l.lubrication_cutoff = q->v;
+  }
+  if (auto q = s.quantity("theta_receding", Dim::Angle)) {
+    require_in(*q, 0, false, kPi / 2, true, "[0, 90) deg (searched range 0 to 80 deg)");
+    l.theta_receding = q->v;
+  }
   if (auto q = s.quantity("evaporation_time", Dim::Time)) {
     if (q->v != 0) require_in(*q, 1, false, 1000, false, "[1, 1000] s (0 = off)");
     l.evaporation_time = q->v;
@@ -280,6 +291,14 @@ void read_absorption(Section s, Case& c) {
   }
   if ((a.capacity > 0) != (a.rate > 0))
     c.notes.push_back("absorption: needs both capacity > 0 and rate > 0; it is off");
+  s.finish();
+}
+
+void read_cohesion(Section s, Case& c) {
+  if (!s.present()) return;
+  if (auto q = s.quantity("surface_energy", Dim::SurfaceEnergy))
+    require_in(*q, 0, false, 1, false, "[0, 1] J/m^2 (searched range 1e-4 to 0.1 J/m^2)"),
+        c.cohesion.surface_energy = q->v;
   s.finish();
 }
 
@@ -388,6 +407,7 @@ Case read_case(const toml::table& root, const std::string& source) {
   walls.finish();
   read_psd(Section(top.table("psd"), "psd"), c);
   read_liquid(Section(top.table("liquid"), "liquid"), c);
+  read_cohesion(Section(top.table("cohesion"), "cohesion"), c);
   read_absorption(Section(top.table("absorption"), "absorption"), c);
   read_drum(Section(top.table("drum"), "drum"), c);
   if (c.drum.periodic_slice && walls.has("plates"))
@@ -413,6 +433,15 @@ Case read_case(const toml::table& root, const std::string& source) {
         fmt::format("must exceed twice the largest scaled particle ({:.4g} m) for the periodic image, got "
                     "{:.4g} m",
                     d_largest, c.drum.slice_thickness));
+  if (c.liquid.viscosity > 0 && !c.liquid.on())
+    c.notes.push_back(
+        "liquid: viscosity acts on bridges only; it has no effect without liquid (content = 0)");
+  if (c.liquid.lubrication_cutoff && !(c.liquid.viscosity > 0))
+    c.notes.push_back("liquid: lubrication_cutoff has no effect while viscosity = 0");
+  if (c.liquid.lubrication_cutoff && !(*c.liquid.lubrication_cutoff < 0.5 * d_largest))
+    throw CaseError("liquid.lubrication_cutoff",
+                    fmt::format("must be below the largest particle radius ({:.4g} m), got {:.4g} m",
+                                0.5 * d_largest, *c.liquid.lubrication_cutoff));
   if ((c.absorption.on() || c.liquid.evaporation_time > 0 || c.liquid.wetted_fraction < 1) && !c.liquid.on())
     c.notes.push_back(
         "absorption, liquid.evaporation_time, liquid.wetted_fraction: no effect without liquid");

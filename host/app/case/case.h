@@ -53,6 +53,10 @@ struct LiquidSpec {
   double v_max = 0;      // fraction of V-bar_S
   double d_c = 1.0;
   FilmMode films = FilmMode::PerParticleVolume;
+  // Candidate effects (README "Candidate effects"; diagnosis.md §3), off by default:
+  double viscosity = 0;                      // eta, Pa s: lubrication of bridged pairs (0 = off)
+  std::optional<double> lubrication_cutoff;  // S_min, m; default 1 % of the mean particle radius
+  std::optional<double> theta_receding;      // theta_r, rad; absent = theta (no hysteresis)
   double evaporation_time = 0;  // s, tau of evaporation; 0 = off (diagnosis.md §3 `evaporation`)
   double wetted_fraction = 1;   // fraction of the particles that hold all the liquid at the start (`spread`)
   bool on() const { return present && content > 0; }
@@ -63,6 +67,11 @@ struct AbsorptionSpec {
   double capacity = 0;  // pore volume / particle volume, [0, 0.3]
   double rate = 0;      // k (1/s); +infinity = "instantaneous"
   bool on() const { return capacity > 0 && rate > 0; }
+};
+
+// Candidate effect `cohesion`: dry JKR adhesion of every contact (particles and walls).
+struct CohesionSpec {
+  double surface_energy = 0;  // w, J/m^2, unscaled (scaled by l like gamma); 0 = off
 };
 
 struct DrumSpec {
@@ -105,6 +114,7 @@ struct Case {
   // psd.scale = scaling, so Psd(psd) is the distribution actually inserted.
   wetdem::PsdSpec psd;
   LiquidSpec liquid;
+  CohesionSpec cohesion;
   AbsorptionSpec absorption;
   DrumSpec drum;
   RunSpec run;
@@ -133,6 +143,10 @@ struct Derived {
   double liquid_unit_m3 = 0;  // V-bar_S * 2^-40
   int64_t v_min_units = 0, v_max_units = 0;
   double dt_capillary_limit = 0;  // 0.1 pi sqrt(m*/k_c) at the smallest initial bridge (0: dry)
+  // Candidate effects, as they enter SimParams.
+  double lubrication_cutoff = 0;     // S_min (m): given, or 1 % of the mean radius
+  double surface_energy_scaled = 0;  // l w (J/m^2)
+  double dt_viscous_limit = 0;       // 2 m*/c at S_min, smallest particles, V_max bridge (0: viscous off)
   std::vector<std::string> notes;
 };
 // radii: the inserted particles (m). Fills every SimParams field from the case (physics.md §1, §4, §6).

@@ -64,17 +64,24 @@ toml::table to_table(const Case& c) {
   root.insert("psd", std::move(psd));
 
   const LiquidSpec& l = c.liquid;
-  if (l.present)
-    root.insert("liquid", toml::table{{"content", l.content},
-                                      {"gamma_N_per_m", l.gamma},
-                                      {"theta_rad", l.theta},
-                                      {"v_min", l.v_min},
-                                      {"v_max", l.v_max},
-                                      {"d_c", l.d_c},
-                                      {"films", l.films == FilmMode::MeanVolume ? "mean_volume"
-                                                                                : "per_particle_volume"},
-                                      {"evaporation_time_s", l.evaporation_time},
-                                      {"wetted_fraction", l.wetted_fraction}});
+  if (l.present) {
+    toml::table liq{{"content", l.content},
+                    {"gamma_N_per_m", l.gamma},
+                    {"theta_rad", l.theta},
+                    {"v_min", l.v_min},
+                    {"v_max", l.v_max},
+                    {"d_c", l.d_c},
+                    {"films", l.films == FilmMode::MeanVolume ? "mean_volume" : "per_particle_volume"}};
+    // Candidate effects: viscous (cut-off only when given: its default follows the particles, see the
+    // derived lubrication_cutoff_m) and hysteresis (theta_r resolved: theta when not given).
+    liq.insert("viscosity_Pa_s", l.viscosity);
+    if (l.lubrication_cutoff) liq.insert("lubrication_cutoff_m", *l.lubrication_cutoff);
+    liq.insert("theta_receding_rad", l.theta_receding.value_or(l.theta));
+    liq.insert("evaporation_time_s", l.evaporation_time);
+    liq.insert("wetted_fraction", l.wetted_fraction);
+    root.insert("liquid", std::move(liq));
+  }
+  root.insert("cohesion", toml::table{{"surface_energy_J_per_m2", c.cohesion.surface_energy}});
   {
     const AbsorptionSpec& a = c.absorption;
     toml::table ab{{"capacity", a.capacity}};

@@ -7,6 +7,7 @@
 #include <random>
 
 #include "app/case/case.h"
+#include "wetdem/timestep.h"
 
 namespace wetdem::app {
 
@@ -105,6 +106,10 @@ SimParams make_sim_params(const Case& c, const std::vector<double>& radii, Deriv
   cp.restitution = m.restitution;
   cp.mu_s = c.mu_s;
   cp.mu_r = c.mu_r;
+  // Candidate effect `cohesion`: w scaled by l like gamma (the same pressure-based Bond number), every
+  // contact.
+  d.surface_energy_scaled = c.scaling * c.cohesion.surface_energy;
+  cp.surface_energy = d.surface_energy_scaled;
   p.pp = cp;
   // Walls: the same material law (the paper's walls are polycarbonate; it gives one set of moduli), their own
   // friction coefficients.
@@ -130,6 +135,13 @@ SimParams make_sim_params(const Case& c, const std::vector<double>& radii, Deriv
   lp.v_min = d.v_min_units;
   lp.v_max = d.v_max_units;
   lp.d_c = l.d_c;
+  // Candidate effects `viscous` (S_min default: 1 % of the mean particle radius, the roughness scale DEM
+  // lubrication models commonly truncate at) and `hysteresis` (theta_r = theta unless given).
+  const double r_mean = std::cbrt(d.mean_solid_volume * 3.0 / (4.0 * kPi));
+  d.lubrication_cutoff = l.lubrication_cutoff ? *l.lubrication_cutoff : 0.01 * r_mean;
+  lp.viscosity = l.viscosity;
+  lp.lubrication_cutoff = d.lubrication_cutoff;
+  lp.theta_receding = l.theta_receding ? *l.theta_receding : -1.0;
   p.liq_pp = lp;
   for (uint32_t w = 0; w < kNumWalls; ++w) {
     p.liq_pw[w] = lp;
@@ -152,22 +164,36 @@ SimParams make_sim_params(const Case& c, const std::vector<double>& radii, Deriv
       throw CaseError("liquid.content",
                       "total liquid exceeds the int64 range of liquid units; reduce content");
     // §6: capillary stiffness k_c = 1.05 f0 sqrt(R_h/V_b) at the smallest bridge the initial films can form
-    // (two smallest particles); warn when dt > 0.1 pi sqrt(m*/k_c).
-    const double vf = l.films == FilmMode::MeanVolume ? l.content * d.mean_solid_volume
-                                                      : l.content * sphere_volume(d.r_min);
-    const double vb = std::min(2.0 * vf, l.v_max * d.mean_solid_volume);
+    // (smallest_formable_bridge, between two of the smallest particles); warn when dt > 0.1 pi sqrt(m*/k_c).
+    const double vb = double(smallest_formable_bridge(lp, films)) * d.liquid_unit_m3;
     if (vb > 0) {
       const double rh = d.r_min;  // harmonic mean 2 r r / (2 r)
-      const double f0 = 2.0 * kPi * rh * d.gamma_scaled * std::cos(l.theta);
+      const double f0 = 2.0 * kPi * rh * d.gamma_scaled * std::cos(lp.theta_r());  // pull just separated
       const double kc = 1.05 * f0 * std::sqrt(rh / vb);
       const double mstar = 0.5 * m.density * sphere_volume(d.r_min);
       d.dt_capillary_limit = 0.1 * kPi * std::sqrt(mstar / kc);
       if (d.dt > d.dt_capillary_limit)
         d.notes.push_back(
             fmt::format("dt = {:.4g} s exceeds the capillary limit 0.1 pi sqrt(m*/k_c) = {:.4g} s at "
-                        "the smallest initial bridge (physics.md §6)",
-                        d.dt, d.dt_capillary_limit));
+                        "the smallest bridge the initial films can form ({:.3g} m^3): divide "
+                        "run.dt_rayleigh_fraction by at least {:.3g} (physics.md §6)",
+                        d.dt, d.dt_capillary_limit, vb, d.dt / d.dt_capillary_limit));
     }
+  }
+  if (l.on() && l.viscosity > 0) {
+    // Explicit stability of the lubrication damper (README "Candidate effects"): dt < 2 m*/c at S_min for the
+    // two smallest particles with a bridge of V_max, or the smallest against a wall with bridges.
+    const double m_min = m.density * sphere_volume(d.r_min), vmax = l.v_max * d.mean_solid_volume;
+    d.dt_viscous_limit =
+        viscous_dt_limit(0.5 * m_min, 0.5 * d.r_min, l.viscosity, d.lubrication_cutoff, vmax);
+    if (c.cylinder.liquid_bridges || (c.plates.liquid_bridges && !c.drum.periodic_slice))
+      d.dt_viscous_limit = std::min(
+          d.dt_viscous_limit, viscous_dt_limit(m_min, d.r_min, l.viscosity, d.lubrication_cutoff, vmax));
+    if (d.dt >= d.dt_viscous_limit)
+      d.notes.push_back(fmt::format(
+          "dt = {:.4g} s exceeds the viscous limit 2 m*/c = {:.4g} s of the lubrication damping at "
+          "S_min = {:.4g} m (explicit damping unstable); lower run.dt or raise liquid.lubrication_cutoff",
+          d.dt, d.dt_viscous_limit, d.lubrication_cutoff));
   }
   // Liquid sinks (diagnosis.md §3): pore absorption and evaporation act inside the liquid passes.
   if (l.on()) {
@@ -204,6 +230,9 @@ nlohmann::json derived_to_json(const Derived& d) {
   j["v_min_units"] = d.v_min_units;
   j["v_max_units"] = d.v_max_units;
   j["dt_capillary_limit_s"] = d.dt_capillary_limit;
+  j["lubrication_cutoff_m"] = d.lubrication_cutoff;
+  j["surface_energy_scaled_J_per_m2"] = d.surface_energy_scaled;
+  j["dt_viscous_limit_s"] = d.dt_viscous_limit;
   j["notes"] = d.notes;
   return j;
 }

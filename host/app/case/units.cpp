@@ -41,6 +41,11 @@ const std::vector<UnitDef>& units() {
       {Dim::AngularRate, {"rad/s"}, "rad_per_s", 1.0},
       {Dim::Density, {"kg/m3", "kg/m^3", "kg/m\xc2\xb3"}, "kg_per_m3", 1.0},
       {Dim::Density, {"g/cm3", "g/cm^3", "g/cm\xc2\xb3"}, "g_per_cm3", 1e3},
+      // Spaces are stripped before matching: "2 mPa s" reads as "2 mPas".
+      {Dim::Viscosity, {"Pas", "Pa*s", "Pa.s", "Pa\xc2\xb7s"}, "Pa_s", 1.0},
+      {Dim::Viscosity, {"mPas", "mPa*s", "mPa.s", "mPa\xc2\xb7s", "cP"}, "mPa_s", 1e-3},
+      {Dim::SurfaceEnergy, {"J/m2", "J/m^2", "J/m\xc2\xb2"}, "J_per_m2", 1.0},
+      {Dim::SurfaceEnergy, {"mJ/m2", "mJ/m^2", "mJ/m\xc2\xb2"}, "mJ_per_m2", 1e-3},
   };
   return u;
 }
@@ -74,6 +79,10 @@ const char* dim_name(Dim d) {
       return "a rotation rate";
     case Dim::Density:
       return "a density";
+    case Dim::Viscosity:
+      return "a viscosity";
+    case Dim::SurfaceEnergy:
+      return "a surface energy";
   }
   return "?";
 }
@@ -94,6 +103,10 @@ const char* si_unit(Dim d) {
       return "rad_per_s";
     case Dim::Density:
       return "kg_per_m3";
+    case Dim::Viscosity:
+      return "Pa_s";
+    case Dim::SurfaceEnergy:
+      return "J_per_m2";
     default:
       return "";
   }

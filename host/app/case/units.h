@@ -21,6 +21,8 @@ enum class Dim {
   Time,            // s
   AngularRate,     // rad/s (input usually rpm)
   Density,         // kg/m^3
+  Viscosity,       // Pa s (dynamic viscosity; "2 mPa s", key suffix _Pa_s, _mPa_s)
+  SurfaceEnergy,   // J/m^2 (adhesion work; "50 mJ/m2", key suffix _J_per_m2, _mJ_per_m2)
 };
 
 const char* dim_name(Dim d);

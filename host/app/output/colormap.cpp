@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "app/observe/clusters.h"
+
 namespace wetdem {
 
 ParticleFrame frame_from_state(const SystemState& s, const std::vector<double>& liquid_m3) {
@@ -18,6 +20,9 @@ ParticleFrame frame_from_state(const SystemState& s, const std::vector<double>& 
   f.liquid_m3 = liquid_m3;
   f.id.resize(s.p.size());
   for (size_t i = 0; i < f.id.size(); ++i) f.id[i] = static_cast<uint32_t>(i);  // state is in stable-id order
+  observe::Clusters c = observe::bridge_clusters(s);
+  f.cluster = std::move(c.id);
+  f.cluster_size = std::move(c.size);
   return f;
 }
 

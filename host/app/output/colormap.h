@@ -19,11 +19,15 @@ struct ParticleFrame {
   std::vector<double>
       liquid_m3;  // liquid per particle (m³), physics.md §5: V_f + Σ V_b/2 + Σ wall V_b; may be empty
   std::vector<uint32_t> id;  // stable ids; may be empty (0..n-1)
+  // Agglomerate of each particle (app/observe/clusters.h): label = smallest stable id of its bridge cluster,
+  // and the cluster's particle count; both may be empty (not written).
+  std::vector<uint32_t> cluster, cluster_size;
   size_t size() const { return x.size(); }
 };
 
-// Frame from a downloaded state (stable-id order, so id = index). liquid_m3: liquid per particle in m³
-// (liquid_per_particle(s) × SimParams::liquid_unit_m3), or empty.
+// Frame from a downloaded state (stable-id order, so id = index), with the bridge clusters of its pair
+// records. liquid_m3: liquid per particle in m³ (liquid_per_particle(s) × SimParams::liquid_unit_m3), or
+// empty.
 ParticleFrame frame_from_state(const SystemState& s, const std::vector<double>& liquid_m3);
 
 // sRGB (0..1, as in colour pickers) to the linear RGB that glTF COLOR_0 and shading expect (IEC 61966-2-1).

@@ -26,9 +26,16 @@ namespace {
 void check_sizes(const ParticleFrame& f) {
   const size_t n = f.x.size();
   auto ok = [n](size_t m) { return m == 0 || m == n; };
-  if (f.radius.size() != n || !ok(f.v.size()) || !ok(f.liquid_m3.size()) || !ok(f.id.size()))
+  if (f.radius.size() != n || !ok(f.v.size()) || !ok(f.liquid_m3.size()) || !ok(f.id.size()) ||
+      !ok(f.cluster.size()) || f.cluster_size.size() != f.cluster.size())
     throw std::invalid_argument(
-        "ParticleFrame: radius must have one entry per particle; v, liquid_m3, id one or none");
+        "ParticleFrame: radius must have one entry per particle; v, liquid_m3, id, cluster (with "
+        "cluster_size) "
+        "one or none");
+}
+
+std::vector<float> as_float(const std::vector<uint32_t>& v) {
+  return std::vector<float>(v.begin(), v.end());
 }
 
 // Appends float data as its own buffer view + accessor; returns the accessor index.
@@ -127,6 +134,12 @@ void write_glb(const std::string& path, const ParticleFrame& f, const GltfOption
     prim.attributes["_VELOCITY"] = add_float_accessor(m, buf, vel, n, TINYGLTF_TYPE_VEC3, false);
     prim.attributes["_LIQUID_VOLUME"] = add_float_accessor(m, buf, liq, n, TINYGLTF_TYPE_SCALAR, false);
     prim.attributes["_ID"] = add_float_accessor(m, buf, ids, n, TINYGLTF_TYPE_SCALAR, false);
+    if (!f.cluster.empty()) {
+      prim.attributes["_CLUSTER"] =
+          add_float_accessor(m, buf, as_float(f.cluster), n, TINYGLTF_TYPE_SCALAR, false);
+      prim.attributes["_CLUSTER_SIZE"] =
+          add_float_accessor(m, buf, as_float(f.cluster_size), n, TINYGLTF_TYPE_SCALAR, false);
+    }
     tinygltf::Buffer b;
     b.data = std::move(buf);
     m.buffers.push_back(std::move(b));
@@ -167,6 +180,7 @@ std::string GltfSeries::write(const ParticleFrame& f) {
   const std::string file = fmt::format("{}_{:010d}.glb", prefix_, f.step);
   const std::string path = (std::filesystem::path(dir_) / file).string();
   write_glb(path, f, opt_);
+  clusters_ = !f.cluster.empty();
   entries_.erase(
       std::remove_if(entries_.begin(), entries_.end(), [&](const Entry& e) { return e.step >= f.step; }),
       entries_.end());
@@ -183,6 +197,7 @@ void GltfSeries::write_index() const {
   j["up"] = "+y";
   j["axis"] = "+z";
   j["attributes"] = {"POSITION", "COLOR_0", "_RADIUS", "_VELOCITY", "_LIQUID_VOLUME", "_ID"};
+  if (clusters_) j["attributes"].push_back("_CLUSTER"), j["attributes"].push_back("_CLUSTER_SIZE");
   j["frames"] = nlohmann::json::array();
   for (const Entry& e : entries_)
     j["frames"].push_back({{"time", e.time}, {"step", e.step}, {"file", e.file}});

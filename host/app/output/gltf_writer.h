@@ -12,6 +12,8 @@
 //   _VELOCITY       VEC3  velocity (m/s)
 //   _LIQUID_VOLUME  SCALAR liquid per particle (m³), physics.md §5
 //   _ID             SCALAR stable id (exact in float32 up to 2^24 = 16.7 M particles)
+//   _CLUSTER        SCALAR agglomerate label: smallest stable id of the particle's bridge cluster (when
+//   given) _CLUSTER_SIZE   SCALAR particles in that cluster (when given)
 // asset.extras and scene.extras carry {"time": s, "step": n, "particles": N, "color_max_m3": v}.
 #pragma once
 
@@ -55,6 +57,7 @@ class GltfSeries {
   std::string dir_, prefix_, index_path_;
   GltfOptions opt_;
   std::vector<Entry> entries_;
+  bool clusters_ = false;  // the last frame carried _CLUSTER
 };
 
 }  // namespace wetdem

@@ -11,6 +11,8 @@
 
 #include "app/drum/aor.h"
 #include "app/drum/psd.h"
+#include "app/observe/window.h"
+#include "app/output/timeseries_stats.h"
 #include "wetdem/observables.h"
 
 #ifndef WETDEM_VERSION
@@ -44,28 +46,42 @@ void write_file_atomic(const std::string& path, const std::string& content) {
 }
 
 std::string timeseries_header() {
-  return "time,aor_deg,com_x,com_y,contacts,bridges,f_wet,kinetic_energy,"
-         "liquid_films_units,liquid_bridges_units,liquid_pores_units,liquid_evaporated_units,"
-         "liquid_films_m3,liquid_bridges_m3,liquid_pores_m3,liquid_evaporated_m3\n";
+  std::string h = "time,aor_deg,com_x,com_y,contacts,bridges,f_wet,kinetic_energy,"
+                  "liquid_films_units,liquid_bridges_units,liquid_pores_units,liquid_evaporated_units,"
+                  "liquid_films_m3,liquid_bridges_m3,liquid_pores_m3,liquid_evaporated_m3";
+  for (const observe::CameraField& f : observe::kCameraFields) h += std::string(",") + f.name;
+  return h + "\n";
 }
 
 std::string timeseries_row(const Sample& s) {
-  // aor_deg is |angle|, empty when the bed is flagged (near-centred: no angle reported, drum.md).
+  // aor_deg is |angle|, empty when the bed is flagged (near-centred: no angle reported, drum.md); a camera
+  // observable is empty when it has no value (NaN), e.g. the plate angles on a periodic slice.
   const std::string aor = s.flagged ? "" : fmt::format("{:.9g}", std::fabs(s.aor_signed_deg));
   const double u = s.liquid_unit_m3;
-  return fmt::format("{:.9g},{},{:.9g},{:.9g},{},{},{:.9g},{:.9g},{},{},{},{},{:.9g},{:.9g},{:.9g},{:.9g}\n",
-                     s.time, aor, s.com_x, s.com_y, s.contacts, s.bridges, s.f_wet, s.kinetic_energy,
-                     s.liquid_films, s.liquid_bridges, s.liquid_pores, s.liquid_evaporated,
-                     double(s.liquid_films) * u, double(s.liquid_bridges) * u, double(s.liquid_pores) * u,
-                     double(s.liquid_evaporated) * u);
+  std::string row =
+      fmt::format("{:.9g},{},{:.9g},{:.9g},{},{},{:.9g},{:.9g},{},{},{},{},{:.9g},{:.9g},{:.9g},{:.9g}", s.time, aor,
+                  s.com_x, s.com_y, s.contacts, s.bridges, s.f_wet, s.kinetic_energy, s.liquid_films,
+                  s.liquid_bridges, s.liquid_pores, s.liquid_evaporated, double(s.liquid_films) * u,
+                  double(s.liquid_bridges) * u, double(s.liquid_pores) * u, double(s.liquid_evaporated) * u);
+  for (const observe::CameraField& f : observe::kCameraFields) {
+    const double v = s.camera.*f.value;
+    row += std::isfinite(v) ? fmt::format(",{:.9g}", v) : std::string(",");
+  }
+  return row + "\n";
 }
 
 nlohmann::json samples_to_json(const std::vector<Sample>& v) {
   nlohmann::json j = nlohmann::json::array();
-  for (const Sample& s : v)
+  for (const Sample& s : v) {
+    nlohmann::json cam = nlohmann::json::array();  // kCameraFields order, null for NaN
+    for (const observe::CameraField& f : observe::kCameraFields) {
+      const double x = s.camera.*f.value;
+      cam.push_back(std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr));
+    }
     j.push_back({s.step, s.time, s.aor_signed_deg, s.com_x, s.com_y, s.flagged, s.contacts, s.bridges,
                  s.f_wet, s.kinetic_energy, s.liquid_films, s.liquid_bridges, s.liquid_pores,
-                 s.liquid_evaporated, s.liquid_unit_m3});
+                 s.liquid_evaporated, s.liquid_unit_m3, cam});
+  }
   return j;
 }
 
@@ -89,6 +105,14 @@ std::vector<Sample> samples_from_json(const nlohmann::json& j) {
       s.liquid_pores = e.at(12).get<int64_t>();
       s.liquid_evaporated = e.at(13).get<int64_t>();
       s.liquid_unit_m3 = e.at(14).get<double>();
+    }
+    if (e.size() >= 16) {  // checkpoints written before the camera observables have none
+      const nlohmann::json& cam = e.at(15);
+      size_t i = 0;
+      for (const observe::CameraField& f : observe::kCameraFields) {
+        if (i < cam.size() && cam[i].is_number()) s.camera.*f.value = cam[i].get<double>();
+        ++i;
+      }
     }
     v.push_back(s);
   }
@@ -121,6 +145,28 @@ double window_mean(const std::vector<Sample>& s, double t_from, F f) {
 
 nlohmann::json number_or_null(double x) {
   return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
+}
+
+// diagnosis.md §2: each camera observable as <name> (window mean of the samples that have a value) and
+// <name>_sem (blocked standard error, as aor_sem_block); null when no sample of the window has one; the plate
+// and centre slab angles are absent on a periodic slice. The AoR drift over the window, per revolution.
+void add_camera_observables(nlohmann::json& j, const Case& c, const std::vector<Sample>& samples,
+                            double t_from, bool aor_flag) {
+  for (const observe::CameraField& f : observe::kCameraFields) {
+    if (f.needs_plates && c.drum.periodic_slice) continue;
+    std::vector<double> v;
+    for (const Sample& s : samples)
+      if (s.time >= t_from) v.push_back(s.camera.*f.value);
+    const observe::WindowMean w = observe::window_mean(v);
+    j[f.name] = w.n ? number_or_null(w.mean) : nlohmann::json(nullptr);
+    j[std::string(f.name) + "_sem"] = w.n ? number_or_null(w.sem) : nlohmann::json(nullptr);
+  }
+  std::vector<double> t, a;
+  for (const Sample& s : samples)
+    if (s.time >= t_from && !s.flagged) t.push_back(s.time), a.push_back(std::fabs(s.aor_signed_deg));
+  const observe::Drift d = observe::aor_drift(t, a, c.drum.omega);
+  j["aor_drift_deg_per_rev"] = aor_flag ? nlohmann::json(nullptr) : number_or_null(d.slope_deg_per_rev);
+  j["aor_drift_deg_per_rev_sem"] = aor_flag ? nlohmann::json(nullptr) : number_or_null(d.se_deg_per_rev);
 }
 
 }  // namespace
@@ -171,9 +217,27 @@ nlohmann::json make_summary(const Case& c, const Derived& d, const std::vector<S
   j["aor_deg_mean"] = flag ? json(nullptr) : number_or_null(as.abs_deg.mean);
   j["aor_deg_std"] = flag ? json(nullptr) : number_or_null(as.abs_deg.stddev);
   j["aor_sem_block"] = flag ? json(nullptr) : number_or_null(as.abs_deg.sem);
-  j["aor_sem_reliable"] = as.abs_deg.sem_reliable;
-  j["aor_stationary"] = as.abs_deg.stationary;
+  // Issue 12: the window must span >= 10 integrated autocorrelation times and its halves must agree
+  // (timeseries_stats.h); the blocked SEM must also find its plateau (aor.h). Both verdicts carry a reason.
+  std::vector<double> abs_window;
+  for (size_t i = 0; i < samples.size(); ++i)
+    if (times[i] >= t_from && !aor[i].flagged) abs_window.push_back(aor[i].abs_deg);
+  const WindowStats ws = window_stats(abs_window, c.run.sample_interval);
+  std::string stat_reason = ws.stationary_reason, sem_reason = ws.sem_reliable_reason;
+  if (stat_reason.empty() && !as.abs_deg.stationary)
+    stat_reason = fmt::format("the halves of the window differ by {:.2f} blocked standard errors (|z| >= 3)",
+                              as.abs_deg.drift_z);
+  if (sem_reason.empty() && !stat_reason.empty()) sem_reason = "not stationary: " + stat_reason;
+  if (sem_reason.empty() && !as.abs_deg.sem_reliable)
+    sem_reason = "the blocked standard error found no plateau (window short for its correlation time)";
+  j["aor_sem_reliable"] = !flag && sem_reason.empty();
+  j["aor_sem_reliable_reason"] = flag ? std::string("AoR flagged") : sem_reason;
+  j["aor_stationary"] = !flag && stat_reason.empty();
+  j["aor_stationary_reason"] = flag ? std::string("AoR flagged") : stat_reason;
   j["aor_drift_z"] = number_or_null(as.abs_deg.drift_z);
+  j["aor_tau_int_s"] = number_or_null(ws.tau_int_s);
+  j["aor_n_eff"] = number_or_null(ws.n_eff);
+  j["aor_sem_tau"] = flag ? json(nullptr) : number_or_null(ws.sem);
   j["aor_signed_deg_mean"] = flag ? json(nullptr) : number_or_null(as.signed_deg.mean);
   j["aor_window_s"] = {t_from, c.run.settle + c.run.duration};
   j["aor_window_length_s"] = c.run.duration - c.run.steady_state_start;
@@ -192,6 +256,7 @@ nlohmann::json make_summary(const Case& c, const Derived& d, const std::vector<S
       number_or_null(window_mean(samples, t_from, [](const Sample& s) { return double(s.contacts); }));
   j["kinetic_energy_mean_J"] =
       number_or_null(window_mean(samples, t_from, [](const Sample& s) { return s.kinetic_energy; }));
+  add_camera_observables(j, c, samples, t_from, flag);
   j["particles"] = t.particles;
   j["steps"] = t.steps;
   j["dt_s"] = t.dt;
@@ -233,6 +298,21 @@ nlohmann::json make_summary(const Case& c, const Derived& d, const std::vector<S
   j["derived"] = derived_to_json(d);
   j["notes"] = c.notes;
   return j;
+}
+
+std::string aor_log_line(const nlohmann::json& s) {
+  if (s.at("aor_flag").get<bool>()) return "AoR: flagged (bed near the drum centre: no angle reported)";
+  const auto& w = s.at("aor_window_s");
+  std::string line = fmt::format(
+      "AoR = {:.2f}° ± {:.2f}° (sd {:.2f}°, {} samples over {:.4g}-{:.4g} s, tau_int {:.3g} s, n_eff {:.1f})",
+      s.at("aor_deg_mean").get<double>(), s.at("aor_sem_block").get<double>(),
+      s.at("aor_deg_std").get<double>(), s.at("aor_samples").get<size_t>(), w.at(0).get<double>(),
+      w.at(1).get<double>(), s.value("aor_tau_int_s", 0.0), s.value("aor_n_eff", 0.0));
+  if (!s.at("aor_stationary").get<bool>())
+    line += "; NOT STATIONARY, do not quote: " + s.at("aor_stationary_reason").get<std::string>();
+  else if (!s.at("aor_sem_reliable").get<bool>())
+    line += "; error bar NOT RELIABLE: " + s.at("aor_sem_reliable_reason").get<std::string>();
+  return line;
 }
 
 }  // namespace wetdem::app

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "app/case/case.h"
+#include "app/observe/camera.h"
 #include "wetdem/state.h"
 #include "wetdem/system.h"
 
@@ -23,6 +24,7 @@ struct Sample {
   bool flagged = true;          // |COM| < 0.2 R: no angle reported
   uint64_t contacts = 0, bridges = 0;
   double f_wet = 0, kinetic_energy = 0;
+  observe::CameraSample camera;  // diagnosis.md §2 (app/observe/camera.h); NaN: no value this sample
   // Liquid accounting (units of liquid_unit_m3): films + bridges + pores + evaporated = liquid put in.
   int64_t liquid_films = 0, liquid_bridges = 0, liquid_pores = 0, liquid_evaporated = 0;
   double liquid_unit_m3 = 0;
@@ -58,8 +60,13 @@ struct RunTotals {
 };
 
 // summary.json content: the AoR over the steady window (mean, sd, blocked SEM, flag), window means of f_wet,
-// bridges and contacts, liquid conservation, performance, the resolved case and derived values, code version.
+// bridges and contacts, the camera observables (<name>, <name>_sem; plate keys absent on a periodic slice)
+// and the AoR drift, liquid conservation, performance, the resolved case and derived values, code version.
 nlohmann::json make_summary(const Case& c, const Derived& d, const std::vector<Sample>& samples,
                             const RunTotals& t);
+
+// The run's final AoR log line from a summary: mean ± blocked SEM, sd, window, tau_int, n_eff, and, when the
+// window is not stationary or its error bar not reliable, that verdict with its reason.
+std::string aor_log_line(const nlohmann::json& summary);
 
 }  // namespace wetdem::app

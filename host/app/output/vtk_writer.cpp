@@ -186,9 +186,12 @@ uint64_t step_of_file(const std::string& file) {
 void write_vtp(const std::string& path, const ParticleFrame& f, const VtkOptions& opt) {
   const size_t n = f.size();
   auto ok = [n](size_t m) { return m == 0 || m == n; };
-  if (f.radius.size() != n || !ok(f.v.size()) || !ok(f.liquid_m3.size()) || !ok(f.id.size()))
+  if (f.radius.size() != n || !ok(f.v.size()) || !ok(f.liquid_m3.size()) || !ok(f.id.size()) ||
+      !ok(f.cluster.size()) || f.cluster_size.size() != f.cluster.size())
     throw std::invalid_argument(
-        "ParticleFrame: radius must have one entry per particle; v, liquid_m3, id one or none");
+        "ParticleFrame: radius must have one entry per particle; v, liquid_m3, id, cluster (with "
+        "cluster_size) "
+        "one or none");
   if (!little_endian()) throw std::runtime_error("write_vtp: big-endian hosts are not supported");
   const bool ascii = opt.encoding == VtkEncoding::kAscii;
 
@@ -220,6 +223,10 @@ void write_vtp(const std::string& path, const ParticleFrame& f, const VtkOptions
   pd.push_back(make_array("liquid_volume", "Float64", 1, liq, ascii));
   pd.push_back(make_array("velocity", "Float32", 3, vel, ascii));
   pd.push_back(make_array("id", "UInt32", 1, ids, ascii));
+  if (!f.cluster.empty()) {
+    pd.push_back(make_array("cluster", "UInt32", 1, f.cluster, ascii));
+    pd.push_back(make_array("cluster_size", "UInt32", 1, f.cluster_size, ascii));
+  }
   if (!col.empty()) pd.push_back(make_array("color", "UInt8", 3, col, ascii));
   Array points = make_array("Points", "Float64", 3, pos, ascii);
   Array connectivity = make_array("connectivity", "Int64", 1, conn, ascii);

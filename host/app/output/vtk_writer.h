@@ -2,12 +2,13 @@
 //
 // A .vtp holds N points (Float64 centres, m) with one vertex cell each (so ParaView draws them without a
 // filter), point data "radius" (Float64, m), "liquid_volume" (Float64, m³, physics.md §5 liquid per
-// particle), "velocity" (Float32 ×3, m/s), "id" (UInt32), "color" (UInt8 ×3, sRGB of liquid_color_srgb; only
-// when color_max_m3 > 0), and field data "TimeValue" (Float64, s) and "Step" (UInt64) ParaView reads. Axes as
-// in the drum frame (y up, z the drum axis). Encodings: ASCII, or binary appended data in base64 (header_type
-// UInt64: each array's block is the byte count as a little-endian UInt64 followed by the raw little-endian
-// values, base64-encoded on its own; offsets count characters after the '_' marker), as vtkXMLWriter writes
-// for encoding="base64".
+// particle), "velocity" (Float32 ×3, m/s), "id" (UInt32), "cluster" and "cluster_size" (UInt32, the bridge
+// cluster's label and particle count, app/observe/clusters.h; when the frame has them), "color" (UInt8 ×3,
+// sRGB of liquid_color_srgb; only when color_max_m3 > 0), and field data "TimeValue" (Float64, s) and "Step"
+// (UInt64) ParaView reads. Axes as in the drum frame (y up, z the drum axis). Encodings: ASCII, or binary
+// appended data in base64 (header_type UInt64: each array's block is the byte count as a little-endian UInt64
+// followed by the raw little-endian values, base64-encoded on its own; offsets count characters after the '_'
+// marker), as vtkXMLWriter writes for encoding="base64".
 #pragma once
 
 #include <cstdint>

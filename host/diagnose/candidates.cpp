@@ -1,0 +1,196 @@
+#include "diagnose/candidates.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "diagnose/where.h"
+
+namespace wetdem::diagnose {
+
+double screen_score(const std::vector<Cell>& cells, const std::vector<Prediction>& baseline,
+                    const std::vector<Prediction>& probe) {
+  if (baseline.size() != cells.size() || probe.size() != cells.size())
+    throw std::invalid_argument("screen_score: one prediction per cell");
+  double zr = 0, rr = 0;
+  for (size_t k = 0; k < cells.size(); ++k) {
+    const double s = std::sqrt(cells[k].sigma * cells[k].sigma + baseline[k].se * baseline[k].se);
+    const double r = (probe[k].mean - baseline[k].mean) / s;
+    zr += z_score(cells[k], baseline[k]) * r;
+    rr += r * r;
+  }
+  return rr > 0 ? zr / std::sqrt(rr) : 0.0;
+}
+
+namespace {
+
+// Weighted least-squares polynomial (ascending coefficients) of degree min(2, n-1) through (u, y).
+std::vector<double> polyfit(const std::vector<double>& u, const std::vector<double>& y,
+                            const std::vector<double>& w) {
+  const int n = int(u.size());
+  const int deg = std::min(2, n - 1);
+  Eigen::MatrixXd A(n, deg + 1);
+  Eigen::VectorXd b(n);
+  for (int i = 0; i < n; ++i) {
+    const double sw = std::sqrt(w[size_t(i)]);
+    for (int j = 0; j <= deg; ++j) A(i, j) = sw * std::pow(u[size_t(i)], j);
+    b(i) = sw * y[size_t(i)];
+  }
+  const Eigen::VectorXd c = A.colPivHouseholderQr().solve(b);
+  return std::vector<double>(c.data(), c.data() + c.size());
+}
+
+double polyval(const std::vector<double>& c, double u) {
+  double s = 0, p = 1;
+  for (double x : c) s += x * p, p *= u;
+  return s;
+}
+
+}  // namespace
+
+Emulator::Emulator(const std::vector<Prediction>& baseline, const Response& r) {
+  if (r.strengths.empty() || r.strengths.size() != r.pred.size())
+    throw std::invalid_argument("Emulator: response of '" + r.effect +
+                                "' needs predictions at >= 1 strength");
+  for (size_t s = 0; s < r.strengths.size(); ++s) {
+    if (!(r.strengths[s] > 0))
+      throw std::invalid_argument("Emulator: strengths must be > 0 ('" + r.effect + "')");
+    if (s && !(r.strengths[s] > r.strengths[s - 1]))
+      throw std::invalid_argument("Emulator: strengths must ascend ('" + r.effect + "')");
+    if (r.pred[s].size() != baseline.size())
+      throw std::invalid_argument("Emulator: one prediction per cell at every strength ('" + r.effect + "')");
+  }
+  u_hi_ = std::log10(r.strengths.back());
+  u_lo_ = std::log10(r.strengths.front()) - 1.0;
+  std::vector<double> u{u_lo_};
+  for (double s : r.strengths) u.push_back(std::log10(s));
+  for (size_t k = 0; k < baseline.size(); ++k) {
+    std::vector<double> m{baseline[k].mean}, e{baseline[k].se}, w;
+    for (const auto& p : r.pred) m.push_back(p[k].mean), e.push_back(p[k].se);
+    // Weights 1/SE² (relative to the median SE, floored so a zero SE does not pin the curve).
+    std::vector<double> es = e;
+    std::nth_element(es.begin(), es.begin() + long(es.size() / 2), es.end());
+    const double floor_se = std::max(1e-12, 0.1 * es[es.size() / 2]);
+    for (double x : e) w.push_back(1.0 / std::pow(std::max(x, floor_se), 2));
+    mean_.push_back(polyfit(u, m, w));
+    se_.push_back(polyfit(u, e, std::vector<double>(u.size(), 1.0)));
+  }
+}
+
+Prediction Emulator::at(size_t cell, double u) const {
+  u = std::clamp(u, u_lo_, u_hi_);
+  return {polyval(mean_[cell], u), std::max(0.0, polyval(se_[cell], u))};
+}
+
+std::vector<Prediction> Emulator::at(double u) const {
+  std::vector<Prediction> p;
+  for (size_t k = 0; k < mean_.size(); ++k) p.push_back(at(k, u));
+  return p;
+}
+
+StrengthFit fit_strength(const std::vector<Cell>& cells, const Emulator& em,
+                         const std::vector<size_t>& idx_in) {
+  std::vector<size_t> idx = idx_in;
+  if (idx.empty())
+    for (size_t k = 0; k < cells.size(); ++k) idx.push_back(k);
+  auto chi = [&](double u) {
+    double s = 0;
+    for (size_t k : idx) {
+      const double z = z_score(cells[k], em.at(k, u));
+      s += z * z;
+    }
+    return s;
+  };
+  constexpr int kGrid = 401;
+  const double a = em.u_lo(), b = em.u_hi(), h = (b - a) / (kGrid - 1);
+  std::vector<double> g(kGrid);
+  int best = 0;
+  for (int i = 0; i < kGrid; ++i) {
+    g[size_t(i)] = chi(a + h * i);
+    if (g[size_t(i)] < g[size_t(best)]) best = i;
+  }
+  // Golden-section refinement inside the grid cell pair around the minimum.
+  double lo = a + h * std::max(0, best - 1), hi = a + h * std::min(kGrid - 1, best + 1);
+  const double phi = 0.5 * (std::sqrt(5.0) - 1.0);
+  double x1 = hi - phi * (hi - lo), x2 = lo + phi * (hi - lo), f1 = chi(x1), f2 = chi(x2);
+  for (int it = 0; it < 40; ++it) {
+    if (f1 < f2)
+      hi = x2, x2 = x1, f2 = f1, x1 = hi - phi * (hi - lo), f1 = chi(x1);
+    else
+      lo = x1, x1 = x2, f1 = f2, x2 = lo + phi * (hi - lo), f2 = chi(x2);
+  }
+  double u_best = 0.5 * (lo + hi), c_best = chi(u_best);
+  if (g[size_t(best)] < c_best) u_best = a + h * best, c_best = g[size_t(best)];
+  StrengthFit f;
+  f.strength = std::pow(10.0, u_best);
+  f.chi2 = c_best;
+  f.at_edge = best == 0 || best == kGrid - 1;
+  // Δχ² = 1 interval on the grid (clipped to the probed range).
+  int i_lo = best, i_hi = best;
+  while (i_lo > 0 && g[size_t(i_lo - 1)] <= c_best + 1.0) --i_lo;
+  while (i_hi < kGrid - 1 && g[size_t(i_hi + 1)] <= c_best + 1.0) ++i_hi;
+  f.lo = std::pow(10.0, a + h * i_lo);
+  f.hi = std::pow(10.0, a + h * i_hi);
+  return f;
+}
+
+double loco_score(const std::vector<Cell>& cells, const Emulator& em) {
+  std::vector<size_t> cond;
+  const size_t nc = conditions_of(cells, &cond).size();
+  if (nc < 2)
+    throw std::invalid_argument("loco_score: fewer than two conditions (no held-out check possible)");
+  double total = 0;
+  for (size_t c = 0; c < nc; ++c) {
+    std::vector<size_t> train, test;
+    for (size_t k = 0; k < cells.size(); ++k) (cond[k] == c ? test : train).push_back(k);
+    const StrengthFit f = fit_strength(cells, em, train);
+    const double u = std::log10(f.strength);
+    for (size_t k : test) {
+      const double z = z_score(cells[k], em.at(k, u));
+      total += z * z;
+    }
+  }
+  return total;
+}
+
+double loco_null(const std::vector<Cell>& cells, const std::vector<Prediction>& baseline) {
+  return chi2(cells, baseline);
+}
+
+Verdict decide(const std::vector<Cell>& cells, const std::vector<Prediction>& baseline,
+               const std::vector<Response>& responses, const std::vector<double>& screens,
+               const VerdictRule& rule) {
+  if (screens.size() != responses.size())
+    throw std::invalid_argument("decide: one screen score per response");
+  Verdict v;
+  v.null_loco = loco_null(cells, baseline);
+  for (size_t i = 0; i < responses.size(); ++i) {
+    const Emulator em(baseline, responses[i]);
+    Candidate c;
+    c.effect = responses[i].effect;
+    c.screen = screens[i];
+    c.loco = loco_score(cells, em);
+    c.fit = fit_strength(cells, em);
+    v.ranking.push_back(c);
+  }
+  std::stable_sort(v.ranking.begin(), v.ranking.end(),
+                   [](const Candidate& a, const Candidate& b) { return a.loco < b.loco; });
+  const std::vector<CellGap> g = where(cells, baseline, rule.q);
+  const bool any = std::any_of(g.begin(), g.end(), [](const CellGap& x) { return x.significant; });
+  if (!v.ranking.empty())
+    v.held_out_shrink = v.null_loco > 0 ? 1.0 - v.ranking.front().loco / v.null_loco : 0.0;
+  if (!any) {
+    v.kind = "no_gap";
+  } else if (!v.ranking.empty() && v.ranking.front().loco <= rule.ratio * v.null_loco &&
+             v.null_loco - v.ranking.front().loco >= rule.min_drop) {
+    v.kind = "effect";
+    v.effect = v.ranking.front().effect;
+  } else {
+    v.kind = "unexplained";
+  }
+  return v;
+}
+
+}  // namespace wetdem::diagnose

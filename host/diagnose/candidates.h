@@ -1,0 +1,86 @@
+// Steps 3-5 of the diagnosis (diagnosis.md §4): which candidate effect explains the gap, at what strength,
+// and how far the gap shrinks. Pure statistics on predictions the runs produced; nothing here runs a model.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "diagnose/cells.h"
+
+namespace wetdem::diagnose {
+
+// A candidate's predictions at a few strengths of its key (in the key's SI units), one vector per strength.
+struct Response {
+  std::string effect;
+  std::vector<double> strengths;              // > 0, ascending
+  std::vector<std::vector<Prediction>> pred;  // [strength][cell]
+};
+
+// Screen (§4.3): projection of the z-vector of the baseline on the candidate's response pattern
+// r_k = (ŷ_probe,k - ŷ_base,k) / sqrt(σ_k² + SE_k²), normalised: Σ z_k r_k / |r|. Positive when the effect
+// moves the model towards the observations; 0 when it changes nothing.
+double screen_score(const std::vector<Cell>& cells, const std::vector<Prediction>& baseline,
+                    const std::vector<Prediction>& probe);
+
+// The response of every cell over u = log10(strength): a weighted least-squares polynomial of degree
+// min(2, n - 1) through the n points, where the baseline counts as strength 10^(u_min - 1) (a tenth of the
+// weakest strength probed, where an effect is taken as absent). Means and SEs are emulated separately.
+class Emulator {
+ public:
+  Emulator(const std::vector<Prediction>& baseline, const Response& r);
+  Prediction at(size_t cell, double u) const;
+  std::vector<Prediction> at(double u) const;
+  double u_lo() const { return u_lo_; }  // the anchor of the baseline
+  double u_hi() const { return u_hi_; }  // the strongest strength probed
+  size_t cells() const { return mean_.size(); }
+
+ private:
+  std::vector<std::vector<double>> mean_, se_;  // polynomial coefficients per cell, ascending powers
+  double u_lo_ = 0, u_hi_ = 0;
+};
+
+struct StrengthFit {
+  double strength = 0.0;      // best fit (10^u)
+  double lo = 0.0, hi = 0.0;  // Δχ² = 1 interval (clipped to the probed range)
+  double chi2 = 0.0;          // at the best fit, over the cells fitted
+  bool at_edge = false;       // the optimum sits at the probed range's edge
+};
+// Weighted least squares of the strength against the cells `idx` (all when empty): χ²(u) on a dense grid over
+// [u_lo, u_hi], refined by golden-section search around the grid minimum.
+StrengthFit fit_strength(const std::vector<Cell>& cells, const Emulator& em,
+                         const std::vector<size_t>& idx = {});
+
+// Leave-one-condition-out score: for every condition c, fit the strength without c's cells, predict c's
+// cells, and add their χ². The null model (no effect, nothing fitted) scores Σ χ² of the baseline.
+double loco_score(const std::vector<Cell>& cells, const Emulator& em);
+double loco_null(const std::vector<Cell>& cells, const std::vector<Prediction>& baseline);
+
+struct Candidate {
+  std::string effect;
+  double screen = 0.0;
+  double loco = 0.0;
+  StrengthFit fit;  // on all cells
+};
+
+// The verdict rule (README, "Sim-to-real diagnosis"):
+//  no_gap      no cell significant at FDR q (Benjamini-Hochberg);
+//  effect      else, the candidate with the lowest LOCO score when it beats the null by a clear margin:
+//              LOCO_best <= ratio x LOCO_null and LOCO_null - LOCO_best >= min_drop;
+//  unexplained otherwise (the ranking is still reported).
+struct VerdictRule {
+  double q = 0.05;
+  double ratio = 0.5;
+  double min_drop = 4.0;
+};
+struct Verdict {
+  std::string kind;                // "no_gap", "effect", "unexplained"
+  std::string effect;              // the chosen effect when kind == "effect"
+  std::vector<Candidate> ranking;  // by LOCO score, best first
+  double null_loco = 0.0;
+  double held_out_shrink = 0.0;  // 1 - LOCO_best / LOCO_null (the left-out predictions)
+};
+Verdict decide(const std::vector<Cell>& cells, const std::vector<Prediction>& baseline,
+               const std::vector<Response>& responses, const std::vector<double>& screens,
+               const VerdictRule& rule = {});
+
+}  // namespace wetdem::diagnose

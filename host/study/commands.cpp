@@ -1,0 +1,302 @@
+#include "study/commands.h"
+
+#include <fmt/format.h>
+
+#include <CLI/CLI.hpp>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "app/drum/psd.h"
+#include "study/calibrate.h"
+#include "study/collect.h"
+#include "study/executor.h"
+#include "study/refine.h"
+#include "study/slurm.h"
+
+namespace wetdem::study {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+std::string default_dir(const StudySpec& s) {
+  return (fs::path("studies") / s.name).string();
+}
+
+// Particles and steps of a run, estimated from the PSD model as `wetdem check` does (the run draws its own).
+std::pair<double, double> size_of(const app::Case& c) {
+  const Psd psd(c.psd);
+  const double v = kPi * 0.25 * c.drum.diameter * c.drum.diameter * c.drum.sim_length();
+  const double n = c.drum.fill * v * c.drum.bed_solid_fraction / psd.mean_volume();
+  const double tr = rayleigh_time(0.5 * psd.d_min(), c.material.density,
+                                  c.material.G / c.material.stiffness_reduction, c.material.nu);
+  const double dt = c.run.dt ? *c.run.dt : c.run.dt_rayleigh_fraction * tr;
+  return {n, std::round((c.run.settle + c.run.duration) / dt)};
+}
+
+class Impl : public Commands {
+ public:
+  explicit Impl(CLI::App& cli) {
+    study_ = cli.add_subcommand("study", "studies: many runs of a case over a grid, locally or on Slurm");
+    study_->require_subcommand(1);
+    plan_ = study_->add_subcommand("plan", "list the runs of a study file, their size and estimated cost");
+    plan_->add_option("study", file_, "study file (TOML)")->required();
+    plan_->add_option("--out", dir_,
+                      "study directory whose completed runs are counted (default studies/<name>)");
+    plan_->add_option("--throughput", throughput_,
+                      "particle-steps per second for the estimate (default: the "
+                      "mean of the study's completed runs)");
+
+    run_ = study_->add_subcommand("run", "run what is missing; progress line with ETA");
+    run_->add_option("study", file_, "study file (TOML)")->required();
+    run_->add_option("--out", dir_, "study directory (default studies/<name>)");
+    run_->add_option("--jobs", jobs_, "runs at a time (default 1: one per GPU; lavapipe uses every core)");
+    run_->add_option("--device", device_, "device for every run (index, name substring, gpu, cpu)");
+    run_->add_flag("--retry-failed", retry_, "rerun runs that failed (FAILED.txt) before");
+    run_->add_flag("--no-collect", no_collect_, "do not collect when the runs are done");
+    run_->add_flag("--calibrate", calibrate_after_,
+                   "calibrate after collecting (the study has observations)");
+
+    one_ = study_->add_subcommand("run-one", "run one run of a planned study (what a Slurm array task does)");
+    one_->add_option("dir", dir_, "study directory")->required();
+    one_->add_option("--index", index_, "run index (0-based, as in index.json)")->required();
+    one_->add_option("--device", device_, "device");
+    one_->add_flag("--quiet", quiet_, "no progress on stdout");
+
+    slurm_ = study_->add_subcommand("slurm", "write a Slurm job array for the missing runs");
+    slurm_->add_option("study", file_, "study file (TOML)")->required();
+    slurm_->add_option("--out", dir_, "study directory (default studies/<name>)");
+    slurm_->add_option("--partition", so_.partition, "Slurm partition");
+    slurm_->add_option("--time", so_.time, "time limit per task (Slurm format, e.g. 02:00:00)");
+    slurm_->add_option("--gpus-per-task", so_.gpus_per_task, "GPUs per task (default: none requested)");
+    slurm_->add_option("--max-parallel", so_.max_parallel, "at most K tasks at once (%K)");
+    slurm_->add_option("--device", so_.device, "device for every run");
+    slurm_->add_flag("--retry-failed", so_.retry_failed, "include runs that failed before");
+    slurm_->add_flag("--submit", submit_, "submit with sbatch");
+
+    collect_ = study_->add_subcommand("collect", "runs.csv, points.csv, figures and report.md of a study");
+    collect_->add_option("dir", dir_, "study directory")->required();
+    collect_->add_flag("--no-figures", no_figures_, "tables and report only");
+
+    cal_ = cli.add_subcommand("calibrate", "fit the study's axes to its observation table (chi2, emulator)");
+    cal_->add_option("dir", dir_, "study directory")->required();
+    cal_->add_option("--observations", co_.observations, "observation table (default: the study's)");
+    cal_->add_option("--fit", co_.fit, "fitted axes (default: the study's [observations].fit)");
+    cal_->add_option("--refine", refine_,
+                     "add and run the K most promising new fit values, then calibrate again");
+    cal_->add_option("--jobs", jobs_, "runs at a time for --refine");
+    cal_->add_option("--device", device_, "device for --refine runs");
+  }
+
+  bool selected() const override { return study_->parsed() || cal_->parsed(); }
+
+  int execute() override {
+    try {
+      if (plan_->parsed()) return plan();
+      if (run_->parsed()) return run();
+      if (one_->parsed()) return run_one_cmd();
+      if (slurm_->parsed()) return slurm();
+      if (collect_->parsed()) return collect_cmd();
+      if (cal_->parsed()) return calibrate_cmd();
+    } catch (const StudyError& e) {
+      std::fprintf(stderr, "wetdem: error: %s\n", e.what());
+      return 2;
+    } catch (const app::CaseError& e) {
+      std::fprintf(stderr, "wetdem: error: %s\n", e.what());
+      return 2;
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "wetdem: error: %s\n", e.what());
+      return 1;
+    }
+    return 2;
+  }
+
+ private:
+  int plan() {
+    const StudySpec s = parse_study_file(file_);
+    const std::vector<PlannedRun> runs = expand(s);
+    const std::string dir = dir_.empty() ? default_dir(s) : dir_;
+    // Throughput: given, or the mean particle_steps_per_s of completed runs in the study directory.
+    double tp = throughput_;
+    std::string tp_src = "--throughput";
+    size_t measured = 0;
+    if (!(tp > 0)) {
+      double sum = 0;
+      if (fs::exists(fs::path(dir) / "runs"))
+        for (const auto& e : fs::directory_iterator(fs::path(dir) / "runs")) {
+          std::ifstream f(e.path() / "summary.json");
+          if (!f) continue;
+          try {
+            const double v = nlohmann::json::parse(f).value("particle_steps_per_s", 0.0);
+            if (v > 0) sum += v, ++measured;
+          } catch (const std::exception&) {
+          }
+        }
+      tp = measured ? sum / double(measured) : 0;
+      tp_src = fmt::format("mean particle_steps_per_s of {} completed runs in {}", measured, dir);
+    }
+    std::printf("study %s: %zu points x %zu seeds = %zu runs (base %s)\n", s.name.c_str(), s.points.size(),
+                s.seeds.size(), runs.size(), s.base.c_str());
+    std::printf("%5s %5s %6s %-16s %-10s %9s %9s  %s\n", "index", "point", "seed", "hash", "state",
+                "particles", "steps", "values");
+    double ps_todo = 0, ps_all = 0;
+    size_t done = 0;
+    for (const PlannedRun& r : runs) {
+      const auto [n, steps] = size_of(r.resolved);
+      const RunState st = run_state((fs::path(dir) / "runs" / r.hash).string());
+      std::string vals;
+      for (const AxisValue& a : r.values) vals += (vals.empty() ? "" : ", ") + a.key + " = " + a.written;
+      std::printf("%5zu %5zu %6llu %-16s %-10s %9.0f %9.0f  %s\n", r.index, r.point,
+                  (unsigned long long)r.seed, r.hash.c_str(), state_name(st), n, steps, vals.c_str());
+      ps_all += n * steps;
+      if (st == RunState::Complete)
+        ++done;
+      else
+        ps_todo += n * steps;
+    }
+    std::printf("%zu of %zu runs complete; %.3g particle-steps to compute (%.3g in all)\n", done, runs.size(),
+                ps_todo, ps_all);
+    if (tp > 0)
+      std::printf(
+          "estimated cost: %.3g s of device time at %.3g particle-steps/s (%s); excludes start-up, "
+          "filling and output\n",
+          ps_todo / tp, tp, tp_src.c_str());
+    else
+      std::printf(
+          "estimated cost: unknown (no completed run in %s to measure throughput; give "
+          "--throughput or run one run first)\n",
+          dir.c_str());
+    return 0;
+  }
+
+  static void on_signal(int s) {
+    request_study_interrupt();
+    std::signal(s, SIG_DFL);
+  }
+
+  int run() {
+    const StudySpec s = parse_study_file(file_);
+    const std::vector<PlannedRun> runs = expand(s);  // every override validated before anything runs
+    const std::string dir = dir_.empty() ? default_dir(s) : dir_;
+    write_plan(dir, s, runs);
+    for (int sig : {SIGINT, SIGTERM}) std::signal(sig, on_signal);
+    ExecOptions eo;
+    eo.jobs = jobs_;
+    eo.device = device_;
+    eo.retry_failed = retry_;
+    eo.exe = self_exe();
+    const ExecReport r = run_study(dir, eo);
+    for (const std::string& f : r.failures) std::printf("  %s\n", f.c_str());
+    const double outside = r.wall_s - r.run_wall_s / double(std::max(1, jobs_));
+    std::printf(
+        "study %s: %zu runs, %zu already complete, %zu computed now, %zu failed, %zu stopped; wall %.1f s, "
+        "of which inside run processes %.1f s, inside the runs (their wall_time_s) %.1f s\n",
+        s.name.c_str(), r.total, r.already_complete, r.completed, r.failed + r.skipped_failed, r.stopped,
+        r.wall_s, r.process_wall_s, r.run_wall_s);
+    (void)outside;
+    if (r.interrupted) {
+      std::printf("interrupted: finished runs are kept; `wetdem study run` again continues the others\n");
+      return 1;
+    }
+    if (!no_collect_) {
+      collect(dir);
+      std::printf("collected: %s/report.md\n", dir.c_str());
+      if (calibrate_after_) {
+        const Calibration c = calibrate(dir, co_);
+        write_calibration(dir, c);
+        std::printf("calibrated: %s/calibration/calibration.md\n", dir.c_str());
+      }
+    }
+    return r.failed + r.skipped_failed ? 1 : 0;
+  }
+
+  int run_one_cmd() {
+    for (int sig : {SIGINT, SIGTERM}) std::signal(sig, on_signal);
+    const OneResult r = run_one(dir_, index_, device_, quiet_);
+    if (r.skipped) {
+      std::printf("run %zu: already complete\n", index_);
+      return 0;
+    }
+    if (!r.completed) {
+      std::fprintf(stderr, "wetdem: run %zu: %s\n", index_, r.error.c_str());
+      return 1;
+    }
+    return 0;
+  }
+
+  int slurm() {
+    const StudySpec s = parse_study_file(file_);
+    const std::vector<PlannedRun> runs = expand(s);
+    const std::string dir = fs::absolute(dir_.empty() ? default_dir(s) : dir_).string();
+    write_plan(dir, s, runs);
+    const SlurmScript sc = write_slurm(dir, so_);
+    if (sc.indices.empty()) {
+      std::printf("study %s: every run is complete; nothing to submit (collect: wetdem study collect %s)\n",
+                  s.name.c_str(), dir.c_str());
+      return 0;
+    }
+    std::printf("wrote %s: %zu array tasks (%s)\n", sc.path.c_str(), sc.indices.size(),
+                array_spec(sc.indices).c_str());
+    if (!submit_) {
+      std::printf("%s\n", sc.sbatch_line.c_str());
+      return 0;
+    }
+    std::printf("submitted job %s\n", submit_slurm(sc).c_str());
+    return 0;
+  }
+
+  int collect_cmd() {
+    CollectOptions o;
+    o.figures = !no_figures_;
+    const Collected c = collect(dir_, o);
+    size_t complete = 0;
+    for (const std::string& s : c.states) complete += s == "complete";
+    std::printf("%s: %zu of %zu runs complete; wrote runs.csv, points.csv, report.md%s\n", dir_.c_str(),
+                complete, c.states.size(), o.figures ? ", figures/" : "");
+    return 0;
+  }
+
+  int calibrate_cmd() {
+    if (refine_ > 0) {
+      for (int sig : {SIGINT, SIGTERM}) std::signal(sig, on_signal);
+      RefineOptions ro;
+      ro.k = refine_;
+      ro.jobs = jobs_;
+      ro.device = device_;
+      ro.calibrate = co_;
+      const std::string added = refine(dir_, ro);
+      std::printf("%s", added.c_str());
+    }
+    const Calibration c = calibrate(dir_, co_);
+    const std::string md = write_calibration(dir_, c);
+    CollectOptions o;
+    collect(dir_, o);  // the figures include the calibration's chi2 curve or map
+    std::printf("%s\nwrote %s/calibration/ (calibration.md, calibration.json, chi2.csv, emulator.csv)\n",
+                md.c_str(), dir_.c_str());
+    return 0;
+  }
+
+  CLI::App *study_ = nullptr, *plan_ = nullptr, *run_ = nullptr, *one_ = nullptr, *slurm_ = nullptr,
+           *collect_ = nullptr, *cal_ = nullptr;
+  std::string file_, dir_, device_;
+  double throughput_ = 0;
+  int jobs_ = 1;
+  size_t index_ = 0, refine_ = 0;
+  bool retry_ = false, no_collect_ = false, calibrate_after_ = false, quiet_ = false, submit_ = false,
+       no_figures_ = false;
+  SlurmOptions so_;
+  CalibrateOptions co_;
+};
+
+}  // namespace
+
+std::unique_ptr<Commands> add_commands(CLI::App& cli) {
+  return std::make_unique<Impl>(cli);
+}
+
+}  // namespace wetdem::study

@@ -1,0 +1,56 @@
+// Runs a study's missing runs: each in its own process (`wetdem study run-one DIR --index i`, isolation: a
+// crash or device loss fails one run), N at a time, with one progress line for the study. The same run-one is
+// what a Slurm array task executes.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "app/run/run.h"
+#include "study/store.h"
+
+namespace wetdem::study {
+
+struct OneResult {
+  bool skipped = false;    // already complete: nothing computed
+  bool completed = false;  // summary.json written
+  bool resumed = false;    // continued from a checkpoint
+  std::string error;       // why it failed or stopped
+};
+
+// Runs run `index` of the study in DIR in this process: skips a complete run, resumes one with a checkpoint,
+// restarts a partial one. `configure` may adjust the RunOptions (tests: stop_after_steps, on_sample,
+// context).
+OneResult run_one(const std::string& dir, size_t index, const std::string& device, bool quiet,
+                  const std::function<void(const IndexEntry&, app::RunOptions&)>& configure = {});
+
+struct ExecOptions {
+  int jobs = 1;
+  std::string device;
+  bool retry_failed = false;  // rerun runs whose FAILED.txt gives a reason other than an interruption
+  bool quiet = false;         // no progress line
+  // The wetdem binary for run processes; empty: run in this process, one at a time (tests).
+  std::string exe;
+  std::function<void(const IndexEntry&, app::RunOptions&)> configure;  // in-process runs only
+};
+
+struct ExecReport {
+  size_t total = 0, already_complete = 0, skipped_failed = 0;
+  size_t started = 0, completed = 0, failed = 0, stopped = 0;
+  double wall_s = 0;                  // the whole `study run`
+  double process_wall_s = 0;          // sum over started runs of their process (or run_one call) wall time
+  double run_wall_s = 0;              // sum of wall_time_s in the summaries of the runs completed now
+  std::vector<std::string> failures;  // "index hash: reason"
+  bool interrupted = false;
+};
+
+ExecReport run_study(const std::string& dir, const ExecOptions& opt);
+
+// Asks run_study to stop launching and to interrupt its running runs (async-signal-safe).
+void request_study_interrupt();
+
+// The path of the running executable (/proc/self/exe).
+std::string self_exe();
+
+}  // namespace wetdem::study

@@ -1,0 +1,94 @@
+// The local executor on real (tiny) runs, in this process: a second `study run` computes nothing, a stopped
+// run resumes from its checkpoint and ends bitwise where an uninterrupted run ends, a failed run is isolated.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "study/executor.h"
+#include "support/gpu.h"
+#include "support/study_files.h"
+
+namespace wetdem::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Two seeds of the micro case, cut to ~260 steps (0.1 s at dt ~ 3.8e-4 s), a checkpoint every 100 steps.
+std::string tiny_study(const std::string& dir) {
+  const std::string text = "name = \"tiny\"\nbase = \"" + micro_case() +
+                           "\"\nreplicates = 2\n[set]\n\"run.settle\" = \"0.04 s\"\n"
+                           "\"run.duration\" = \"0.06 s\"\n\"run.steady_state_start\" = \"0.02 s\"\n"
+                           "\"output.checkpoint_interval\" = 100\n";
+  const auto s = study::parse_study_file(write_text(dir + "/tiny.toml", text));
+  study::write_plan(dir + "/st", s, study::expand(s));
+  return dir + "/st";
+}
+
+nlohmann::json summary(const std::string& st, size_t i) {
+  const auto ix = study::read_index(st);
+  std::ifstream in(st + "/" + ix.runs[i].run_dir + "/summary.json");
+  return nlohmann::json::parse(in);
+}
+
+study::ExecOptions in_process() {
+  study::ExecOptions o;
+  o.quiet = true;
+  return o;
+}
+
+class StudyRun : public GpuTest {};
+
+TEST_F(StudyRun, StoppedRunResumesAndSecondRunComputesNothing) {
+  const std::string st = tiny_study(study_temp("resume"));
+  study::ExecOptions o = in_process();
+  o.configure = [](const study::IndexEntry& e, app::RunOptions& ro) {
+    ro.context = &gpu();
+    if (e.index == 1) ro.stop_after_steps = 100;  // as if killed after its first checkpoint
+  };
+  const study::ExecReport a = study::run_study(st, o);
+  EXPECT_EQ(a.completed, 1u);
+  EXPECT_EQ(a.stopped, 1u);
+  EXPECT_EQ(study::run_state(st + "/" + study::read_index(st).runs[1].run_dir), study::RunState::Resumable);
+  o.configure = [](const study::IndexEntry&, app::RunOptions& ro) { ro.context = &gpu(); };
+  const study::ExecReport b = study::run_study(st, o);
+  EXPECT_EQ(b.already_complete, 1u);
+  EXPECT_EQ(b.started, 1u);
+  EXPECT_EQ(b.completed, 1u);
+  EXPECT_EQ(summary(st, 1).value("resumed_from_step", 0u), 100u);
+  const study::ExecReport c = study::run_study(st, o);
+  EXPECT_EQ(c.already_complete, 2u);
+  EXPECT_EQ(c.started, 0u);
+  // The resumed run ends where an uninterrupted run of the same case ends: run it again from scratch.
+  const std::string resumed_hash = summary(st, 1)["final_state_hash"];
+  fs::remove_all(st + "/" + study::read_index(st).runs[1].run_dir);
+  EXPECT_EQ(study::run_study(st, o).completed, 1u);
+  EXPECT_EQ(summary(st, 1)["final_state_hash"], resumed_hash);
+}
+
+TEST_F(StudyRun, FailedRunIsIsolated) {
+  const std::string st = tiny_study(study_temp("failed"));
+  study::ExecOptions o = in_process();
+  o.configure = [](const study::IndexEntry& e, app::RunOptions& ro) {
+    ro.context = &gpu();
+    if (e.index == 0)
+      ro.on_sample = [](const app::Sample& s) {
+        if (s.step > 0) throw std::runtime_error("injected failure");
+      };
+  };
+  const study::ExecReport a = study::run_study(st, o);
+  EXPECT_EQ(a.failed, 1u);
+  EXPECT_EQ(a.completed, 1u);
+  const auto ix = study::read_index(st);
+  std::string why;
+  EXPECT_EQ(study::run_state(st + "/" + ix.runs[0].run_dir, &why), study::RunState::Failed);
+  EXPECT_NE(why.find("injected failure"), std::string::npos) << why;
+  EXPECT_TRUE(fs::exists(st + "/" + ix.runs[1].run_dir + "/summary.json"));
+  // Not retried unless asked.
+  const study::ExecReport b = study::run_study(st, o);
+  EXPECT_EQ(b.started, 0u);
+  EXPECT_EQ(b.skipped_failed, 1u);
+}
+
+}  // namespace
+}  // namespace wetdem::test
