@@ -227,6 +227,7 @@ RunResult run_case(const RunOptions& opt) {
     t.dt = d.dt;
     t.liquid_start = run->liquid_start();
     t.liquid_end = fin.total_liquid();
+    t.liquid_budget_end = fin.liquid_budget();
     t.liquid_unit_m3 = prep.prm.liquid_unit_m3;
     const double wall = wall_now();
     t.particle_steps_per_s = wall > 0 ? double(n) * double(run->step() - first_step) / wall : 0.0;

@@ -105,7 +105,10 @@ const Sample& DrumSession::sample() {
   x.bridges = o.bridges;
   x.f_wet = o.f_wet;
   x.kinetic_energy = o.kinetic_energy;
-  x.camera = observe::observe_camera(st, prep_.prm, liquid_start_);  // diagnosis.md §2
+  x.camera = observe::observe_camera(st, prep_.prm, liquid_start_);      // diagnosis.md §2
+  x.liquid_films = o.liquid_films, x.liquid_bridges = o.liquid_bridges;  // liquid accounting
+  x.liquid_pores = o.liquid_pores, x.liquid_evaporated = o.liquid_evaporated;
+  x.liquid_unit_m3 = prep_.prm.liquid_unit_m3;
   samples_.push_back(x);
   return samples_.back();
 }
