@@ -25,6 +25,7 @@
 #endif
 #ifdef WETDEM_HAVE_DIAGNOSE
 #include "diagnose/commands.h"
+#include "wetdem/version.h"
 #endif
 
 namespace {
@@ -68,7 +69,7 @@ int check(const std::string& path, const std::vector<std::string>& sets) {
 int main(int argc, char** argv) {
   CLI::App cli{"wetdem: DEM of wet granular materials in a rotating drum (Vulkan compute)"};
   cli.require_subcommand(1);
-  cli.set_version_flag("--version", std::string(WETDEM_VERSION) + "+" + WETDEM_GIT);
+  cli.set_version_flag("--version", wetdem::code_version());
 
   wetdem::app::RunOptions ro;
   auto* run = cli.add_subcommand("run", "run a case; results in the run folder (summary.json written last)");

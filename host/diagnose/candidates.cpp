@@ -1,6 +1,5 @@
 #include "diagnose/candidates.h"
 
-#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -24,32 +23,6 @@ double screen_score(const std::vector<Cell>& cells, const std::vector<Prediction
   return rr > 0 ? zr / std::sqrt(rr) : 0.0;
 }
 
-namespace {
-
-// Weighted least-squares polynomial (ascending coefficients) of degree min(2, n-1) through (u, y).
-std::vector<double> polyfit(const std::vector<double>& u, const std::vector<double>& y,
-                            const std::vector<double>& w) {
-  const int n = int(u.size());
-  const int deg = std::min(2, n - 1);
-  Eigen::MatrixXd A(n, deg + 1);
-  Eigen::VectorXd b(n);
-  for (int i = 0; i < n; ++i) {
-    const double sw = std::sqrt(w[size_t(i)]);
-    for (int j = 0; j <= deg; ++j) A(i, j) = sw * std::pow(u[size_t(i)], j);
-    b(i) = sw * y[size_t(i)];
-  }
-  const Eigen::VectorXd c = A.colPivHouseholderQr().solve(b);
-  return std::vector<double>(c.data(), c.data() + c.size());
-}
-
-double polyval(const std::vector<double>& c, double u) {
-  double s = 0, p = 1;
-  for (double x : c) s += x * p, p *= u;
-  return s;
-}
-
-}  // namespace
-
 Emulator::Emulator(const std::vector<Prediction>& baseline, const Response& r) {
   if (r.strengths.empty() || r.strengths.size() != r.pred.size())
     throw std::invalid_argument("Emulator: response of '" + r.effect +
@@ -62,26 +35,25 @@ Emulator::Emulator(const std::vector<Prediction>& baseline, const Response& r) {
     if (r.pred[s].size() != baseline.size())
       throw std::invalid_argument("Emulator: one prediction per cell at every strength ('" + r.effect + "')");
   }
-  u_hi_ = std::log10(r.strengths.back());
-  u_lo_ = std::log10(r.strengths.front()) - 1.0;
-  std::vector<double> u{u_lo_};
-  for (double s : r.strengths) u.push_back(std::log10(s));
+  u_.push_back(std::log10(r.strengths.front()) - 1.0);
+  for (double s : r.strengths) u_.push_back(std::log10(s));
   for (size_t k = 0; k < baseline.size(); ++k) {
-    std::vector<double> m{baseline[k].mean}, e{baseline[k].se}, w;
+    std::vector<double> m{baseline[k].mean}, e{baseline[k].se};
     for (const auto& p : r.pred) m.push_back(p[k].mean), e.push_back(p[k].se);
-    // Weights 1/SE² (relative to the median SE, floored so a zero SE does not pin the curve).
-    std::vector<double> es = e;
-    std::nth_element(es.begin(), es.begin() + long(es.size() / 2), es.end());
-    const double floor_se = std::max(1e-12, 0.1 * es[es.size() / 2]);
-    for (double x : e) w.push_back(1.0 / std::pow(std::max(x, floor_se), 2));
-    mean_.push_back(polyfit(u, m, w));
-    se_.push_back(polyfit(u, e, std::vector<double>(u.size(), 1.0)));
+    mean_.push_back(m);
+    se_.push_back(e);
   }
 }
 
 Prediction Emulator::at(size_t cell, double u) const {
-  u = std::clamp(u, u_lo_, u_hi_);
-  return {polyval(mean_[cell], u), std::max(0.0, polyval(se_[cell], u))};
+  u = std::clamp(u, u_.front(), u_.back());
+  size_t i = 0;
+  while (i + 2 < u_.size() && u > u_[i + 1]) ++i;
+  const double t = u_.size() < 2 ? 0.0 : (u - u_[i]) / (u_[i + 1] - u_[i]);
+  const auto lerp = [&](const std::vector<double>& y) {
+    return u_.size() < 2 ? y[0] : y[i] + t * (y[i + 1] - y[i]);
+  };
+  return {lerp(mean_[cell]), std::max(0.0, lerp(se_[cell]))};
 }
 
 std::vector<Prediction> Emulator::at(double u) const {

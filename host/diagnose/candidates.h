@@ -22,21 +22,23 @@ struct Response {
 double screen_score(const std::vector<Cell>& cells, const std::vector<Prediction>& baseline,
                     const std::vector<Prediction>& probe);
 
-// The response of every cell over u = log10(strength): a weighted least-squares polynomial of degree
-// min(2, n - 1) through the n points, where the baseline counts as strength 10^(u_min - 1) (a tenth of the
-// weakest strength probed, where an effect is taken as absent). Means and SEs are emulated separately.
+// The response of every cell over u = log10(strength): piecewise-linear interpolation through the baseline
+// (placed at u_lo = log10 of a tenth of the weakest strength probed, where the effect is taken as absent) and
+// the probes, in mean and in SE. Interpolation, not a smoothing fit: with three or four points per cell a
+// polynomial overshoots steep responses (f_wet against a wetted fraction), and an emulator that misplaces the
+// response misplaces the fitted strength. Outside [u_lo, u_hi] the end values hold (no extrapolation).
 class Emulator {
  public:
   Emulator(const std::vector<Prediction>& baseline, const Response& r);
   Prediction at(size_t cell, double u) const;
   std::vector<Prediction> at(double u) const;
-  double u_lo() const { return u_lo_; }  // the anchor of the baseline
-  double u_hi() const { return u_hi_; }  // the strongest strength probed
+  double u_lo() const { return u_.front(); }  // the anchor of the baseline
+  double u_hi() const { return u_.back(); }   // the strongest strength probed
   size_t cells() const { return mean_.size(); }
 
  private:
-  std::vector<std::vector<double>> mean_, se_;  // polynomial coefficients per cell, ascending powers
-  double u_lo_ = 0, u_hi_ = 0;
+  std::vector<double> u_;                       // knots: anchor, then log10 of every probe
+  std::vector<std::vector<double>> mean_, se_;  // per cell, per knot
 };
 
 struct StrengthFit {

@@ -1,4 +1,5 @@
 #include "study/study_file.h"
+#include "wetdem/version.h"
 
 #include <fmt/format.h>
 #include <toml++/toml.h>
@@ -11,9 +12,6 @@
 
 #ifndef WETDEM_VERSION
 #define WETDEM_VERSION "unknown"
-#endif
-#ifndef WETDEM_GIT
-#define WETDEM_GIT "unknown"
 #endif
 
 namespace wetdem::study {
@@ -87,7 +85,7 @@ std::string override_of(const AxisValue& v) {
 }
 
 std::string code_version() {
-  return std::string(WETDEM_VERSION) + "+" + WETDEM_GIT;
+  return wetdem::code_version();
 }
 
 std::string run_hash(const app::Case& c, uint64_t seed, const std::string& version) {

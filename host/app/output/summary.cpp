@@ -14,12 +14,10 @@
 #include "app/observe/window.h"
 #include "app/output/timeseries_stats.h"
 #include "wetdem/observables.h"
+#include "wetdem/version.h"
 
 #ifndef WETDEM_VERSION
 #define WETDEM_VERSION "unknown"
-#endif
-#ifndef WETDEM_GIT
-#define WETDEM_GIT "unknown"
 #endif
 
 namespace wetdem::app {
@@ -46,9 +44,10 @@ void write_file_atomic(const std::string& path, const std::string& content) {
 }
 
 std::string timeseries_header() {
-  std::string h = "time,aor_deg,com_x,com_y,contacts,bridges,f_wet,kinetic_energy,"
-                  "liquid_films_units,liquid_bridges_units,liquid_pores_units,liquid_evaporated_units,"
-                  "liquid_films_m3,liquid_bridges_m3,liquid_pores_m3,liquid_evaporated_m3";
+  std::string h =
+      "time,aor_deg,com_x,com_y,contacts,bridges,f_wet,kinetic_energy,"
+      "liquid_films_units,liquid_bridges_units,liquid_pores_units,liquid_evaporated_units,"
+      "liquid_films_m3,liquid_bridges_m3,liquid_pores_m3,liquid_evaporated_m3";
   for (const observe::CameraField& f : observe::kCameraFields) h += std::string(",") + f.name;
   return h + "\n";
 }
@@ -58,11 +57,11 @@ std::string timeseries_row(const Sample& s) {
   // observable is empty when it has no value (NaN), e.g. the plate angles on a periodic slice.
   const std::string aor = s.flagged ? "" : fmt::format("{:.9g}", std::fabs(s.aor_signed_deg));
   const double u = s.liquid_unit_m3;
-  std::string row =
-      fmt::format("{:.9g},{},{:.9g},{:.9g},{},{},{:.9g},{:.9g},{},{},{},{},{:.9g},{:.9g},{:.9g},{:.9g}", s.time, aor,
-                  s.com_x, s.com_y, s.contacts, s.bridges, s.f_wet, s.kinetic_energy, s.liquid_films,
-                  s.liquid_bridges, s.liquid_pores, s.liquid_evaporated, double(s.liquid_films) * u,
-                  double(s.liquid_bridges) * u, double(s.liquid_pores) * u, double(s.liquid_evaporated) * u);
+  std::string row = fmt::format(
+      "{:.9g},{},{:.9g},{:.9g},{},{},{:.9g},{:.9g},{},{},{},{},{:.9g},{:.9g},{:.9g},{:.9g}", s.time, aor,
+      s.com_x, s.com_y, s.contacts, s.bridges, s.f_wet, s.kinetic_energy, s.liquid_films, s.liquid_bridges,
+      s.liquid_pores, s.liquid_evaporated, double(s.liquid_films) * u, double(s.liquid_bridges) * u,
+      double(s.liquid_pores) * u, double(s.liquid_evaporated) * u);
   for (const observe::CameraField& f : observe::kCameraFields) {
     const double v = s.camera.*f.value;
     row += std::isfinite(v) ? fmt::format(",{:.9g}", v) : std::string(",");
@@ -292,7 +291,7 @@ nlohmann::json make_summary(const Case& c, const Derived& d, const std::vector<S
   j["inserted_psd_volume_basis_m"] = {
       {"d10", q.d10}, {"d25", q.d25}, {"d50", q.d50}, {"d75", q.d75}, {"d90", q.d90}};
   j["final_state_hash"] = t.final_state_hash;
-  j["code_version"] = std::string(WETDEM_VERSION) + "+" + WETDEM_GIT;
+  j["code_version"] = code_version();
   j["case"] = case_to_json(c);
   j["case_source"] = c.source;
   j["derived"] = derived_to_json(d);

@@ -21,6 +21,7 @@
 #include "app/run/resources.h"
 #include "app/run/session.h"
 #include "vk/context.h"
+#include "wetdem/version.h"
 
 namespace fs = std::filesystem;
 
@@ -64,8 +65,8 @@ fs::path open_run_folder(const RunOptions& opt, const Case& c) {
 void log_setup(RunLog& log, const Prepared& prep, const Schedule& sch, bool resume) {
   const Case& c = prep.c;
   const Derived& d = prep.derived;
-  log(fmt::format("wetdem {}+{} | {} | {} | case {}", WETDEM_VERSION, WETDEM_GIT,
-                  local_time("%Y-%m-%d %H:%M:%S"), resume ? "resume" : "run", c.source));
+  log(fmt::format("wetdem {} | {} | {} | case {}", code_version(), local_time("%Y-%m-%d %H:%M:%S"),
+                  resume ? "resume" : "run", c.source));
   for (const std::string& note : c.notes) log("note: " + note);
   for (const std::string& note : d.notes) log("note: " + note);
   log("psd: " + prep.psd_description);
