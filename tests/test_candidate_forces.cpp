@@ -74,7 +74,8 @@ class CandidateForces : public ::testing::TestWithParam<std::string> {
 };
 
 // viscous: the force against (gap, v_n, V_b) at eight points, approaching and separating, equal and unequal
-// spheres, wide gaps where the bridge truncates the force and a gap inside the cut-off. Equal spheres are
+// spheres, wide gaps where the bridge truncates the force (each inside its rupture distance: a state with a
+// bridge beyond S_c ruptures on upload) and a gap inside the cut-off. Equal spheres are
 // held to Pitois's equal-sphere form too (a third source).
 TEST_P(CandidateForces, ViscousForceFollowsPitois) {
   const double eta = 0.01, s_min = 1e-5;
@@ -84,7 +85,7 @@ TEST_P(CandidateForces, ViscousForceFollowsPitois) {
   const Point pts[] = {{1e-3, 1e-3, 2e-5, -0.05, 1e-12},    {1e-3, 1e-3, 1e-4, 0.03, 1e-11},
                        {1e-3, 0.6e-3, 5e-5, -0.02, 3e-12},  {0.8e-3, 1.2e-3, 3e-4, -0.1, 1e-10},
                        {1e-3, 0.5e-3, 1.5e-5, 0.04, 1e-13}, {1e-3, 1e-3, 4e-6, -0.05, 1e-12},
-                       {1e-3, 1e-3, 5e-4, -0.05, 1e-12},    {0.7e-3, 0.7e-3, 6e-5, -0.08, 5e-13}};
+                       {1e-3, 1e-3, 1.1e-4, -0.05, 1e-12},  {0.7e-3, 0.7e-3, 6e-5, -0.08, 5e-13}};
   const SimParams prm = lubricated(eta, s_min, 1e-7);
   for (const Point& p : pts) {
     SystemState st;
