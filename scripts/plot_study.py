@@ -21,11 +21,18 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.ticker  # noqa: E402
 
 
 def read_csv(path):
+    """Rows as dicts; lines starting with '#' are comments (observation tables may have them)."""
     with open(path, newline="") as f:
-        return list(csv.DictReader(f))
+        return list(csv.DictReader(line for line in f if not line.startswith("#")))
+
+
+def plain_log_ticks(axis):
+    """Log axis labelled 0.1, 1, 10 rather than 10^-1, 10^0, 10^1."""
+    axis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: "%g" % v))
 
 
 def num(s):
@@ -143,6 +150,7 @@ def main():
             ax.errorbar([v * 100 for v, _ in sel], [num(p["bridges_mean_mean"]) for _, p in sel],
                         yerr=[num(p.get("bridges_mean_se")) or 0 for _, p in sel], marker="o", capsize=3)
             ax.set_xscale("log")
+            plain_log_ticks(ax.xaxis)
             ax.set_xlabel("V_max / V̄_S (%)")
             ax.set_ylabel("liquid bridges (wet contacts), window mean")
             ax.set_title("%s: wet contacts vs V_max at %s = %s" % (name, x_key, written.get((x_key, top), top)),
@@ -171,6 +179,7 @@ def main():
             ax.axvline(cj["optimum"][0] * pct[0], color="C2", label="optimum %.3g" % (cj["optimum"][0] * pct[0]))
             if cj["log_axis"][0]:
                 ax.set_xscale("log")
+                plain_log_ticks(ax.xaxis)
             ax.set_yscale("log")
             ax.set_xlabel(label(k, pct[0] == 100.0))
             ax.set_ylabel("χ²")

@@ -11,8 +11,8 @@
 #include <nlohmann/json.hpp>
 
 #include "app/case/case.h"
-#include "app/run/run.h"
 #include "app/case/units.h"
+#include "app/run/run.h"
 
 namespace wetdem::app {
 namespace {

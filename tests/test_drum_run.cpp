@@ -94,7 +94,12 @@ TEST_F(DrumRun, WritesSummaryTimeseriesAndFrames) {
   std::ifstream ts(base + "/run/timeseries.csv");
   std::string line;
   std::getline(ts, line);
-  EXPECT_EQ(line.rfind("time,aor_deg,com_x,com_y,contacts,bridges,f_wet,kinetic_energy,", 0), 0u) << line;
+  EXPECT_EQ(line.rfind("time,aor_deg,com_x,com_y,contacts,bridges,f_wet,kinetic_energy,liquid_films_units,"
+                       "liquid_bridges_units,liquid_pores_units,liquid_evaporated_units,liquid_films_m3,"
+                       "liquid_bridges_m3,liquid_pores_m3,liquid_evaporated_m3,",
+                       0),
+            0u)
+      << line;
   // A periodic slice has no plates: the slab angles are absent (not zero); the other camera observables
   // are there (tests/test_observe_drum_run.cpp checks a closed drum).
   EXPECT_FALSE(s.contains("aor_plate_deg"));

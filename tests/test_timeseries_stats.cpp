@@ -113,8 +113,8 @@ TEST(WindowStats, TooFewSamples) {
 
 // summary.json on the demo's AoR window (issue 12): 41 samples over 0.8 s holding a rigid tilt from 48 deg to
 // 70 deg, a slump to 21 deg and a slow rise. The old verdict (blocked SEM, halves compared with their blocked
-// SEMs) called this window stationary with a reliable SEM of 5.0 deg. The AoR is not stationary and its error bar is not reliable,
-// each with a reason, and the final log line says so.
+// SEMs) called this window stationary with a reliable SEM of 5.0 deg. The AoR is not stationary and its error
+// bar is not reliable, each with a reason, and the final log line says so.
 TEST(WindowStats, DemoLikeSummaryIsNotStationary) {
   const app::Case c = app::parse_case_file(std::string(WETDEM_SOURCE_DIR) + "/assets/demo.toml");
   const double t_from = c.run.settle + c.run.steady_state_start;

@@ -83,7 +83,7 @@ TEST(CapillaryWarning, NoFormableBridgeBelowThreshold) {
   l.enabled = true;
   l.v_min = 100;
   l.v_max = 1000;
-  EXPECT_EQ(smallest_formable_bridge(l, {40, 50, 45}), 0);  // 50 + 45 <= V_min: nothing forms
+  EXPECT_EQ(smallest_formable_bridge(l, {40, 50, 45}), 0);    // 50 + 45 <= V_min: nothing forms
   EXPECT_EQ(smallest_formable_bridge(l, {40, 50, 70}), 101);  // 50 + 70 > V_min: at least V_min + 1
   EXPECT_EQ(smallest_formable_bridge(l, {400, 500, 0}), 400);
   EXPECT_EQ(smallest_formable_bridge(l, {4000, 5000}), 1000);  // capped at V_max

@@ -110,4 +110,58 @@ void run_twin(const SimParams& prm, int steps, size_t n, uint64_t min_formations
       (unsigned long long)max_bridges, worst_f);
 }
 
+// The liquid sinks on both backends (params.h LiquidSinkParams): pore absorption up to capacity and
+// evaporation of films, pair and wall bridges, with bridges forming and rupturing. Every step: films, pores,
+// evaporated counters and bridges equal exactly.
+TEST_F(TwinWet, SinksMatchReferenceEveryStep) {
+  const double r_lo = 0.9e-3, r_hi = 1.0e-3;
+  SimParams prm = wet_twin_params(r_lo);
+  prm.sinks.pore_capacity = 6e-4;  // ~60 % of the 0.1 % films below: the larger particles fill up later
+  prm.sinks.absorption_rate = 300.0;
+  prm.sinks.evaporation_time = 0.02;
+  SystemState s = random_drum_packing(prm, 400, r_lo, r_hi, 12, 0.15);
+  for (size_t k = 0; k < s.p.size(); ++k) s.p.film[k] = int64_t(std::ldexp(1.0, 40) * 1e-3) + int64_t(k);
+  System gpu_sys(gpu(), prm, s.p.size());
+  ref::ReferenceSystem ref_sys(prm);
+  const int64_t liquid0 = s.total_liquid();
+  uint64_t formations = 0, full = 0;
+  for (int step = 0; step < 300; ++step) {
+    ref_sys.set_state(s);
+    gpu_sys.upload(s);
+    ref_sys.step();
+    gpu_sys.step(1);
+    SystemState r = ref_sys.state();
+    SystemState g = gpu_sys.download();
+    ASSERT_EQ(r.total_liquid(), liquid0) << "reference liquid, step " << step;
+    ASSERT_EQ(g.total_liquid(), liquid0) << "gpu liquid, step " << step;
+    ASSERT_EQ(g.p.film, r.p.film) << "films, step " << step;
+    ASSERT_EQ(g.p.pore, r.p.pore) << "pores, step " << step;
+    ASSERT_EQ(g.p.evaporated, r.p.evaporated) << "evaporated, step " << step;
+    std::vector<std::tuple<uint32_t, uint32_t, int64_t, uint32_t>> br, bg;
+    for (auto& p : r.pairs)
+      if (p.bridge > 0 || p.flags) br.emplace_back(p.id_i, p.id_j, p.bridge, p.flags);
+    for (auto& p : g.pairs)
+      if (p.bridge > 0 || p.flags) bg.emplace_back(p.id_i, p.id_j, p.bridge, p.flags);
+    ASSERT_EQ(bg, br) << "bridges, step " << step;
+    for (size_t k = 0; k < r.p.wall.size(); ++k)
+      ASSERT_EQ(g.p.wall[k].bridge, r.p.wall[k].bridge) << "wall bridge " << k << ", step " << step;
+    ASSERT_LT(norm_scaled_error(g.p.f, r.p.f), 1e-5) << "force, step " << step;
+    formations += ref_sys.read_events().formations;
+    gpu_sys.read_events();
+    s = r;
+  }
+  for (size_t k = 0; k < s.p.size(); ++k)
+    full += s.p.pore[k] == pore_capacity_units(prm.sinks.pore_capacity, s.p.radius[k], prm.liquid_unit_m3);
+  const LiquidBudget lb = s.liquid_budget();
+  EXPECT_GT(formations, 50u);
+  EXPECT_GT(full, 0u) << "some pores filled up";
+  EXPECT_LT(full, s.p.size()) << "and some did not";
+  EXPECT_GT(lb.evaporated, 0);
+  std::printf(
+      "twin sinks: %zu particles, %llu formations, %llu full pores, budget films %lld bridges %lld pores "
+      "%lld evaporated %lld\n",
+      s.p.size(), (unsigned long long)formations, (unsigned long long)full, (long long)lb.films,
+      (long long)lb.bridges, (long long)lb.pores, (long long)lb.evaporated);
+}
+
 }  // namespace wetdem::test

@@ -4,6 +4,8 @@
 //   wetdem devices                                   list Vulkan devices
 //   wetdem study plan|run|run-one|slurm|collect ...  studies (host/study/, README "Studies and calibration")
 //   wetdem calibrate DIR [--refine K]                fit a study to its observation table
+//   wetdem diagnose D.toml --out DIR                 sim-to-real diagnosis (host/diagnose/, README)
+//   wetdem twin T.toml --out DIR                     observations from a model with a withheld effect
 // Exit codes: 0 done; 2 bad input (one line naming the key, nothing written); 1 the run or the device failed.
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
@@ -15,10 +17,14 @@
 
 #include "app/case/case.h"
 #include "app/drum/psd.h"
+#include "app/run/resources.h"
 #include "app/run/run.h"
 #include "vk/context.h"
 #ifdef WETDEM_HAVE_STUDY
 #include "study/commands.h"
+#endif
+#ifdef WETDEM_HAVE_DIAGNOSE
+#include "diagnose/commands.h"
 #endif
 
 namespace {
@@ -43,6 +49,16 @@ int check(const std::string& path, const std::vector<std::string>& sets) {
       "# about %.0f particles; r_min = %.4g m, Rayleigh time %.4g s, dt = %.4g s, %.0f steps (%.3g "
       "particle-steps)\n",
       n, r_min, tr, dt, steps, n * steps);
+  {  // Issue 12: the resource estimate (host/app/run/resources.h) and whether this host could hold it.
+    const app::ResourceEstimate e = app::estimate_resources(c);
+    std::printf("%s",
+                app::describe_resources(e, app::kLavapipeThroughput, app::kLavapipeThroughputSource).c_str());
+    try {
+      app::check_resources(e, {std::nullopt, "", app::host_available_bytes()});
+    } catch (const app::CaseError& err) {
+      std::printf("# WARNING: a run would be refused: %s\n", err.what());
+    }
+  }
   std::printf("%s", app::case_to_toml(c).c_str());
   return 0;
 }
@@ -82,6 +98,10 @@ int main(int argc, char** argv) {
   // Studies and calibration: registered and run by host/study/commands.cpp.
   const auto study_cmds = wetdem::study::add_commands(cli);
 #endif
+#ifdef WETDEM_HAVE_DIAGNOSE
+  // The sim-to-real diagnosis and twins: registered and run by host/diagnose/commands.cpp.
+  const auto diagnose_cmds = wetdem::diagnose::add_commands(cli);
+#endif
 
   try {
     cli.parse(argc, argv);
@@ -97,6 +117,9 @@ int main(int argc, char** argv) {
     if (*chk) return check(check_path, check_sets);
 #ifdef WETDEM_HAVE_STUDY
     if (study_cmds->selected()) return study_cmds->execute();
+#endif
+#ifdef WETDEM_HAVE_DIAGNOSE
+    if (diagnose_cmds->selected()) return diagnose_cmds->execute();
 #endif
     if (ro.case_path.empty() && ro.resume_dir.empty()) {
       std::fprintf(stderr, "wetdem run: give a case file (or --resume DIR)\n");

@@ -192,13 +192,17 @@ class Impl : public Commands {
     eo.exe = self_exe();
     const ExecReport r = run_study(dir, eo);
     for (const std::string& f : r.failures) std::printf("  %s\n", f.c_str());
+    // Overhead: wall time of the study not spent inside the runs' own timed loops (their wall_time_s), i.e.
+    // planning, process and device start-up, set-up and bookkeeping. With N jobs the runs overlap: divide by
+    // N.
     const double outside = r.wall_s - r.run_wall_s / double(std::max(1, jobs_));
     std::printf(
         "study %s: %zu runs, %zu already complete, %zu computed now, %zu failed, %zu stopped; wall %.1f s, "
-        "of which inside run processes %.1f s, inside the runs (their wall_time_s) %.1f s\n",
+        "inside run processes %.1f s, inside the runs (their wall_time_s) %.1f s: overhead %.1f s "
+        "(%.1f %%)\n",
         s.name.c_str(), r.total, r.already_complete, r.completed, r.failed + r.skipped_failed, r.stopped,
-        r.wall_s, r.process_wall_s, r.run_wall_s);
-    (void)outside;
+        r.wall_s, r.process_wall_s, r.run_wall_s, outside,
+        r.run_wall_s > 0 ? 100.0 * outside / r.wall_s : 0.0);
     if (r.interrupted) {
       std::printf("interrupted: finished runs are kept; `wetdem study run` again continues the others\n");
       return 1;

@@ -244,8 +244,9 @@ ExecReport run_study(const std::string& dir, const ExecOptions& opt) {
       const bool ok = fs::exists(fs::path(dir) / e.run_dir / "summary.json");
       std::string why;
       if (!ok) {
-        why = WIFSIGNALED(status) ? fmt::format("killed by signal {}", WTERMSIG(status))
-                                  : fmt::format("exit {}", WEXITSTATUS(status));
+        why = (WIFSIGNALED(status) ? fmt::format("killed by signal {}", WTERMSIG(status))
+                                   : fmt::format("exit {}", WEXITSTATUS(status))) +
+              fmt::format(" (see logs/run-{}.log)", e.index);
         const std::string l = first_line(fs::path(dir) / e.run_dir / "FAILED.txt");
         if (!l.empty()) why = l;
       }

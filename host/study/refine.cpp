@@ -38,7 +38,9 @@ std::string refine(const std::string& dir, const RefineOptions& opt) {
     for (const auto& c : conds) {
       toml::table t;
       for (const auto& [k, w] : c) t.insert(k, w);
-      for (size_t k = 0; k < cal.fit.size(); ++k) t.insert(cal.fit[k], p[k]);
+      // Four significant digits: the emulator's grid is no finer, and the study file stays readable.
+      for (size_t k = 0; k < cal.fit.size(); ++k)
+        t.insert(cal.fit[k], std::stod(fmt::format("{:.4g}", p[k])));
       pts.push_back(std::move(t));
     }
   }

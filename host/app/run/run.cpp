@@ -18,6 +18,7 @@
 #include "app/output/progress.h"
 #include "app/run/log.h"
 #include "app/run/outputs.h"
+#include "app/run/resources.h"
 #include "app/run/session.h"
 #include "vk/context.h"
 
@@ -92,13 +93,8 @@ void log_setup(RunLog& log, const Prepared& prep, const Schedule& sch, bool resu
       sch.n_settle, sch.total - sch.n_settle, sch.sample, sch.snapshot, sch.checkpoint));
 }
 
-void log_result(RunLog& log, const nlohmann::json& s, const fs::path& dir, double t_from, double t_to) {
-  if (s["aor_flag"].get<bool>())
-    log("AoR: flagged (bed near the drum centre: no angle reported)");
-  else
-    log(fmt::format("AoR = {:.2f}° ± {:.2f}° (sd {:.2f}°, {} samples over {:.4g}-{:.4g} s)",
-                    s["aor_deg_mean"].get<double>(), s["aor_sem_block"].get<double>(),
-                    s["aor_deg_std"].get<double>(), s["aor_samples"].get<size_t>(), t_from, t_to));
+void log_result(RunLog& log, const nlohmann::json& s, const fs::path& dir) {
+  log(aor_log_line(s));  // with tau_int, n_eff and the stationarity verdict (issue 12)
   auto num = [](const nlohmann::json& v) {
     return v.is_number() ? fmt::format("{:.4g}", v.get<double>()) : "-";
   };
@@ -117,10 +113,6 @@ RunResult run_case(const RunOptions& opt) {
   RunLog log(opt.quiet);
   // Prepare and fill: everything that depends only on the input, before any file or device.
   const Case c = resolve_case(opt);
-  const Prepared prep = prepare_run(c);
-  const Derived& d = prep.derived;
-  const size_t n = prep.state.p.size();
-
   std::unique_ptr<vk::Context> own_ctx;
   vk::Context* ctx = opt.context;
   if (!ctx) {
@@ -130,6 +122,11 @@ RunResult run_case(const RunOptions& opt) {
     own_ctx = std::make_unique<vk::Context>(co);
     ctx = own_ctx.get();
   }
+  // Refuse a case that cannot fit before the fill allocates anything (issue 12).
+  check_resources(estimate_resources(c), {device_heap_bytes(*ctx), ctx->info().name, host_available_bytes()});
+  const Prepared prep = prepare_run(c);
+  const Derived& d = prep.derived;
+  const size_t n = prep.state.p.size();
 
   const bool resume = !opt.resume_dir.empty();
   const fs::path dir = open_run_folder(opt, c);
@@ -230,6 +227,7 @@ RunResult run_case(const RunOptions& opt) {
     t.dt = d.dt;
     t.liquid_start = run->liquid_start();
     t.liquid_end = fin.total_liquid();
+    t.liquid_budget_end = fin.liquid_budget();
     t.liquid_unit_m3 = prep.prm.liquid_unit_m3;
     const double wall = wall_now();
     t.particle_steps_per_s = wall > 0 ? double(n) * double(run->step() - first_step) / wall : 0.0;
@@ -247,7 +245,7 @@ RunResult run_case(const RunOptions& opt) {
     // A complete run cannot be resumed: its checkpoint (device buffers, large) is dropped.
     fs::remove_all(dir / "checkpoint");
     fs::remove_all(dir / "checkpoint.old");
-    log_result(log, result.summary, dir, t_from, c.run.settle + c.run.duration);
+    log_result(log, result.summary, dir);
     result.completed = true;
     result.final_state = std::move(fin);
     return result;

@@ -33,6 +33,8 @@ DrumSession::DrumSession(vk::Context& ctx, const Prepared& prep, LogFn log)
     log_("WARNING: " + *w);
     dt_warned_ = true;
   }
+  // Candidate effect `viscous`: explicit stability of the lubrication damper (README "Candidate effects").
+  if (auto w = viscous_timestep_warning(prep.prm, prep.state)) log_("WARNING: " + *w);
 }
 
 DrumSession::DrumSession(vk::Context& ctx, const Prepared& prep, const Checkpoint& ck, LogFn log)
@@ -78,7 +80,7 @@ const Sample& DrumSession::sample() {
   const Observables o = compute_observables(st, sys_->params());
   // physics.md §6: warn (once) when dt is too large for the stiffest bridge present.
   if (!dt_warned_)
-    if (auto w = capillary_timestep_warning(sys_->params(), st)) {
+    if (auto w = capillary_timestep_warning_present(sys_->params(), st)) {
       log_("WARNING: " + *w);
       dt_warned_ = true;
     }
@@ -103,7 +105,10 @@ const Sample& DrumSession::sample() {
   x.bridges = o.bridges;
   x.f_wet = o.f_wet;
   x.kinetic_energy = o.kinetic_energy;
-  x.camera = observe::observe_camera(st, prep_.prm, liquid_start_);  // diagnosis.md §2
+  x.camera = observe::observe_camera(st, prep_.prm, liquid_start_);      // diagnosis.md §2
+  x.liquid_films = o.liquid_films, x.liquid_bridges = o.liquid_bridges;  // liquid accounting
+  x.liquid_pores = o.liquid_pores, x.liquid_evaporated = o.liquid_evaporated;
+  x.liquid_unit_m3 = prep_.prm.liquid_unit_m3;
   samples_.push_back(x);
   return samples_.back();
 }

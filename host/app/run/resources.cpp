@@ -1,0 +1,111 @@
+#include "app/run/resources.h"
+
+#include <fmt/format.h>
+#include <vulkan/vulkan.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "app/drum/psd.h"
+#include "vk/context.h"
+#include "wetdem/params.h"
+
+namespace wetdem::app {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kUsable = 0.9;  // refuse above 90 % of what is available
+
+std::string bytes(double b) {
+  const char* unit[] = {"B", "KB", "MB", "GB", "TB", "PB"};
+  int k = 0;
+  while (b >= 1000.0 && k < 5) b /= 1000.0, ++k;
+  return fmt::format("{:.3g} {}", b, unit[k]);
+}
+
+}  // namespace
+
+ResourceEstimate estimate_resources(const Case& c) {
+  ResourceEstimate e;
+  const Psd psd(c.psd);
+  const double v_drum = kPi * 0.25 * c.drum.diameter * c.drum.diameter * c.drum.sim_length();
+  const double vbar = psd.mean_volume();
+  e.particles = c.drum.fill * v_drum * c.drum.bed_solid_fraction / vbar;
+  // Neighbour entries: centres within 2 r̄ + S_c,max + skin (physics.md §4 interaction range).
+  const double r_bar = std::cbrt(3.0 * vbar / (4.0 * kPi));
+  const double s_cmax = c.liquid.on() ? (1.0 + 0.5 * c.liquid.theta) * std::cbrt(c.liquid.v_max * vbar) : 0.0;
+  const double skin = c.run.skin ? *c.run.skin : 0.3 * 0.5 * psd.d_min();
+  const double reach = (2.0 * r_bar + s_cmax + skin) / r_bar;
+  const double entries = std::max(16.0, c.drum.bed_solid_fraction * reach * reach * reach);
+  e.entries_per_particle = 1.5 * entries;
+  e.device_bytes = e.particles * (kDeviceBytesPerParticle + e.entries_per_particle * kDeviceBytesPerEntry);
+  e.host_bytes = e.particles * kHostBytesPerParticle;
+  const double tr = rayleigh_time(0.5 * psd.d_min(), c.material.density,
+                                  c.material.G / c.material.stiffness_reduction, c.material.nu);
+  const double dt = c.run.dt ? *c.run.dt : c.run.dt_rayleigh_fraction * tr;
+  e.steps = std::round((c.run.settle + c.run.duration) / dt);
+  e.particle_steps = e.particles * e.steps;
+  // n ∝ fill × D² × L / l³: the particle size factor is the strongest lever; name the drum key instead when
+  // the drum, not the particles, is what makes n large (a drum much longer or wider than the paper's 140 ×
+  // 280 mm).
+  e.driver_key = "scaling";
+  if (c.drum.sim_length() > 1.0)
+    e.driver_key = c.drum.periodic_slice ? "drum.slice_thickness" : "drum.length";
+  if (c.drum.diameter > 1.0) e.driver_key = "drum.diameter";
+  return e;
+}
+
+std::optional<double> host_available_bytes() {
+  std::ifstream f("/proc/meminfo");
+  std::string line;
+  while (std::getline(f, line)) {
+    std::istringstream is(line);
+    std::string key;
+    double kb = 0;
+    if (is >> key >> kb && key == "MemAvailable:") return kb * 1024.0;
+  }
+  return std::nullopt;
+}
+
+double device_heap_bytes(const vk::Context& ctx) {
+  VkPhysicalDeviceMemoryProperties mp{};
+  vkGetPhysicalDeviceMemoryProperties(ctx.physical(), &mp);
+  double best = 0;
+  for (uint32_t h = 0; h < mp.memoryHeapCount; ++h)
+    if (mp.memoryHeaps[h].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT)
+      best = std::max(best, double(mp.memoryHeaps[h].size));
+  return best;
+}
+
+void check_resources(const ResourceEstimate& e, const Available& a) {
+  auto refuse = [&](const std::string& what, double need, double have) {
+    throw CaseError(
+        e.driver_key,
+        fmt::format("the case needs about {:.3g} particles ({:.3g} neighbour entries each): {} of {} memory, "
+                    "but {} is available ({:.0f} % usable); a larger scaling (fewer, larger particles) or a "
+                    "smaller drum.fill / drum length reduces it",
+                    e.particles, e.entries_per_particle, bytes(need), what, bytes(have), kUsable * 100.0));
+  };
+  if (a.device_bytes && e.device_bytes > kUsable * *a.device_bytes)
+    refuse("device (" + a.device + ")", e.device_bytes, *a.device_bytes);
+  if (a.host_bytes && e.host_bytes > kUsable * *a.host_bytes) refuse("host", e.host_bytes, *a.host_bytes);
+  // The particle index is uint32 on the device.
+  if (e.particles > 4.0e9) refuse("device index range (uint32 particles)", e.particles, 4.0e9);
+}
+
+std::string describe_resources(const ResourceEstimate& e, double throughput, const std::string& source) {
+  const double secs = e.particle_steps / throughput;
+  std::string t = secs < 3600.0    ? fmt::format("{:.3g} min", secs / 60.0)
+                  : secs < 86400.0 ? fmt::format("{:.3g} h", secs / 3600.0)
+                                   : fmt::format("{:.3g} days", secs / 86400.0);
+  return fmt::format(
+      "# resources: about {:.3g} particles, {:.3g} neighbour entries each (with regrow headroom): device "
+      "memory {}, host memory {}; {:.3g} steps, {:.3g} particle-steps: {} at {:.3g} particle-steps/s ({})\n",
+      e.particles, e.entries_per_particle, bytes(e.device_bytes), bytes(e.host_bytes), e.steps,
+      e.particle_steps, t, throughput, source);
+}
+
+}  // namespace wetdem::app

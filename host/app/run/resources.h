@@ -1,0 +1,70 @@
+// Resource check before any work (issue 12 point 1): from the case alone (no fill), the expected particle
+// count, host and device memory and particle-steps; compared with the device's heap and the host's free
+// memory, a case that cannot fit is refused with an error naming the key that drives it.
+//
+// Particles: n = fill × π D²/4 × L_sim × bed_solid_fraction / V̄_S (the PSD model's mean volume), the same
+// estimate `wetdem check` prints; the fill then draws about that many.
+// Device bytes: per particle, the two particle sets of host/gpu/buffer_set.h (kParticleFieldBytes, 260 B
+// each) and the per-particle scratch (ref_pos 16, cell_key/sort_val/cnt_scan 12, liquid scratch 32, radix
+// sort ping-pong 8: 588 B), plus up to 8 cell-range entries of 8 B (the grid is hashed beyond 8 cells per
+// particle: 64 B); per neighbour-list entry, the two entry sets (kEntryFieldBytes, 56 B each) and the
+// per-entry scratch (pair_f/ti/tj 48, ev_a/ev_b 16): 176 B. Entries per particle: two-sided neighbours with
+// centres within 2 r̄ + S_c,max + skin in a bed of solid fraction φ, ≈ φ (d/r̄)³ (at least 16, the
+// initial capacity), times 1.5 for the headroom of a regrow (system.cpp grows to 1.5 × the need).
+// Host bytes: measured, the slope of the peak resident memory of `wetdem run` on lavapipe between the demo
+// slice (1,834 particles, 113 MB) and a 5x longer one (9,091 particles, 141 MB): 4.0 kB per particle. On
+// lavapipe that includes the device buffers (device memory is host memory there), so it errs high on a GPU.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "app/case/case.h"
+
+namespace wetdem::vk {
+class Context;
+}
+
+namespace wetdem::app {
+
+struct ResourceEstimate {
+  double particles = 0;             // expected n
+  double entries_per_particle = 0;  // neighbour-list entries allocated per particle (with regrow headroom)
+  double device_bytes = 0;
+  double host_bytes = 0;
+  double steps = 0;           // settle + duration over dt
+  double particle_steps = 0;  // particles × steps
+  std::string driver_key;     // the key the message names: what makes n large
+};
+
+struct Available {
+  std::optional<double> device_bytes;  // largest device-local heap; unknown without a device
+  std::string device;
+  std::optional<double> host_bytes;  // /proc/meminfo MemAvailable; unknown where absent
+};
+
+inline constexpr double kDeviceBytesPerParticle = 588.0 + 64.0;
+inline constexpr double kDeviceBytesPerEntry = 176.0;
+inline constexpr double kHostBytesPerParticle = 4000.0;
+// Throughput `wetdem check` quotes: the demo on lavapipe (README: ~1,800 particles at 114 steps/s).
+inline constexpr double kLavapipeThroughput = 2.0e5;
+inline constexpr const char* kLavapipeThroughputSource =
+    "lavapipe on 2 CPU cores, the demo (README); a GPU is faster";
+
+ResourceEstimate estimate_resources(const Case& c);
+
+// MemAvailable of /proc/meminfo in bytes, empty where the file or line is missing.
+std::optional<double> host_available_bytes();
+// Size of the largest DEVICE_LOCAL memory heap of the context's device.
+double device_heap_bytes(const vk::Context& ctx);
+
+// Throws CaseError(e.driver_key, ...) naming the need and what is available when the estimate exceeds 90 %
+// of the device heap or of the host's available memory.
+void check_resources(const ResourceEstimate& e, const Available& a);
+
+// Lines for `wetdem check`: particles, memory, particle-steps, and the time at `throughput` particle-steps/s.
+std::string describe_resources(const ResourceEstimate& e, double throughput,
+                               const std::string& throughput_source);
+
+}  // namespace wetdem::app

@@ -1,0 +1,86 @@
+#include "diagnose/commands.h"
+
+#include <fmt/format.h>
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <filesystem>
+
+#include "app/case/case.h"
+#include "diagnose/driver.h"
+#include "study/executor.h"
+#include "study/study_file.h"
+
+namespace wetdem::diagnose {
+
+namespace {
+
+class Impl : public Commands {
+ public:
+  explicit Impl(CLI::App& cli) {
+    diag_ = cli.add_subcommand("diagnose",
+                               "sim-to-real diagnosis: where the model misses, which effect explains it");
+    diag_->add_option("file", file_, "diagnosis file (TOML)")->required();
+    diag_->add_option("--observations", observations_, "observation table (CSV) instead of the file's");
+    add_common(diag_);
+    twin_ =
+        cli.add_subcommand("twin", "synthetic observations from a model with a withheld effect (validation)");
+    twin_->add_option("file", file_, "twin file (TOML)")->required();
+    add_common(twin_);
+  }
+  bool selected() const override { return diag_->parsed() || twin_->parsed(); }
+  int execute() override {
+    o_.exe = study::self_exe();
+    try {
+      if (diag_->parsed()) {
+        DiagnosisSpec d = parse_diagnosis_file(file_);
+        if (!observations_.empty()) {
+          if (!std::filesystem::exists(observations_))
+            throw DiagnoseError("--observations: no such file " + observations_);
+          d.observations = std::filesystem::absolute(observations_).lexically_normal().string();
+        }
+        const nlohmann::json j = run_diagnosis(d, o_);
+        std::printf("verdict: %s%s\nreport: %s/report.md\n", j["verdict"].get<std::string>().c_str(),
+                    j["effect"].is_string() ? (" (" + j["effect"].get<std::string>() + ")").c_str() : "",
+                    o_.out.c_str());
+      } else {
+        const TwinSpec t = parse_twin_file(file_);
+        run_twin(t, o_);
+        std::printf("observations: %s/observations.csv (truth apart: %s/truth.json)\n", o_.out.c_str(),
+                    o_.out.c_str());
+      }
+      return 0;
+    } catch (const DiagnoseError& e) {
+      std::fprintf(stderr, "wetdem: error: %s\n", e.what());
+      return 2;
+    } catch (const app::CaseError& e) {
+      std::fprintf(stderr, "wetdem: error: %s\n", e.what());
+      return 2;
+    } catch (const study::StudyError& e) {
+      std::fprintf(stderr, "wetdem: error: %s\n", e.what());
+      return 2;
+    }
+  }
+
+ private:
+  void add_common(CLI::App* c) {
+    c->add_option("--out", o_.out, "output directory")->required();
+    c->add_option("--store", o_.store, "run store to use and share (a study directory; default OUT/store)");
+    c->add_option("--jobs", o_.jobs, "runs at a time (default 1)");
+    c->add_option("--device", o_.device, "device for every run (index, name substring, gpu, cpu)");
+    c->add_flag("--quiet", o_.quiet, "no progress line");
+    c->add_flag(
+        "--no-figures", [this](int64_t) { o_.figures = false; }, "do not plot");
+  }
+  CLI::App *diag_ = nullptr, *twin_ = nullptr;
+  std::string file_, observations_;
+  DiagnoseOptions o_;
+};
+
+}  // namespace
+
+std::unique_ptr<Commands> add_commands(CLI::App& cli) {
+  return std::make_unique<Impl>(cli);
+}
+
+}  // namespace wetdem::diagnose

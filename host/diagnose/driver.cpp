@@ -1,0 +1,301 @@
+#include "diagnose/driver.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <random>
+#include <set>
+
+#include "app/output/summary.h"
+#include "diagnose/effects.h"
+#include "diagnose/report.h"
+#include "diagnose/runbook.h"
+#include "diagnose/where.h"
+#include "study/observations.h"
+
+namespace fs = std::filesystem;
+
+namespace wetdem::diagnose {
+
+const std::vector<std::string>& known_observables() {
+  static const std::vector<std::string> k = {"aor_deg_mean",
+                                             "aor_deg_std",
+                                             "f_wet_mean",
+                                             "bridges_mean",
+                                             "contacts_mean",
+                                             "aor_surface_deg",
+                                             "aor_plate_deg",
+                                             "aor_centre_deg",
+                                             "aor_drift_deg_per_rev",
+                                             "surface_velocity_mps",
+                                             "flowing_layer_depth_m",
+                                             "agglomerate_size_mean",
+                                             "drum_to_agglomerate_ratio",
+                                             "liquid_free_fraction"};
+  return k;
+}
+
+namespace {
+
+std::string label_of(const std::vector<study::AxisValue>& v) {
+  std::string s;
+  for (const auto& a : v) s += (s.empty() ? "" : ", ") + a.key + "=" + a.written;
+  return s;
+}
+
+study::ExecOptions exec_of(const DiagnoseOptions& o) {
+  study::ExecOptions e;
+  e.jobs = o.jobs;
+  e.device = o.device;
+  e.exe = o.exe;
+  e.quiet = o.quiet;
+  return e;
+}
+
+std::vector<uint64_t> seed_range(uint64_t first, int n) {
+  std::vector<uint64_t> s;
+  for (int i = 0; i < n; ++i) s.push_back(first + uint64_t(i));
+  return s;
+}
+
+Variant variant(const std::string& effect, double strength, double theta) {
+  Variant v;
+  if (effect.empty()) return v;
+  v.effect = effect;
+  v.strength = strength;
+  v.overrides = effect_spec(effect).overrides(strength, theta);
+  return v;
+}
+
+// The observation rows as conditions and cells; errors name the row.
+struct Table {
+  std::vector<Condition> conditions;
+  std::vector<size_t> cell_condition;
+  std::vector<Cell> cells;
+};
+
+Table read_table(const std::string& path) {
+  std::vector<study::Observation> rows;
+  try {
+    rows = study::read_observations(path);
+  } catch (const std::exception& e) {
+    throw DiagnoseError(e.what());
+  }
+  Table t;
+  for (const study::Observation& r : rows) {
+    const auto& known = known_observables();
+    if (std::find(known.begin(), known.end(), r.observable) == known.end()) {
+      std::string list;
+      for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+      throw DiagnoseError(
+          fmt::format("{}: line {}: unknown observable '{}' (known: {})", path, r.line, r.observable, list));
+    }
+    std::vector<study::AxisValue> v;
+    for (const auto& [k, w] : r.conditions) v.push_back({k, w, toml_text_of_written(w), std::nan("")});
+    std::sort(v.begin(), v.end(), [](const auto& a, const auto& b) { return a.key < b.key; });
+    const std::string label = label_of(v);
+    size_t ci = 0;
+    while (ci < t.conditions.size() && t.conditions[ci].label != label) ++ci;
+    if (ci == t.conditions.size()) t.conditions.push_back({v, label, {}});
+    t.cell_condition.push_back(ci);
+    Cell c;
+    c.observable = r.observable;
+    c.y = r.value;
+    c.sigma = r.sigma;
+    t.cells.push_back(c);
+  }
+  if (t.conditions.size() < 2)
+    throw DiagnoseError(
+        fmt::format("{}: {} condition(s): a diagnosis needs at least two (no held-out check "
+                    "is possible with one)",
+                    path, t.conditions.size()));
+  return t;
+}
+
+}  // namespace
+
+nlohmann::json run_diagnosis(const DiagnosisSpec& d, const DiagnoseOptions& o) {
+  const auto t0 = std::chrono::steady_clock::now();
+  Table tab = read_table(d.observations);
+  const std::string store = o.store.empty() ? (fs::path(o.out) / "store").string() : o.store;
+  RunBook book(store, d.path, d.name, d.case_path, d.set, exec_of(o));
+  const std::vector<uint64_t> base_seeds = seed_range(1, d.replicates);
+  const std::vector<uint64_t> fresh_seeds = seed_range(uint64_t(d.replicates) + 1, d.replicates);
+  const std::vector<uint64_t> probe_seed = {1};  // common random numbers with baseline replicate 1
+
+  // Validate every run the procedure may need before any runs (bad keys, conditions no case can express).
+  double theta = 0.0;
+  {
+    const app::Case base = app::parse_case_file(d.case_path, d.set);
+    theta = base.liquid.theta;
+  }
+  try {
+    for (Condition& c : tab.conditions) {
+      book.want(c, variant("", 0, theta), base_seeds);
+      for (const std::string& e : d.effects) {
+        const std::vector<double>& p = d.probes.at(e);
+        book.want(c, variant(e, p[p.size() / 2], theta), probe_seed);
+      }
+    }
+  } catch (const study::StudyError& e) {
+    throw DiagnoseError(e.what());
+  }
+  for (size_t k = 0; k < tab.cells.size(); ++k)
+    tab.cells[k].condition = tab.conditions[tab.cell_condition[k]].si;
+
+  auto predictions = [&](const Variant& v, const std::vector<uint64_t>& seeds) {
+    std::vector<Prediction> p;
+    for (size_t k = 0; k < tab.cells.size(); ++k)
+      p.push_back(book.predict(tab.conditions[tab.cell_condition[k]], v, seeds, tab.cells[k].observable));
+    return p;
+  };
+
+  // 1. Baseline and 3. screen probes (run together: both are needed whatever the verdict).
+  book.run();
+  const Variant base = variant("", 0, theta);
+  const std::vector<Prediction> baseline = predictions(base, base_seeds);
+  const std::vector<Prediction> base_seed1 = predictions(base, probe_seed);
+  // 2. Where.
+  const std::vector<CellGap> gaps = where(tab.cells, baseline, d.rule.q);
+  const bool any_gap = std::any_of(gaps.begin(), gaps.end(), [](const CellGap& g) { return g.significant; });
+
+  // 3. Screen: the probe's change against baseline replicate 1 (same seed), projected on the z-vector.
+  std::vector<std::pair<double, std::string>> screened;
+  for (const std::string& e : d.effects) {
+    const std::vector<double>& p = d.probes.at(e);
+    std::vector<Prediction> probe = predictions(variant(e, p[p.size() / 2], theta), probe_seed);
+    for (size_t k = 0; k < probe.size(); ++k)
+      probe[k].mean = baseline[k].mean + (probe[k].mean - base_seed1[k].mean);
+    screened.push_back({screen_score(tab.cells, baseline, probe), e});
+  }
+  std::stable_sort(screened.begin(), screened.end(),
+                   [](const auto& a, const auto& b) { return a.first > b.first; });
+
+  Report rep;
+  rep.spec = &d;
+  rep.cells = tab.cells;
+  for (size_t k = 0; k < tab.cells.size(); ++k)
+    rep.cell_condition.push_back(tab.conditions[tab.cell_condition[k]].label);
+  rep.baseline = baseline;
+  rep.gaps = gaps;
+  rep.where = describe_where(tab.cells, gaps);
+  rep.screened = screened;
+
+  if (!any_gap) {
+    rep.verdict.kind = "no_gap";
+    rep.verdict.null_loco = loco_null(tab.cells, baseline);
+  } else {
+    // 4. Fit and select: the top candidates at every probe strength (seed 1).
+    std::vector<std::string> top;
+    for (size_t i = 0; i < screened.size() && i < d.screen_top; ++i) top.push_back(screened[i].second);
+    for (Condition& c : tab.conditions)
+      for (const std::string& e : top)
+        for (double s : d.probes.at(e)) book.want(c, variant(e, s, theta), probe_seed);
+    book.run();
+    std::vector<Response> responses;
+    std::vector<double> scores;
+    for (const std::string& e : top) {
+      Response r;
+      r.effect = e;
+      r.strengths = d.probes.at(e);
+      for (double s : r.strengths) {
+        std::vector<Prediction> p = predictions(variant(e, s, theta), probe_seed);
+        // Common random numbers: the effect's change against replicate 1, on top of the replicate mean.
+        for (size_t k = 0; k < p.size(); ++k) p[k].mean = baseline[k].mean + (p[k].mean - base_seed1[k].mean);
+        r.pred.push_back(p);
+      }
+      responses.push_back(r);
+      for (const auto& [sc, name] : screened)
+        if (name == e) scores.push_back(sc);
+    }
+    rep.verdict = decide(tab.cells, baseline, responses, scores, d.rule);
+    rep.responses = responses;
+    // 5. Shrink: the chosen effect at its fitted strength (3 significant digits), fresh seeds.
+    if (rep.verdict.kind == "effect") {
+      const double s = std::stod(fmt::format("{:.3g}", rep.verdict.ranking.front().fit.strength));
+      rep.chosen_strength = s;
+      for (Condition& c : tab.conditions) book.want(c, variant(rep.verdict.effect, s, theta), fresh_seeds);
+      book.run();
+      rep.after = predictions(variant(rep.verdict.effect, s, theta), fresh_seeds);
+      rep.gaps_after = where(tab.cells, rep.after, d.rule.q);
+    }
+  }
+  rep.runs = book.runs();
+  rep.computed = book.computed();
+  rep.device = book.device();
+  rep.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  rep.store = store;
+  return write_report(o.out, rep, o.figures);
+}
+
+nlohmann::json run_twin(const TwinSpec& t, const DiagnoseOptions& o) {
+  const std::string store = o.store.empty() ? (fs::path(o.out) / "store").string() : o.store;
+  std::vector<std::string> set = t.set;
+  RunBook book(store, t.path, t.name, t.case_path, set, exec_of(o));
+  Variant truth;
+  truth.effect = "truth";
+  truth.overrides = t.truth;
+  // The Cartesian product of the conditions, in file order (last key fastest).
+  std::vector<Condition> conds;
+  std::vector<size_t> idx(t.condition_keys.size(), 0);
+  for (;;) {
+    Condition c;
+    for (size_t k = 0; k < idx.size(); ++k) {
+      const std::string& tv = t.condition_toml[k][idx[k]];
+      std::string written = tv;
+      if (written.size() >= 2 && written.front() == '"') written = written.substr(1, written.size() - 2);
+      c.values.push_back({t.condition_keys[k], written, tv, std::nan("")});
+    }
+    std::sort(c.values.begin(), c.values.end(), [](const auto& a, const auto& b) { return a.key < b.key; });
+    c.label = label_of(c.values);
+    conds.push_back(c);
+    size_t k = idx.size();
+    while (k > 0 && ++idx[k - 1] == t.condition_toml[k - 1].size()) idx[--k] = 0;
+    if (k == 0) break;
+  }
+  try {
+    for (Condition& c : conds) book.want(c, truth, t.seeds);
+  } catch (const study::StudyError& e) {
+    throw DiagnoseError(e.what());
+  }
+  for (const auto& [obs, sd] : t.noise) {
+    const auto& known = known_observables();
+    if (std::find(known.begin(), known.end(), obs) == known.end())
+      throw DiagnoseError(fmt::format("{}: [noise] {}: unknown observable", t.path, obs));
+    (void)sd;
+  }
+  book.run();
+  fs::create_directories(o.out);
+  std::mt19937_64 rng(t.noise_seed);
+  std::normal_distribution<double> unit(0.0, 1.0);
+  std::string csv;
+  for (const auto& v : conds.front().values) csv += v.key + ",";
+  csv += "observable,value,sigma,n,note\n";
+  nlohmann::json truth_json;
+  truth_json["name"] = t.name;
+  truth_json["truth"] = t.truth;
+  truth_json["seeds"] = t.seeds;
+  truth_json["noise"] = t.noise;
+  truth_json["noise_seed"] = t.noise_seed;
+  for (const Condition& c : conds) {
+    for (const auto& [obs, sd] : t.noise) {
+      const Prediction p = book.predict(c, truth, t.seeds, obs);
+      const double sigma = std::sqrt(sd * sd + p.se * p.se);
+      const double y = p.mean + sd * unit(rng);
+      std::string row;
+      for (const auto& v : c.values) row += "\"" + v.written + "\",";
+      csv += row + fmt::format("{},{:.9g},{:.6g},{},twin\n", obs, y, sigma, t.seeds.size());
+      truth_json["noiseless"].push_back(
+          {{"condition", c.label}, {"observable", obs}, {"mean", p.mean}, {"se", p.se}});
+    }
+  }
+  app::write_file_atomic((fs::path(o.out) / "observations.csv").string(), csv);
+  truth_json["device"] = book.device();
+  app::write_file_atomic((fs::path(o.out) / "truth.json").string(), truth_json.dump(2) + "\n");
+  return truth_json;
+}
+
+}  // namespace wetdem::diagnose

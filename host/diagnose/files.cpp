@@ -1,0 +1,216 @@
+#include "diagnose/files.h"
+
+#include <fmt/format.h>
+
+#include <toml++/toml.h>
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+
+#include "diagnose/effects.h"
+
+namespace fs = std::filesystem;
+
+namespace wetdem::diagnose {
+
+namespace {
+
+std::string value_toml(const toml::node& n) {
+  if (const auto* s = n.as_string()) return toml_text_of_written(s->get());
+  if (const auto* i = n.as_integer()) return std::to_string(i->get());
+  if (const auto* f = n.as_floating_point()) return fmt::format("{:.17g}", f->get());
+  if (const auto* b = n.as_boolean()) return b->get() ? "true" : "false";
+  throw DiagnoseError("a value must be a string, a number or a boolean");
+}
+
+std::string rel_path(const std::string& file, const std::string& p) {
+  const fs::path q(p);
+  return (q.is_absolute() ? q : fs::absolute(fs::path(file).parent_path() / q)).lexically_normal().string();
+}
+
+toml::table load(const std::string& path) {
+  if (!fs::exists(path)) throw DiagnoseError(path + ": no such file");
+  try {
+    return toml::parse_file(path);
+  } catch (const toml::parse_error& e) {
+    throw DiagnoseError(fmt::format("{}: line {}: {}", path, e.source().begin.line, e.description()));
+  }
+}
+
+std::string need_string(const toml::table& t, const std::string& file, const char* key) {
+  const auto* v = t.get(key);
+  if (!v || !v->is_string()) throw DiagnoseError(fmt::format("{}: {}: a string is required", file, key));
+  return v->as_string()->get();
+}
+
+std::vector<std::string> overrides_of(const toml::table& t, const std::string& file,
+                                      const std::string& section) {
+  std::vector<std::string> out;
+  for (const auto& [k, v] : t) {
+    try {
+      out.push_back(std::string(k.str()) + "=" + value_toml(v));
+    } catch (const DiagnoseError& e) {
+      throw DiagnoseError(fmt::format("{}: [{}] {}: {}", file, section, k.str(), e.what()));
+    }
+  }
+  return out;
+}
+
+void reject_unknown(const toml::table& t, const std::string& file, const std::vector<std::string>& known) {
+  for (const auto& [k, v] : t)
+    if (std::find(known.begin(), known.end(), std::string(k.str())) == known.end())
+      throw DiagnoseError(fmt::format("{}: {}: unknown key", file, k.str()));
+}
+
+}  // namespace
+
+std::string toml_text_of_written(const std::string& w) {
+  if (w == "true" || w == "false") return w;
+  char* end = nullptr;
+  std::strtod(w.c_str(), &end);
+  if (!w.empty() && end && *end == '\0') return w;
+  std::string q = "\"";
+  for (char ch : w) q += (ch == '"' || ch == '\\') ? std::string("\\") + ch : std::string(1, ch);
+  return q + "\"";
+}
+
+DiagnosisSpec parse_diagnosis_file(const std::string& path_in) {
+  const std::string path = fs::absolute(path_in).lexically_normal().string();
+  const toml::table root = load(path);
+  reject_unknown(root, path,
+                 {"name", "case", "observations", "effects", "replicates", "screen_top", "set", "probes",
+                  "verdict", "refit"});
+  DiagnosisSpec d;
+  d.path = path;
+  d.name = root["name"].value_or(fs::path(path).stem().string());
+  d.case_path = rel_path(path, need_string(root, path, "case"));
+  d.observations = rel_path(path, need_string(root, path, "observations"));
+  if (!fs::exists(d.case_path))
+    throw DiagnoseError(fmt::format("{}: case: no such file {}", path, d.case_path));
+  if (!fs::exists(d.observations))
+    throw DiagnoseError(fmt::format("{}: observations: no such file {}", path, d.observations));
+  if (root.contains("refit"))
+    throw DiagnoseError(
+        fmt::format("{}: refit: re-fitting model parameters with each effect is not supported by this "
+                    "version; remove the key",
+                    path));
+  if (const auto* e = root["effects"].as_array()) {
+    for (const auto& x : *e) {
+      if (!x.is_string()) throw DiagnoseError(fmt::format("{}: effects: names must be strings", path));
+      try {
+        d.effects.push_back(effect_spec(x.as_string()->get()).name);
+      } catch (const std::invalid_argument& ex) {
+        throw DiagnoseError(fmt::format("{}: effects: {}", path, ex.what()));
+      }
+    }
+    if (d.effects.empty()) throw DiagnoseError(fmt::format("{}: effects: name at least one effect", path));
+  } else if (root.contains("effects")) {
+    throw DiagnoseError(fmt::format("{}: effects: an array of effect names is required", path));
+  } else {
+    for (const EffectSpec& spec : effect_catalogue()) d.effects.push_back(spec.name);
+  }
+  if (root.contains("replicates")) {
+    const auto r = root["replicates"].value<int64_t>();
+    if (!r || *r < 1 || *r > 100)
+      throw DiagnoseError(fmt::format("{}: replicates: an integer in [1, 100]", path));
+    d.replicates = int(*r);
+  }
+  if (root.contains("screen_top")) {
+    const auto r = root["screen_top"].value<int64_t>();
+    if (!r || *r < 1) throw DiagnoseError(fmt::format("{}: screen_top: an integer >= 1", path));
+    d.screen_top = size_t(*r);
+  }
+  if (const auto* t = root["set"].as_table()) d.set = overrides_of(*t, path, "set");
+  if (const auto* t = root["probes"].as_table()) {
+    for (const auto& [k, v] : *t) {
+      const std::string name(k.str());
+      if (std::find(d.effects.begin(), d.effects.end(), name) == d.effects.end())
+        throw DiagnoseError(fmt::format("{}: [probes] {}: not one of the effects diagnosed", path, name));
+      const auto* a = v.as_array();
+      std::vector<double> s;
+      if (a)
+        for (const auto& x : *a)
+          if (auto f = x.value<double>()) s.push_back(*f);
+      if (!a || s.size() != a->size() || s.empty())
+        throw DiagnoseError(fmt::format("{}: [probes] {}: an array of positive numbers", path, name));
+      for (size_t i = 0; i < s.size(); ++i)
+        if (!(s[i] > 0) || (i && !(s[i] > s[i - 1])))
+          throw DiagnoseError(
+              fmt::format("{}: [probes] {}: strengths must be positive and ascending", path, name));
+      d.probes[name] = s;
+    }
+  }
+  for (const std::string& e : d.effects)
+    if (!d.probes.count(e)) d.probes[e] = effect_spec(e).probes;
+  if (const auto* t = root["verdict"].as_table()) {
+    reject_unknown(*t, path + ": [verdict]", {"fdr", "ratio", "min_drop"});
+    d.rule.q = (*t)["fdr"].value_or(d.rule.q);
+    d.rule.ratio = (*t)["ratio"].value_or(d.rule.ratio);
+    d.rule.min_drop = (*t)["min_drop"].value_or(d.rule.min_drop);
+    if (!(d.rule.q > 0 && d.rule.q < 1)) throw DiagnoseError(fmt::format("{}: verdict.fdr: in (0, 1)", path));
+    if (!(d.rule.ratio > 0 && d.rule.ratio <= 1))
+      throw DiagnoseError(fmt::format("{}: verdict.ratio: in (0, 1]", path));
+  }
+  return d;
+}
+
+TwinSpec parse_twin_file(const std::string& path_in) {
+  const std::string path = fs::absolute(path_in).lexically_normal().string();
+  const toml::table root = load(path);
+  reject_unknown(root, path, {"name", "case", "set", "conditions", "truth", "seeds", "noise", "noise_seed"});
+  TwinSpec t;
+  t.path = path;
+  t.name = root["name"].value_or(fs::path(path).stem().string());
+  t.case_path = rel_path(path, need_string(root, path, "case"));
+  if (!fs::exists(t.case_path))
+    throw DiagnoseError(fmt::format("{}: case: no such file {}", path, t.case_path));
+  if (const auto* s = root["set"].as_table()) t.set = overrides_of(*s, path, "set");
+  if (const auto* s = root["truth"].as_table()) t.truth = overrides_of(*s, path, "truth");
+  const auto* c = root["conditions"].as_table();
+  if (!c || c->empty())
+    throw DiagnoseError(fmt::format("{}: [conditions]: at least one condition key", path));
+  size_t n = 1;
+  for (const auto& [k, v] : *c) {
+    const auto* a = v.as_array();
+    if (!a || a->empty())
+      throw DiagnoseError(fmt::format("{}: [conditions] {}: a non-empty array", path, k.str()));
+    t.condition_keys.emplace_back(k.str());
+    std::vector<std::string> vals;
+    for (const auto& x : *a) {
+      try {
+        vals.push_back(value_toml(x));
+      } catch (const DiagnoseError& e) {
+        throw DiagnoseError(fmt::format("{}: [conditions] {}: {}", path, k.str(), e.what()));
+      }
+    }
+    n *= vals.size();
+    t.condition_toml.push_back(vals);
+  }
+  if (n < 2)
+    throw DiagnoseError(
+        fmt::format("{}: [conditions]: at least two conditions (a held-out check needs them)", path));
+  if (const auto* s = root["seeds"].as_array()) {
+    for (const auto& x : *s) {
+      const auto v = x.value<int64_t>();
+      if (!v || *v < 1) throw DiagnoseError(fmt::format("{}: seeds: positive integers", path));
+      t.seeds.push_back(uint64_t(*v));
+    }
+  }
+  if (t.seeds.empty()) throw DiagnoseError(fmt::format("{}: seeds: at least one truth seed", path));
+  const auto* nz = root["noise"].as_table();
+  if (!nz || nz->empty())
+    throw DiagnoseError(fmt::format("{}: [noise]: the measurement sd of at least one observable", path));
+  for (const auto& [k, v] : *nz) {
+    const auto s = v.value<double>();
+    if (!s || !(*s > 0)) throw DiagnoseError(fmt::format("{}: [noise] {}: a positive number", path, k.str()));
+    t.noise[std::string(k.str())] = *s;
+  }
+  if (root.contains("noise_seed")) {
+    const auto s = root["noise_seed"].value<int64_t>();
+    if (!s || *s < 0) throw DiagnoseError(fmt::format("{}: noise_seed: a non-negative integer", path));
+    t.noise_seed = uint64_t(*s);
+  }
+  return t;
+}
+
+}  // namespace wetdem::diagnose

@@ -1,0 +1,50 @@
+// The diagnosis file (D.toml) and the twin file (T.toml): README, "Sim-to-real diagnosis". Both are validated
+// whole before anything runs; errors name the file and the key.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "diagnose/candidates.h"
+
+namespace wetdem::diagnose {
+
+class DiagnoseError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct DiagnosisSpec {
+  std::string path, name;
+  std::string case_path;             // the calibrated model (absolute)
+  std::string observations;          // the observation table (absolute)
+  std::vector<std::string> set;      // "key=toml" for every run
+  std::vector<std::string> effects;  // candidates (default: the whole catalogue)
+  std::map<std::string, std::vector<double>>
+      probes;             // per effect: strengths probed (default: the catalogue's)
+  int replicates = 2;     // baseline and shrink seeds
+  size_t screen_top = 3;  // candidates fitted after the screen
+  VerdictRule rule;
+};
+DiagnosisSpec parse_diagnosis_file(const std::string& path);
+
+struct TwinSpec {
+  std::string path, name;
+  std::string case_path;
+  std::vector<std::string> set;                          // "key=toml" for every run (the common model)
+  std::vector<std::string> condition_keys;               // [conditions], Cartesian product in file order
+  std::vector<std::vector<std::string>> condition_toml;  // per key: values as TOML
+  std::vector<std::string> truth;       // "key=toml": what the real system has and the model lacks
+  std::vector<uint64_t> seeds;          // truth seeds (distinct from the diagnosis's 1..2R)
+  std::map<std::string, double> noise;  // observable -> measurement sd (also the table's sigma)
+  uint64_t noise_seed = 1;
+};
+TwinSpec parse_twin_file(const std::string& path);
+
+// A TOML value as it would be written in a case file after `key=`.
+std::string toml_text_of_written(const std::string& written);
+
+}  // namespace wetdem::diagnose

@@ -1,0 +1,138 @@
+#include "diagnose/runbook.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+#include "study/store.h"
+
+namespace fs = std::filesystem;
+
+namespace wetdem::diagnose {
+
+std::string Variant::label() const {
+  return effect.empty() ? "baseline" : fmt::format("{}@{:.6g}", effect, strength);
+}
+
+RunBook::RunBook(std::string store_dir, std::string spec_path, std::string name, std::string case_path,
+                 std::vector<std::string> set, study::ExecOptions exec)
+    : dir_(std::move(store_dir)),
+      spec_path_(std::move(spec_path)),
+      name_(std::move(name)),
+      case_path_(std::move(case_path)),
+      set_(std::move(set)),
+      exec_(std::move(exec)) {}
+
+void RunBook::want(Condition& c, const Variant& v, const std::vector<uint64_t>& seeds) {
+  study::StudySpec s;
+  s.path = spec_path_;
+  s.name = name_;
+  s.base = case_path_;
+  s.set = set_;
+  s.seeds = seeds;
+  std::vector<study::AxisValue> values = c.values;
+  for (const std::string& o : v.overrides) {
+    const size_t eq = o.find('=');
+    values.push_back({o.substr(0, eq), o.substr(eq + 1), o.substr(eq + 1), std::nan("")});
+  }
+  s.points = {values};
+  std::vector<study::PlannedRun> planned = study::expand(s);
+  for (study::PlannedRun& r : planned) {
+    if (c.si.empty())
+      for (size_t i = 0; i < c.values.size(); ++i) {
+        c.values[i].si = r.values[i].si;
+        c.si[c.values[i].key] = r.values[i].si;
+      }
+    const std::string key = c.label + "|" + v.label() + "|" + std::to_string(r.seed);
+    if (key_to_hash_.count(key)) continue;
+    key_to_hash_[key] = r.hash;
+    bool known = false;
+    for (const study::PlannedRun& q : runs_) known = known || q.hash == r.hash;
+    if (known) continue;
+    r.point = points_.size();
+    points_.push_back(r.values);
+    r.index = runs_.size();
+    runs_.push_back(std::move(r));
+  }
+}
+
+void RunBook::run() {
+  study::StudySpec s;
+  s.path = spec_path_;
+  s.name = name_;
+  s.base = case_path_;
+  s.set = set_;
+  s.points = points_;
+  study::write_plan(dir_, s, runs_);
+  const study::ExecReport rep = study::run_study(dir_, exec_);
+  wall_s_ += rep.wall_s;
+  computed_ += rep.completed;
+  if (rep.interrupted) throw std::runtime_error("interrupted; run the same command again to continue");
+  if (rep.failed || rep.stopped || rep.skipped_failed) {
+    std::string why;
+    for (const std::string& f : rep.failures) why += "\n  " + f;
+    throw std::runtime_error(fmt::format("{} run(s) of the diagnosis did not complete (store {}):{}",
+                                         rep.failed + rep.stopped + rep.skipped_failed, dir_, why));
+  }
+}
+
+const nlohmann::json& RunBook::summary(const std::string& hash) const {
+  auto it = summaries_.find(hash);
+  if (it != summaries_.end()) return it->second;
+  const fs::path p = fs::path(dir_) / "runs" / hash / "summary.json";
+  std::ifstream f(p);
+  if (!f) throw std::runtime_error("run " + hash + " has no summary.json (" + p.string() + ")");
+  return summaries_[hash] = nlohmann::json::parse(f);
+}
+
+std::string RunBook::device() const {
+  for (const auto& [h, j] : summaries_)
+    if (j.contains("device") && j["device"].is_string()) return j["device"].get<std::string>();
+  return "";
+}
+
+std::string sem_key(const std::string& observable, const nlohmann::json& s) {
+  std::vector<std::string> cands = {observable + "_sem"};
+  if (observable == "aor_deg_mean") cands.insert(cands.begin(), "aor_sem_block");
+  const std::string suffix = "_mean";
+  if (observable.size() > suffix.size() &&
+      observable.compare(observable.size() - suffix.size(), suffix.size(), suffix) == 0)
+    cands.push_back(observable.substr(0, observable.size() - suffix.size()) + "_sem");
+  for (const std::string& k : cands)
+    if (s.contains(k) && s[k].is_number()) return k;
+  return "";
+}
+
+Prediction RunBook::predict(const Condition& c, const Variant& v, const std::vector<uint64_t>& seeds,
+                            const std::string& observable) const {
+  std::vector<double> x;
+  double own_se = 0.0;
+  for (uint64_t seed : seeds) {
+    const std::string key = c.label + "|" + v.label() + "|" + std::to_string(seed);
+    auto it = key_to_hash_.find(key);
+    if (it == key_to_hash_.end()) throw std::logic_error("RunBook::predict: run not wanted: " + key);
+    const nlohmann::json& s = summary(it->second);
+    if (!s.contains(observable) || !s[observable].is_number()) continue;  // flagged or absent in this run
+    x.push_back(s[observable].get<double>());
+    const std::string k = sem_key(observable, s);
+    if (!k.empty()) own_se = std::max(own_se, s[k].get<double>());
+  }
+  if (x.empty())
+    throw std::runtime_error(fmt::format("no run of {} at {} reports '{}'", v.label(), c.label, observable));
+  Prediction p;
+  for (double a : x) p.mean += a;
+  p.mean /= double(x.size());
+  if (x.size() >= 2) {
+    double ss = 0;
+    for (double a : x) ss += (a - p.mean) * (a - p.mean);
+    p.se = std::sqrt(ss / double(x.size() - 1) / double(x.size()));
+  } else {
+    p.se = own_se;
+  }
+  return p;
+}
+
+}  // namespace wetdem::diagnose

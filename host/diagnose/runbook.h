@@ -1,0 +1,64 @@
+// The diagnosis's simulations, kept in a study run store (host/study): every run is a normal run of the case
+// with the condition's and the variant's overrides and a seed, identified by its hash, so a run is never
+// computed twice, not across stages and not across diagnoses that share the store (--store).
+#pragma once
+
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "diagnose/cells.h"
+#include "study/executor.h"
+#include "study/study_file.h"
+
+namespace wetdem::diagnose {
+
+struct Condition {
+  std::vector<study::AxisValue> values;  // the condition keys as written (si filled once expanded)
+  std::string label;                     // "liquid.content=5 %"
+  std::map<std::string, double> si;      // key -> SI value
+};
+
+// A model variant: the baseline (no effect) or one effect at one strength.
+struct Variant {
+  std::string effect;  // "" = baseline
+  double strength = 0.0;
+  std::vector<std::string> overrides;  // "key=toml"
+  std::string label() const;
+};
+
+class RunBook {
+ public:
+  RunBook(std::string store_dir, std::string spec_path, std::string name, std::string case_path,
+          std::vector<std::string> set, study::ExecOptions exec);
+  // Resolves and validates the runs (nothing runs); throws study::StudyError naming the point and key.
+  void want(Condition& c, const Variant& v, const std::vector<uint64_t>& seeds);
+  // Runs every wanted run that is not complete; throws std::runtime_error when any failed.
+  void run();
+  // Replicate mean and SE of `observable` (a summary.json key) over the seeds (SE: sd/√n for n >= 2, else the
+  // run's own window SE when it reports one, else 0). Throws when a run is missing or never reports it.
+  Prediction predict(const Condition& c, const Variant& v, const std::vector<uint64_t>& seeds,
+                     const std::string& observable) const;
+  size_t runs() const { return runs_.size(); }
+  size_t computed() const { return computed_; }
+  double wall_s() const { return wall_s_; }
+  std::string device() const;
+
+ private:
+  const nlohmann::json& summary(const std::string& hash) const;
+  std::string dir_, spec_path_, name_, case_path_;
+  std::vector<std::string> set_;
+  study::ExecOptions exec_;
+  std::vector<study::PlannedRun> runs_;
+  std::vector<std::vector<study::AxisValue>> points_;
+  std::map<std::string, std::string> key_to_hash_;  // condition|variant|seed -> hash
+  mutable std::map<std::string, nlohmann::json> summaries_;
+  size_t computed_ = 0;
+  double wall_s_ = 0.0;
+};
+
+// The summary.json key holding a run's own standard error of `observable`, or "" when none.
+std::string sem_key(const std::string& observable, const nlohmann::json& summary);
+
+}  // namespace wetdem::diagnose

@@ -1,0 +1,91 @@
+#!/usr/bin/python3
+"""Figures of a wetdem diagnosis (DIR/diagnosis.json -> DIR/figures/*.png). Debian's matplotlib.
+
+gap_map.png      cells (condition x observable) coloured by z, before and (if an effect was chosen) after
+observables.png  each observable against its condition: observations with error bars, baseline band, and the
+                 chosen effect's band
+ranking.png      held-out chi^2 of every fitted candidate against the null model
+"""
+import json
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def main(d):
+    j = json.load(open(os.path.join(d, "diagnosis.json")))
+    out = os.path.join(d, "figures")
+    os.makedirs(out, exist_ok=True)
+    cells = j["cells"]
+    conds = list(dict.fromkeys(c["condition"] for c in cells))
+    obs = list(dict.fromkeys(c["observable"] for c in cells))
+    after = all("after" in c for c in cells)
+
+    # Gap map.
+    panels = [("baseline", lambda c: c["z"])] + ([("with " + str(j["effect"]), lambda c: c["after"]["z"])] if after else [])
+    fig, axes = plt.subplots(1, len(panels), figsize=(4 + 2.2 * len(panels) * max(1, len(obs)) / 2, 1.2 + 0.45 * len(conds)),
+                             squeeze=False)
+    for ax, (title, zf) in zip(axes[0], panels):
+        m = [[float("nan")] * len(obs) for _ in conds]
+        for c in cells:
+            m[conds.index(c["condition"])][obs.index(c["observable"])] = zf(c)
+        im = ax.imshow(m, cmap="RdBu_r", vmin=-5, vmax=5, aspect="auto")
+        ax.set_xticks(range(len(obs)), obs, rotation=30, ha="right", fontsize=8)
+        ax.set_yticks(range(len(conds)), conds, fontsize=8)
+        for i in range(len(conds)):
+            for k in range(len(obs)):
+                if m[i][k] == m[i][k]:
+                    ax.text(k, i, f"{m[i][k]:+.1f}", ha="center", va="center", fontsize=8)
+        ax.set_title(f"z = (obs - model)/σ, {title}", fontsize=9)
+    fig.colorbar(im, ax=axes[0].tolist(), shrink=0.8, label="z")
+    fig.savefig(os.path.join(out, "gap_map.png"), dpi=120, bbox_inches="tight")
+    plt.close(fig)
+
+    # Observables against the condition (x: the first condition key with more than one value).
+    keys = sorted({k for c in cells for k in c["condition_si"]})
+    xkey = next((k for k in keys if len({c["condition_si"][k] for c in cells}) > 1), keys[0] if keys else None)
+    fig, axes = plt.subplots(1, len(obs), figsize=(4.2 * len(obs), 3.4), squeeze=False)
+    for ax, o in zip(axes[0], obs):
+        cs = sorted([c for c in cells if c["observable"] == o], key=lambda c: c["condition_si"].get(xkey, 0))
+        x = [c["condition_si"].get(xkey, 0) for c in cs]
+        m = [c["model"] for c in cs]
+        s = [2 * c["model_se"] for c in cs]
+        ax.fill_between(x, [a - b for a, b in zip(m, s)], [a + b for a, b in zip(m, s)], color="0.7", alpha=0.6,
+                        label="model, baseline (±2 SE)")
+        ax.plot(x, m, color="0.35")
+        if after:
+            ma = [c["after"]["model"] for c in cs]
+            sa = [2 * c["after"]["model_se"] for c in cs]
+            ax.fill_between(x, [a - b for a, b in zip(ma, sa)], [a + b for a, b in zip(ma, sa)], color="tab:orange",
+                            alpha=0.35, label=f"with {j['effect']} (±2 SE)")
+            ax.plot(x, ma, color="tab:orange")
+        ax.errorbar(x, [c["y"] for c in cs], yerr=[c["sigma"] for c in cs], fmt="o", color="k", capsize=3,
+                    label="observed (±σ)")
+        ax.set_xlabel(xkey or "condition")
+        ax.set_ylabel(o)
+        ax.legend(fontsize=7)
+    fig.suptitle(f"{j['name']}: verdict {j['verdict']}" + (f" ({j['effect']})" if j["effect"] else ""), fontsize=10)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "observables.png"), dpi=120)
+    plt.close(fig)
+
+    # Ranking.
+    rk = j.get("ranking") or []
+    names = ["none (null)"] + [r["effect"] for r in rk]
+    vals = [j["null_loco_chi2"]] + [r["loco_chi2"] for r in rk]
+    fig, ax = plt.subplots(figsize=(5, 1 + 0.4 * len(names)))
+    ax.barh(range(len(names)), vals, color=["0.6"] + ["tab:blue"] * len(rk))
+    ax.set_yticks(range(len(names)), names)
+    ax.invert_yaxis()
+    ax.set_xlabel("held-out χ² (leave one condition out); lower is better")
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "ranking.png"), dpi=120)
+    plt.close(fig)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1])

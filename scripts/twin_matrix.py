@@ -1,0 +1,111 @@
+#!/usr/bin/python3
+"""Validation matrix of the sim-to-real diagnosis (diagnosis.md §5; README "Sim-to-real diagnosis").
+
+For every candidate effect at a weak and a strong strength, plus null twins, it writes a twin file, runs
+`wetdem twin` (truth seeds of its own) and `wetdem diagnose` against the twin's observations, all through one
+shared run store, and writes OUT/matrix.json and OUT/matrix.md: the confusion matrix (truth -> verdict/effect),
+the top-1 identification rate over effect twins, the median held-out shrink where the verdict is `effect`, the
+null outcomes, the device and the wall time.
+
+  /usr/bin/python3 scripts/twin_matrix.py --wetdem build/host/wetdem --out matrix \
+      --diagnosis assets/diagnosis/micro/diagnose.toml --twin-base assets/diagnosis/micro/twin_null.toml
+"""
+import argparse
+import json
+import os
+import re
+import statistics
+import subprocess
+import sys
+import time
+
+# Truth overrides per effect: (weak, strong), as case keys the diagnosis is not told about.
+TRUTHS = {
+    "cohesion": ('"cohesion.surface_energy" = "0.004 J/m2"', '"cohesion.surface_energy" = "0.02 J/m2"'),
+    "absorption": ('"absorption.capacity" = 0.03\n"absorption.rate" = 10.0',
+                   '"absorption.capacity" = 0.15\n"absorption.rate" = 10.0'),
+    "evaporation": ('"liquid.evaporation_time" = "20 s"', '"liquid.evaporation_time" = "2 s"'),
+    "spread": ('"liquid.wetted_fraction" = 0.6', '"liquid.wetted_fraction" = 0.2'),
+    "viscous": ('"liquid.viscosity" = "0.01 Pa s"', '"liquid.viscosity" = "0.2 Pa s"'),
+    "hysteresis": ('"liquid.theta_receding" = "20 deg"', '"liquid.theta_receding" = "2 deg"'),
+}
+
+
+def run(cmd, log):
+    with open(log, "w") as f:
+        r = subprocess.run(cmd, stdout=f, stderr=subprocess.STDOUT)
+    if r.returncode != 0:
+        sys.exit(f"failed ({r.returncode}): {' '.join(cmd)} (see {log})")
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--wetdem", default="build/host/wetdem")
+    ap.add_argument("--out", required=True)
+    ap.add_argument("--diagnosis", required=True, help="diagnosis file (its effects are the candidates)")
+    ap.add_argument("--twin-base", required=True, help="a null twin file: case, conditions, seeds, noise")
+    ap.add_argument("--effects", nargs="*", help="truth effects (default: the diagnosis file's)")
+    ap.add_argument("--nulls", type=int, default=2)
+    ap.add_argument("--jobs", type=int, default=1)
+    a = ap.parse_args()
+    os.makedirs(a.out, exist_ok=True)
+    store = os.path.join(a.out, "store")
+    base = open(a.twin_base).read()
+    base_dir = os.path.dirname(os.path.abspath(a.twin_base))
+    base = re.sub(r'^case\s*=\s*"([^"]+)"', lambda m: f'case = "{os.path.join(base_dir, m.group(1))}"', base,
+                  flags=re.M)
+    effects = a.effects or re.findall(r'"(\w+)"', re.search(r"^effects\s*=\s*\[(.*)\]", open(a.diagnosis).read(),
+                                                                      re.M).group(1))
+    twins = []
+    for e in effects:
+        for level, truth in zip(("weak", "strong"), TRUTHS[e]):
+            twins.append((f"{e}-{level}", e, truth))
+    for k in range(a.nulls):
+        twins.append((f"null-{k + 1}", None, ""))
+    t0 = time.time()
+    rows = []
+    for i, (name, effect, truth) in enumerate(twins):
+        d = os.path.join(a.out, name)
+        os.makedirs(d, exist_ok=True)
+        text = re.sub(r"^seeds\s*=.*$", f"seeds = [{1000 + 10 * i}, {1001 + 10 * i}]", base, flags=re.M)
+        text = re.sub(r"^noise_seed\s*=.*$", f"noise_seed = {500 + i}", text, flags=re.M)
+        text = re.sub(r"^\[truth\][^\[]*", "", text, flags=re.M)
+        if truth:
+            text += "\n[truth]\n" + truth + "\n"
+        tf = os.path.join(d, "twin.toml")
+        open(tf, "w").write(text)
+        run([a.wetdem, "twin", tf, "--out", os.path.join(d, "twin"), "--store", store, "--jobs", str(a.jobs),
+             "--quiet"], os.path.join(d, "twin.log"))
+        # The diagnosis sees the observations only (truth.json stays in the twin folder).
+        run([a.wetdem, "diagnose", a.diagnosis, "--observations", os.path.join(d, "twin", "observations.csv"),
+             "--out", os.path.join(d, "diagnosis"), "--store", store, "--jobs", str(a.jobs), "--quiet",
+             "--no-figures"], os.path.join(d, "diagnose.log"))
+        j = json.load(open(os.path.join(d, "diagnosis", "diagnosis.json")))
+        rows.append({"twin": name, "truth": effect, "verdict": j["verdict"], "effect": j["effect"],
+                     "held_out_shrink": j["held_out_shrink"], "device": j["device"]})
+        print(f"{name}: {j['verdict']} {j['effect'] or ''}", flush=True)
+    wall = time.time() - t0
+    eff = [r for r in rows if r["truth"]]
+    hits = sum(1 for r in eff if r["verdict"] == "effect" and r["effect"] == r["truth"])
+    shrinks = [r["held_out_shrink"] for r in rows if r["verdict"] == "effect" and r["held_out_shrink"] is not None]
+    nulls = [r for r in rows if not r["truth"]]
+    out = {"rows": rows, "top1_rate": hits / len(eff) if eff else None,
+           "median_held_out_shrink": statistics.median(shrinks) if shrinks else None,
+           "nulls_ok": sum(1 for r in nulls if r["verdict"] != "effect"), "nulls": len(nulls),
+           "device": next((r["device"] for r in rows if r["device"]), ""), "wall_s": wall}
+    json.dump(out, open(os.path.join(a.out, "matrix.json"), "w"), indent=2)
+    md = ["| twin | truth | verdict | chosen | held-out shrink |", "|---|---|---|---|---|"]
+    for r in rows:
+        s = r["held_out_shrink"]
+        md.append(f"| {r['twin']} | {r['truth'] or 'none'} | {r['verdict']} | {r['effect'] or '-'} | "
+                  f"{'' if s is None else f'{100 * s:.0f} %'} |")
+    md.append("")
+    md.append(f"Top-1 identification: {hits}/{len(eff)}; median held-out shrink where `effect`: "
+              f"{'-' if not shrinks else f'{100 * statistics.median(shrinks):.0f} %'}; nulls without an effect: "
+              f"{out['nulls_ok']}/{len(nulls)}; device {out['device']}; wall {wall:.0f} s.")
+    open(os.path.join(a.out, "matrix.md"), "w").write("\n".join(md) + "\n")
+    print("\n".join(md))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# End to end on the micro drum, through the CLI: a twin with withheld dry adhesion is diagnosed as
+# `effect: cohesion` with a held-out shrink >= 50 %, and a null twin (noise only) gets no effect. Both share one
+# run store, so the null's baseline and screen runs are the first diagnosis's. The diagnosis runs with each
+# twin's truth.json moved away (it must not need it).
+# usage: micro_e2e.sh WETDEM SOURCE_DIR
+set -euo pipefail
+W=$1
+SRC=$2
+D=$(mktemp -d)
+trap 'rm -rf "$D"' EXIT
+J() { /usr/bin/python3 -c "import json,sys; j=json.load(open(sys.argv[1])); print(eval(sys.argv[2]))" "$@"; }
+
+t0=$(date +%s)
+"$W" twin "$SRC/assets/diagnosis/micro/twin_cohesion.toml" --out "$D/tc" --store "$D/store" --quiet
+mv "$D/tc/truth.json" "$D/truth-cohesion.json"
+"$W" diagnose "$SRC/tests/diagnose/micro_ci.toml" --observations "$D/tc/observations.csv" --out "$D/dc" \
+  --store "$D/store" --quiet --no-figures
+v=$(J "$D/dc/diagnosis.json" 'j["verdict"], j["effect"], round(j["held_out_shrink"] or 0, 3)')
+echo "withheld cohesion: $v"
+[ "$(J "$D/dc/diagnosis.json" 'j["verdict"]')" = effect ] || { echo "FAIL: verdict is not effect"; cat "$D/dc/report.md"; exit 1; }
+[ "$(J "$D/dc/diagnosis.json" 'j["effect"]')" = cohesion ] || { echo "FAIL: wrong effect"; cat "$D/dc/report.md"; exit 1; }
+[ "$(J "$D/dc/diagnosis.json" 'j["held_out_shrink"] >= 0.5')" = True ] || { echo "FAIL: shrink < 0.5"; exit 1; }
+
+"$W" twin "$SRC/assets/diagnosis/micro/twin_null.toml" --out "$D/tn" --store "$D/store" --quiet
+mv "$D/tn/truth.json" "$D/truth-null.json"
+"$W" diagnose "$SRC/tests/diagnose/micro_ci.toml" --observations "$D/tn/observations.csv" --out "$D/dn" \
+  --store "$D/store" --quiet --no-figures
+v=$(J "$D/dn/diagnosis.json" 'j["verdict"], j["effect"], j["runs_computed"]')
+echo "null: $v"
+[ "$(J "$D/dn/diagnosis.json" 'j["verdict"] != "effect"')" = True ] || { echo "FAIL: a null twin got an effect"; cat "$D/dn/report.md"; exit 1; }
+echo "micro diagnosis e2e: $(( $(date +%s) - t0 )) s"

@@ -1,0 +1,119 @@
+// Bad diagnosis and twin input is refused before anything runs, with the file and the key (or row) named.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "diagnose/driver.h"
+#include "diagnose/effects.h"
+#include "diagnose/files.h"
+
+namespace fs = std::filesystem;
+using namespace wetdem::diagnose;
+
+namespace {
+
+struct Dir {
+  fs::path p;
+  Dir()
+      : p(fs::temp_directory_path() /
+          fs::path("wetdem-diag-" + std::to_string(::getpid()) + "-" +
+                   ::testing::UnitTest::GetInstance()->current_test_info()->name())) {
+    fs::remove_all(p);
+    fs::create_directories(p);
+  }
+  ~Dir() { fs::remove_all(p); }
+  std::string write(const std::string& name, const std::string& text) const {
+    std::ofstream(p / name) << text;
+    return (p / name).string();
+  }
+};
+
+const std::string kCase = std::string(WETDEM_SOURCE_DIR) + "/assets/studies/micro/micro_case.toml";
+
+std::string expect_error(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const DiagnoseError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no DiagnoseError";
+  return "";
+}
+
+}  // namespace
+
+TEST(DiagnoseFiles, ShippedFilesParse) {
+  const std::string dir = std::string(WETDEM_SOURCE_DIR) + "/assets/diagnosis/micro/";
+  const DiagnosisSpec d = parse_diagnosis_file(dir + "diagnose.toml");
+  EXPECT_EQ(d.effects, (std::vector<std::string>{"cohesion", "absorption", "evaporation", "spread"}));
+  EXPECT_EQ(d.replicates, 2);
+  EXPECT_EQ(d.probes.at("cohesion"), (std::vector<double>{0.01, 0.04, 0.15}));
+  const TwinSpec t = parse_twin_file(dir + "twin_cohesion.toml");
+  EXPECT_EQ(t.truth, (std::vector<std::string>{"cohesion.surface_energy=\"0.08 J/m2\""}));
+  EXPECT_EQ(t.condition_toml.at(0).size(), 3u);
+  EXPECT_DOUBLE_EQ(t.noise.at("aor_deg_mean"), 0.5);
+}
+
+TEST(DiagnoseFiles, BadDiagnosisFilesNameTheKey) {
+  Dir d;
+  const std::string obs =
+      d.write("obs.csv", "liquid.content,observable,value,sigma\n\"5 %\",aor_deg_mean,30,1\n");
+  const std::string head = "case = \"" + kCase + "\"\nobservations = \"obs.csv\"\n";
+  auto err = [&](const std::string& body) {
+    const std::string f = d.write("d.toml", head + body);
+    return expect_error([&] { parse_diagnosis_file(f); });
+  };
+  EXPECT_NE(err("effects = [\"gravity\"]\n").find("unknown effect 'gravity'"), std::string::npos);
+  EXPECT_NE(err("refit = [\"liquid.v_max\"]\n").find("refit"), std::string::npos);
+  EXPECT_NE(err("colour = 3\n").find("colour: unknown key"), std::string::npos);
+  EXPECT_NE(err("replicates = 0\n").find("replicates"), std::string::npos);
+  EXPECT_NE(err("effects = [\"cohesion\"]\n[probes]\ncohesion = [0.1, 0.01]\n").find("ascending"),
+            std::string::npos);
+  EXPECT_NE(err("effects = [\"cohesion\"]\n[probes]\nviscous = [0.1]\n").find("not one of the effects"),
+            std::string::npos);
+  const std::string f = d.write("d2.toml", "case = \"" + kCase + "\"\nobservations = \"missing.csv\"\n");
+  EXPECT_NE(expect_error([&] { parse_diagnosis_file(f); }).find("observations: no such file"),
+            std::string::npos);
+}
+
+TEST(DiagnoseFiles, BadObservationTablesAreRefusedBeforeAnyRun) {
+  Dir d;
+  auto diagnose_with = [&](const std::string& csv) {
+    d.write("obs.csv", csv);
+    const std::string f = d.write("d.toml", "case = \"" + kCase + "\"\nobservations = \"obs.csv\"\n");
+    DiagnoseOptions o;
+    o.out = (d.p / "out").string();
+    o.figures = false;
+    o.quiet = true;
+    return expect_error([&] { run_diagnosis(parse_diagnosis_file(f), o); });
+  };
+  // One condition: no held-out check possible.
+  EXPECT_NE(diagnose_with("liquid.content,observable,value,sigma\n\"5 %\",aor_deg_mean,30,1\n"
+                          "\"5 %\",f_wet_mean,0.5,0.1\n")
+                .find("at least two"),
+            std::string::npos);
+  // Unknown observable, named with its line.
+  EXPECT_NE(diagnose_with("liquid.content,observable,value,sigma\n\"5 %\",aor_deg_mean,30,1\n"
+                          "\"10 %\",colour,3,1\n")
+                .find("line 3: unknown observable 'colour'"),
+            std::string::npos);
+  // A condition no case can express.
+  EXPECT_NE(diagnose_with("liquid.contnt,observable,value,sigma\n\"5 %\",aor_deg_mean,30,1\n"
+                          "\"10 %\",aor_deg_mean,31,1\n")
+                .find("liquid.contnt"),
+            std::string::npos);
+  EXPECT_FALSE(fs::exists(d.p / "out" / "store" / "runs")) << "nothing may run on bad input";
+}
+
+TEST(DiagnoseFiles, EveryEffectMapsStrengthsToCaseKeys) {
+  for (const EffectSpec& e : effect_catalogue()) {
+    ASSERT_FALSE(e.probes.empty()) << e.name;
+    for (double s : e.probes) EXPECT_FALSE(e.overrides(s, 0.5236).empty()) << e.name;
+    EXPECT_THROW(e.overrides(0.0, 0.5236), std::invalid_argument) << e.name;
+  }
+  EXPECT_EQ(effect_spec("evaporation").overrides(0.1, 0.5)[0], "liquid.evaporation_time=\"10 s\"");
+  EXPECT_EQ(effect_spec("hysteresis").overrides(10.0, 30.0 * 3.14159265358979323846 / 180)[0],
+            "liquid.theta_receding=\"20 deg\"");
+  EXPECT_THROW(effect_spec("magic"), std::invalid_argument);
+}
