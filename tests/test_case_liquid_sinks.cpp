@@ -64,6 +64,22 @@ TEST(CaseLiquidSinks, KeysParseEchoAndReachSimParams) {
   EXPECT_EQ(case_to_json(parse_case_string(case_to_toml(inst))), case_to_json(inst));
 }
 
+// Time-step check: k dt > 0.1 resolves the decay with fewer than ~10 steps: noted at start (never unstable).
+TEST(CaseLiquidSinks, FastAbsorptionIsNotedAtStart) {
+  auto noted = [](const std::string& rate) {
+    const Case c =
+        parse_case_file(asset("pp2_l5.toml"), {"absorption.capacity=0.1", "absorption.rate=" + rate});
+    Derived d;
+    make_sim_params(c, {1e-3, 1.2e-3}, &d);
+    for (const std::string& n : d.notes)
+      if (n.find("absorption.rate x dt") != std::string::npos) return true;
+    return false;
+  };
+  EXPECT_FALSE(noted("1"));
+  EXPECT_TRUE(noted("1e6"));
+  EXPECT_FALSE(noted("\"instantaneous\""));
+}
+
 TEST(CaseLiquidSinks, BadValuesNameTheKey) {
   EXPECT_EQ(error_key({"absorption.capacity=0.5"}), "absorption.capacity");
   EXPECT_EQ(error_key({"absorption.rate=-1"}), "absorption.rate");

@@ -168,6 +168,10 @@ void System::Impl::upload(const SystemState& s) {
     // §5 events of the uploaded positions (issue 12): touching pairs without a bridge or flag form their
     // bridges now, as MercuryDPM's initialiseSolve does, rather than after a separation and a new touch.
     const uint32_t gN = groups_for(n);
+    // The liquid sinks act per step (over dt), not at upload: switched off for these events.
+    gpu::GpuParams at_rest = gp;
+    at_rest.absorb_mode = at_rest.evap_on = 0u;
+    B->params.upload(&at_rest, sizeof(at_rest));
     VkCommandBuffer lb = record([&](VkCommandBuffer r) {
       run(r, "liq_upload_flags", gN);
       run(r, "liq_rupture_share", gN);
@@ -178,6 +182,7 @@ void System::Impl::upload(const SystemState& s) {
     });
     submit(lb);
     vkFreeCommandBuffers(ctx.device(), ctx.pool(), 1, &lb);
+    B->params.upload(&gp, sizeof(gp));
     check_health(read_ctl());
   }
   ctr.rebuilds = 0;

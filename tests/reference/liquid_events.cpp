@@ -156,7 +156,7 @@ EventCounts liquid_events_two_phase(LiquidView& L) {
     }
   }
 
-  liquid_sinks(L);
+  if (L.sinks) liquid_sinks(L);
 
   // Phase 2: flags and formations on the films after phase 1.
   std::vector<PairSlot*> form_pp;

@@ -44,6 +44,7 @@ struct LiquidView {
   std::vector<int64_t>* pore = nullptr;
   std::vector<int64_t>* evaporated = nullptr;
   const std::vector<double>* radius = nullptr;  // for the pore capacity
+  bool sinks = true;  // false for the events at upload: the sinks act per step (over dt), not at rest
 };
 
 // The liquid sinks on the films after the rupture phase (what the two-phase rule runs between its phases):

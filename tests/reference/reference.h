@@ -52,7 +52,7 @@ class ReferenceSystem {
   void kick(double half_dt);                            // §0 half kick with the stored F, T and gravity
   void drift();                                         // §0 x += dt v, periodic wrap of z
   void compute_forces();                                // §1-4 at the current x, all pairs and walls
-  void liquid_events();                                 // §5 at the end of the step
+  void liquid_events(bool sinks = true);                // §5 at the end of the step (sinks: per step only)
   void events_at_rest();                                // §5 at set_state, on the positions as given
   std::vector<PairKey> touching_pairs() const;          // pairs with delta >= 0 (sweep along x)
   glm::dvec3 separation(uint32_t i, uint32_t j) const;  // x_i - x_j, minimum image in periodic z

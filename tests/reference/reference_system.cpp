@@ -59,7 +59,7 @@ void ReferenceSystem::events_at_rest() {
         wall_gap_[i * kNumWalls + w] = -delta;
     }
   }
-  liquid_events();
+  liquid_events(false);  // at rest: no sinks (they act over a step)
 }
 
 SystemState ReferenceSystem::state() const {
@@ -212,7 +212,7 @@ void ReferenceSystem::compute_forces() {
   }
 }
 
-void ReferenceSystem::liquid_events() {
+void ReferenceSystem::liquid_events(bool sinks) {
   // Geometry is that of the force pass: the second half kick moves no particle.
   LiquidView view;
   view.prm = &prm_;
@@ -222,6 +222,7 @@ void ReferenceSystem::liquid_events() {
   view.pore = &p_.pore;
   view.evaporated = &p_.evaporated;
   view.radius = &p_.radius;
+  view.sinks = sinks;
   view.pairs.reserve(examined_.size());
   for (size_t e = 0; e < examined_.size(); ++e) {
     auto it = pairs_.find(examined_[e]);
