@@ -15,7 +15,7 @@ namespace wetdem::diagnose {
 
 namespace {
 
-class Impl : public Commands {
+class Impl : public study::Commands {
  public:
   explicit Impl(CLI::App& cli) {
     diag_ = cli.add_subcommand("diagnose",
@@ -79,7 +79,7 @@ class Impl : public Commands {
 
 }  // namespace
 
-std::unique_ptr<Commands> add_commands(CLI::App& cli) {
+std::unique_ptr<study::Commands> add_commands(CLI::App& cli) {
   return std::make_unique<Impl>(cli);
 }
 

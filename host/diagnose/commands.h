@@ -1,22 +1,14 @@
-// `wetdem diagnose` and `wetdem twin` on the CLI (registered by main.cpp; the logic is in this folder).
+// `wetdem diagnose` and `wetdem twin` on the CLI (registered by main.cpp; the logic is in this folder). The
+// command interface is the study layer's (study/commands.h): the diagnosis sits on top of it.
 #pragma once
 
 #include <memory>
 
-namespace CLI {
-class App;
-}
+#include "study/commands.h"
 
 namespace wetdem::diagnose {
 
-class Commands {
- public:
-  virtual ~Commands() = default;
-  virtual bool selected() const = 0;
-  // Exit codes: 0 done; 2 bad input (nothing run); 1 a run or the device failed.
-  virtual int execute() = 0;
-};
-
-std::unique_ptr<Commands> add_commands(CLI::App& cli);
+// Exit codes of execute(): 0 done; 2 bad input (nothing run); 1 a run or the device failed.
+std::unique_ptr<study::Commands> add_commands(CLI::App& cli);
 
 }  // namespace wetdem::diagnose
