@@ -1,74 +1,32 @@
-// wetdem_bench: throughput of the GPU step on a filled drum (not a test). Fills the paper's drum (D = 0.14 m,
-// L = 0.18 m, 5 rpm) with N polydisperse PP2-like particles (the PSD scaled so that N particles make a 36.5 %
-// bed), lets it settle, then times steps: particle-steps per second for the whole step (wall clock) and for
-// each pass (GPU timestamps, one profiled run). Ratios between passes are measured in one run.
+// wetdem_bench: throughput of the real run on the shipped cases (not a test). Each case is brought into
+// rotation through the run phases (bench/steady.h, cached), then N steps are timed on the wall clock and
+// again with a GPU timestamp before every pass. Reports particle-steps/s, per-pass shares, the rebuild
+// interval, contacts, bridges, neighbour entries, device bytes per particle and the step's memory traffic
+// against the device's bandwidth (bench/traffic.h). README "Benchmark" defines every column.
 #include <fmt/core.h>
-#include <fmt/ranges.h>
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "app/drum/fill.h"
-#include "app/drum/psd.h"
 #include "app/drum/scenarios.h"
+#include "app/run/session.h"
+#include "bench/steady.h"
+#include "bench/traffic.h"
 #include "vk/context.h"
 #include "wetdem/system.h"
+#include "wetdem/version.h"
 
 using namespace wetdem;
+namespace fs = std::filesystem;
 
 namespace {
-
-struct Setup {
-  SimParams prm;
-  SystemState state;
-  double scale = 1.0;
-};
-
-Setup make_drum(size_t n, bool wet, uint64_t seed) {
-  const double R = 0.07, L = 0.18, fill = 0.365;
-  // Particle count scales as l^-3: pick l so that the 36.5 % bed holds n particles.
-  const size_t n1 = particles_for_fill(Psd(psd_pp2(1.0)), R, L, fill);
-  Setup s;
-  s.scale = std::cbrt(double(n1) / double(n));
-  Psd psd(psd_pp2(s.scale));
-  FillSpec fs;
-  fs.drum_radius = R;
-  fs.drum_length = L;
-  fs.count = n;
-  fs.seed = seed;
-  FillResult fr = fill_drum(fs, psd);
-  const double rho = 900.0;
-  SimParams& prm = s.prm;
-  set_polypropylene_contacts(prm, 0.8, 0.3, *std::min_element(fr.radius.begin(), fr.radius.end()), rho);
-  prm.drum.radius = R;
-  prm.drum.length = L;
-  prm.drum.omega = 5.0 * 2.0 * 3.14159265358979 / 60.0;
-  s.state.p.resize(fr.x.size());
-  double vs = 0.0;
-  for (size_t k = 0; k < fr.x.size(); ++k) {
-    set_sphere(s.state.p, k, fr.x[k], fr.radius[k], rho);
-    vs += 4.0 / 3.0 * 3.14159265358979 * std::pow(fr.radius[k], 3);
-  }
-  vs /= double(fr.x.size());
-  if (wet) {  // PP2 calibrated set: V_min = 10 %, V_max = 1 % of the mean volume, 10 vol % liquid as films
-    prm.liquid_unit_m3 = vs * std::ldexp(1.0, -40);
-    prm.liq_pp.enabled = true;
-    prm.liq_pp.gamma = 0.0217 * s.scale;
-    prm.liq_pp.theta = 30.0 * 3.14159265358979 / 180.0;
-    prm.liq_pp.v_min = int64_t(0.10 * std::ldexp(1.0, 40));
-    prm.liq_pp.v_max = int64_t(0.01 * std::ldexp(1.0, 40));
-    for (size_t k = 0; k < fr.x.size(); ++k) {
-      double v = 4.0 / 3.0 * 3.14159265358979 * std::pow(fr.radius[k], 3);
-      s.state.p.film[k] = int64_t(0.10 * v / prm.liquid_unit_m3);
-    }
-  }
-  return s;
-}
 
 // physics.md §7.8 at full length: the agitated wet slice of tests/test_liquid_soak.cpp for `steps` steps,
 // total liquid compared exactly every 10,000 steps, events counted.
@@ -96,85 +54,257 @@ int soak(vk::Context& ctx, uint64_t steps, size_t n) {
   return 0;
 }
 
+std::string default_cache() {
+  if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x)
+    return (fs::path(x) / "wetdem" / "bench").string();
+  if (const char* h = std::getenv("HOME"); h && *h)
+    return (fs::path(h) / ".cache" / "wetdem" / "bench").string();
+  return ".wetdem-bench-cache";
+}
+
+struct Options {
+  uint64_t steps = 1000, warmup = 0;
+  bool warmup_given = false;
+  double bandwidth_gbs = 0;
+  bench::SteadyOptions steady;
+};
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+nlohmann::json bench_case(vk::Context& ctx, const app::Case& c, const std::string& variant, const Options& o,
+                          const bench::Log& log) {
+  bench::Steady st = bench::reach_steady(ctx, c, o.steady, log);
+  const app::Prepared& prep = *st.prep;
+  const size_t n = prep.state.p.size();
+  const double dt = prep.derived.dt;
+  const uint64_t warmup = o.warmup_given ? o.warmup : prep.c.run.steps_per_submit;
+  nlohmann::json j;
+  j["case"] = prep.c.name.empty() ? fs::path(prep.c.source).stem().string() : prep.c.name;
+  j["file"] = prep.c.source;
+  j["variant"] = variant;
+  j["wet"] = prep.c.liquid.on();
+  j["particles"] = n;
+  j["dt_s"] = dt;
+  j["periodic_slice"] = prep.c.drum.periodic_slice;
+
+  // Wall clock: the run's own session resumed from the steady state (the case's steps_per_submit).
+  double wall = 0;
+  uint64_t rebuilds = 0;
+  Observables obs;
+  SystemCounters ctr;
+  DeviceMemory mem;
+  SimParams rotating_prm;
+  double context_bytes = 0;
+  {
+    app::DrumSession s(ctx, prep, st.ck, [](const std::string&) {});
+    System& sys = s.system();
+    rotating_prm = sys.params();
+    sys.step(warmup);  // records the command buffers; not timed
+    const uint64_t r0 = sys.counters().rebuilds;
+    const auto t0 = std::chrono::steady_clock::now();
+    sys.step(o.steps);
+    wall = seconds_since(t0);
+    ctr = sys.counters();
+    rebuilds = ctr.rebuilds - r0;
+    obs = sys.observables();
+    mem = sys.device_memory();
+    context_bytes = double(ctx.device_bytes());  // this session's system is the only one alive
+  }
+  const double pss = double(n) * double(o.steps) / wall;
+  const auto interval = bench::rebuild_interval(o.steps, rebuilds);
+  const uint64_t start_step = st.step + warmup;
+  j["timing"] = {{"start_step", start_step},
+                 {"start_time_s", double(start_step) * dt},
+                 {"settle_s", st.settle_s},
+                 {"rotation_s", double(start_step) * dt - st.settle_s},
+                 {"steady_state_start_s", prep.c.run.steady_state_start},
+                 {"rotation_fraction_of_steady_start",
+                  prep.c.run.steady_state_start > 0
+                      ? (double(start_step) * dt - st.settle_s) / prep.c.run.steady_state_start
+                      : 1.0},
+                 {"revolutions", (double(start_step) * dt - st.settle_s) * prep.c.drum.omega /
+                                     (2.0 * 3.14159265358979323846)},
+                 {"warmup_steps", warmup},
+                 {"steps", o.steps},
+                 {"wall_s", wall},
+                 {"from_cache", st.from_cache},
+                 {"prepare_wall_s", st.prepare_wall_s},
+                 {"cache", st.cache_path}};
+  j["particle_steps_per_s"] = pss;
+  j["steps_per_s"] = double(o.steps) / wall;
+  j["rebuilds"] = rebuilds;
+  j["rebuild_interval_steps"] = interval ? nlohmann::json(*interval) : nlohmann::json(nullptr);
+  j["contacts"] = obs.contacts;
+  j["bridges"] = obs.bridges;
+  j["neighbour_entries"] = ctr.entries;
+  j["entries_per_particle"] = double(ctr.entries) / double(n);
+
+  // Device memory from the real buffer sizes.
+  const double cap_per_set = 0.5 * double(mem.entry_capacity);
+  bench::ElementBytes eb;
+  eb.particle_set = 0.5 * double(mem.particle_sets) / double(n);
+  eb.particle_scratch = double(mem.particle_scratch) / double(n);
+  eb.entry_set = cap_per_set > 0 ? 0.5 * double(mem.entry_sets) / cap_per_set : 0.0;
+  eb.entry_scratch = cap_per_set > 0 ? double(mem.entry_scratch) / cap_per_set : 0.0;
+  const double epp = double(ctr.entries) / double(n);
+  j["memory"] = {
+      {"particle_set_bytes_per_particle", eb.particle_set},
+      {"particle_scratch_bytes_per_particle", eb.particle_scratch},
+      {"entry_set_bytes_per_entry", eb.entry_set},
+      {"entry_scratch_bytes_per_entry", eb.entry_scratch},
+      {"entry_capacity_per_particle", cap_per_set / double(n)},
+      {"bytes_per_particle_at_measured_entries", bench::bytes_per_particle(eb, epp)},
+      {"system_bytes", mem.total()},
+      {"system_bytes_per_particle", double(mem.total()) / double(n)},
+      {"context_bytes", context_bytes},
+      {"context_bytes_per_particle", context_bytes / double(n)},
+  };
+
+  // Traffic against bandwidth.
+  const bench::Traffic t = bench::step_traffic(eb, double(n), double(ctr.entries), interval);
+  bench::Bandwidth bw = bench::default_bandwidth(ctx.info().name);
+  if (o.bandwidth_gbs > 0) bw = {o.bandwidth_gbs, "--bandwidth"};
+  nlohmann::json jt = {{"bytes_per_step", t.per_step},
+                       {"bytes_every_step", t.every_step},
+                       {"bytes_per_rebuild", t.per_rebuild},
+                       {"bytes_per_particle_step", t.per_particle_step},
+                       {"achieved_gbs", t.per_step * double(o.steps) / wall / 1e9},
+                       {"bandwidth_gbs", bw.gbs},
+                       {"bandwidth_source", bw.source}};
+  if (bw.gbs > 0) {
+    jt["roofline_particle_steps_per_s"] = bw.gbs * 1e9 / t.per_particle_step;
+    jt["fraction_of_roofline"] = pss / (bw.gbs * 1e9 / t.per_particle_step);
+  }
+  j["traffic"] = jt;
+
+  // Per pass: the same steps from the same state with a timestamp before every pass.
+  {
+    SystemOptions so;
+    so.steps_per_submit = prep.c.run.steps_per_submit;
+    so.profile_passes = true;
+    System prof(ctx, rotating_prm, n, so);
+    prof.restore(st.ck.system);
+    prof.step(warmup);
+    prof.reset_pass_timings();
+    prof.step(o.steps);
+    auto passes = prof.pass_timings();
+    double total = 0;
+    for (auto& p : passes) total += p.seconds;
+    std::sort(passes.begin(), passes.end(), [](auto& a, auto& b) { return a.seconds > b.seconds; });
+    j["passes"] = nlohmann::json::array();
+    for (auto& p : passes)
+      j["passes"].push_back({{"name", p.name},
+                             {"seconds_per_step", p.seconds / double(o.steps)},
+                             {"share", total > 0 ? p.seconds / total : 0.0},
+                             {"dispatches", p.dispatches}});
+    j["profiled_gpu_seconds_per_step"] = total / double(o.steps);
+  }
+  return j;
+}
+
+std::string passes_text(const nlohmann::json& j, size_t k) {
+  std::string s;
+  for (size_t i = 0; i < std::min(k, j["passes"].size()); ++i)
+    s += fmt::format("{}{} {:.0f}%", i ? ", " : "", j["passes"][i]["name"].get<std::string>(),
+                     100.0 * j["passes"][i]["share"].get<double>());
+  return s.empty() ? "(no GPU timestamps)" : s;
+}
+
+void print_table(const nlohmann::json& runs) {
+  fmt::print("\n{:<14} {:<4} {:>7} {:>9} {:>9} {:>7} {:>8} {:>8} {:>7} {:>6} {:>6} {:>7}  {}\n", "case",
+             "var", "n", "p-steps/s", "rot (s)", "rebuild", "contacts", "bridges", "entr/p", "B/p", "B/p-st",
+             "roofl.", "largest passes");
+  for (const auto& j : runs) {
+    const auto& t = j["traffic"];
+    fmt::print(
+        "{:<14} {:<4} {:>7} {:>9.3g} {:>9.3g} {:>7} {:>8} {:>8} {:>7.1f} {:>6.0f} {:>6.0f} {:>7}  {}\n",
+        j["case"].get<std::string>(), j["variant"].get<std::string>(), j["particles"].get<size_t>(),
+        j["particle_steps_per_s"].get<double>(), j["timing"]["rotation_s"].get<double>(),
+        j["rebuild_interval_steps"].is_null()
+            ? std::string("-")
+            : fmt::format("{:.1f}", j["rebuild_interval_steps"].get<double>()),
+        j["contacts"].get<uint64_t>(), j["bridges"].get<uint64_t>(), j["entries_per_particle"].get<double>(),
+        j["memory"]["bytes_per_particle_at_measured_entries"].get<double>(),
+        t["bytes_per_particle_step"].get<double>(),
+        t.contains("fraction_of_roofline")
+            ? fmt::format("{:.1f}%", 100.0 * t["fraction_of_roofline"].get<double>())
+            : std::string("-"),
+        passes_text(j, 3));
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"wetdem_bench: particle-steps per second of the GPU step, per pass"};
-  std::vector<size_t> sizes{20000, 100000};
-  uint64_t steps = 200, settle = 400;
+  CLI::App app{
+      "wetdem_bench: particle-steps per second of real runs in rotation, per pass (README Benchmark)"};
+  std::vector<std::string> cases{"assets/demo.toml", "assets/demo_closed.toml", "assets/pp2_l5.toml",
+                                 "assets/pp2_l3.toml", "assets/pp1_l3.toml"};
+  std::vector<std::string> variants{"wet", "dry"}, sets;
   std::string device, json_path;
-  bool dry = false;
+  Options o;
+  bool no_cache = false;
   uint64_t soak_steps = 0;
-  app.add_option("--n", sizes, "particle counts")->delimiter(',');
-  app.add_option("--steps", steps, "timed steps per size");
-  app.add_option("--settle", settle, "untimed steps before timing (the bed forms contacts)");
+  o.steady.cache_dir = default_cache();
+  app.add_option("cases", cases, "case files (default: the shipped benchmark set)");
+  app.add_option("--variants", variants, "wet (as shipped) and/or dry (liquid.content = 0)")->delimiter(',');
+  app.add_option("--set", sets, "override a case key for every case: dotted.key=value");
+  app.add_option("--steps", o.steps, "timed steps per case (default 1000)");
+  app.add_option("--warmup", o.warmup, "untimed steps after the steady state (default: one submit)");
+  app.add_option("--settle-s", o.steady.settle_s,
+                 "simulated seconds of settling (default: the case's run.settle)");
+  app.add_option("--rotate-s", o.steady.rotate_s,
+                 "simulated seconds of rotation before timing (default: the case's run.steady_state_start)");
+  app.add_option("--cache", o.steady.cache_dir,
+                 "folder of the steady-state checkpoints (default ~/.cache/wetdem/bench)");
+  app.add_flag("--no-cache", no_cache, "prepare every case again and keep nothing");
+  app.add_option("--bandwidth", o.bandwidth_gbs, "device memory bandwidth in GB/s (default: by device name)");
   app.add_option("--device", device, "device: index, name substring, cpu or gpu");
-  app.add_flag("--dry", dry, "no liquid (default: wet, PP2 calibrated bridges)");
   app.add_option("--json", json_path, "write the results as JSON");
   app.add_option("--soak", soak_steps,
                  "instead: liquid-conservation soak of this many steps (physics.md §7.8)");
   CLI11_PARSE(app, argc, argv);
+  o.warmup_given = app.count("--warmup") > 0;
+  if (no_cache) o.steady.cache_dir.clear();
 
   try {
     vk::ContextOptions co;
     co.device = device;
+    co.quiet = true;
     vk::Context ctx(co);
     if (soak_steps > 0) return soak(ctx, soak_steps, 2000);
+    // Every case and override is checked before any work.
+    std::vector<std::pair<app::Case, std::string>> todo;
+    for (const std::string& v : variants) {
+      if (v != "wet" && v != "dry") throw app::CaseError("--variants", "wet or dry, got " + v);
+      for (const std::string& f : cases) {
+        std::vector<std::string> s = sets;
+        if (v == "dry") s.push_back("liquid.content=0");
+        todo.emplace_back(app::parse_case_file(f, s), v);
+      }
+    }
     nlohmann::json out;
     out["device"] = ctx.info().describe();
-    out["wet"] = !dry;
-    for (size_t n : sizes) {
-      Setup s = make_drum(n, !dry, 1);
-      SystemOptions so;
-      so.steps_per_submit = 100;
-      System sys(ctx, s.prm, s.state.p.size(), so);
-      sys.upload(s.state);
-      sys.step(settle);
-      auto t0 = std::chrono::steady_clock::now();
-      sys.step(steps);
-      double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      Observables o = sys.observables();
-      SystemCounters c = sys.counters();
-
-      // Per pass: a second run of the same steps with a timestamp before every pass.
-      so.profile_passes = true;
-      System prof(ctx, s.prm, s.state.p.size(), so);
-      prof.upload(sys.download());
-      prof.step(steps);
-      auto passes = prof.pass_timings();
-      double total = 0.0;
-      for (auto& p : passes) total += p.seconds;
-      std::sort(passes.begin(), passes.end(), [](auto& a, auto& b) { return a.seconds > b.seconds; });
-
-      const double pss = double(n) * double(steps) / wall;
-      fmt::print(
-          "\n{} particles (PP2 scaled x{:.2f}), {} steps, dt {:.3g} s, {} contacts, {} bridges, {} "
-          "rebuilds\n",
-          n, s.scale, steps, s.prm.dt, o.contacts, o.bridges, c.rebuilds);
-      std::fflush(stdout);
-      fmt::print("  step: {:.3g} particle-steps/s ({:.3g} s wall per step) on {}\n", pss,
-                 wall / double(steps), ctx.info().name);
-      nlohmann::json jn;
-      jn["particles"] = n;
-      jn["steps"] = steps;
-      jn["particle_steps_per_s"] = pss;
-      jn["contacts"] = o.contacts;
-      jn["bridges"] = o.bridges;
-      jn["rebuilds"] = c.rebuilds;
-      if (total > 0) {
-        fmt::print("  {:<20} {:>12} {:>8} {:>16}\n", "pass", "s/step", "share", "particle-steps/s");
-        for (auto& p : passes) {
-          double per_step = p.seconds / double(steps);
-          fmt::print("  {:<20} {:>12.3g} {:>7.1f}% {:>16.3g}\n", p.name, per_step, 100.0 * p.seconds / total,
-                     double(n) / per_step);
-          jn["passes"][p.name] = {{"seconds_per_step", per_step}, {"share", p.seconds / total}};
-        }
-      } else {
-        fmt::print("  (no GPU timestamps on this device: per-pass times unavailable)\n");
-      }
-      out["runs"].push_back(jn);
+    out["device_name"] = ctx.info().name;
+    out["code_version"] = code_version();
+    out["runs"] = nlohmann::json::array();
+    auto log = [](const std::string& l) { fmt::print("{}\n", l), std::fflush(stdout); };
+    log("device: " + ctx.info().describe());
+    for (const auto& [c, v] : todo) {
+      nlohmann::json j = bench_case(ctx, c, v, o, log);
+      log(fmt::format("{} {}: {:.3g} particle-steps/s over {} steps from t = {:.3g} s ({:.3g} s of rotation)",
+                      j["case"].get<std::string>(), v, j["particle_steps_per_s"].get<double>(), o.steps,
+                      j["timing"]["start_time_s"].get<double>(), j["timing"]["rotation_s"].get<double>()));
+      out["runs"].push_back(j);
+      if (!json_path.empty()) std::ofstream(json_path) << out.dump(2) << "\n";  // partial results survive
     }
-    if (!json_path.empty()) std::ofstream(json_path) << out.dump(2) << "\n";
+    fmt::print("\ndevice: {}", ctx.info().describe());
+    print_table(out["runs"]);
+  } catch (const app::CaseError& e) {
+    fmt::print(stderr, "wetdem_bench: {}\n", e.what());
+    return 2;
   } catch (const std::exception& e) {
     fmt::print(stderr, "wetdem_bench: {}\n", e.what());
     return 1;

@@ -7,8 +7,8 @@
 namespace wetdem::vk {
 
 namespace {
-void make_buffer(Context& ctx, VkDeviceSize bytes, VkBufferUsageFlags usage, VkMemoryPropertyFlags props,
-                 bool address, VkBuffer& buf, VkDeviceMemory& mem) {
+VkDeviceSize make_buffer(Context& ctx, VkDeviceSize bytes, VkBufferUsageFlags usage,
+                         VkMemoryPropertyFlags props, bool address, VkBuffer& buf, VkDeviceMemory& mem) {
   VkBufferCreateInfo bi{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
   bi.size = bytes;
   bi.usage = usage;
@@ -27,16 +27,18 @@ void make_buffer(Context& ctx, VkDeviceSize bytes, VkBufferUsageFlags usage, VkM
   ai.memoryTypeIndex = ctx.memory_type(req.memoryTypeBits, props);
   WETDEM_VK(vkAllocateMemory(ctx.device(), &ai, nullptr, &mem));
   WETDEM_VK(vkBindBufferMemory(ctx.device(), buf, mem, 0));
+  return req.size;
 }
 }  // namespace
 
 Buffer::Buffer(Context& ctx, VkDeviceSize bytes) : ctx_(&ctx), size_(bytes) {
   if (bytes == 0) bytes = size_ = 16;
-  make_buffer(ctx, bytes,
-              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
-                  VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
-                  VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
-              VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, true, buf_, mem_);
+  allocated_ = make_buffer(ctx, bytes,
+                           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
+                               VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
+                               VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
+                           VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, true, buf_, mem_);
+  ctx.account_device_bytes(int64_t(allocated_));
   VkBufferDeviceAddressInfo ai{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
   ai.buffer = buf_;
   addr_ = vkGetBufferDeviceAddress(ctx.device(), &ai);
@@ -51,7 +53,9 @@ void Buffer::release() {
   if (buf_) {
     vkDestroyBuffer(ctx_->device(), buf_, nullptr);
     vkFreeMemory(ctx_->device(), mem_, nullptr);
+    ctx_->account_device_bytes(-int64_t(allocated_));
   }
+  allocated_ = 0;
   buf_ = VK_NULL_HANDLE;
   mem_ = VK_NULL_HANDLE;
 }
@@ -67,6 +71,7 @@ Buffer& Buffer::operator=(Buffer&& o) noexcept {
     buf_ = std::exchange(o.buf_, VK_NULL_HANDLE);
     mem_ = std::exchange(o.mem_, VK_NULL_HANDLE);
     size_ = std::exchange(o.size_, 0);
+    allocated_ = std::exchange(o.allocated_, 0);
     addr_ = std::exchange(o.addr_, 0);
   }
   return *this;

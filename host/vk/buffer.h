@@ -45,6 +45,7 @@ class Buffer {
   VkBuffer buf_ = VK_NULL_HANDLE;
   VkDeviceMemory mem_ = VK_NULL_HANDLE;
   VkDeviceSize size_ = 0;
+  VkDeviceSize allocated_ = 0;  // the allocation's size (>= size_), counted in Context::device_bytes()
   uint64_t addr_ = 0;
 };
 

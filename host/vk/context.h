@@ -52,6 +52,10 @@ class Context {
 
   uint32_t memory_type(uint32_t type_bits, VkMemoryPropertyFlags want) const;
 
+  // Device-local bytes held by the live vk::Buffers of this context (their allocation sizes; benchmarks).
+  uint64_t device_bytes() const { return device_bytes_.load(); }
+  void account_device_bytes(int64_t delta) { device_bytes_ += uint64_t(delta); }
+
   // One-shot command buffer: record with fn, submit, wait.
   template <class Fn>
   void submit_now(Fn&& fn) {
@@ -80,6 +84,7 @@ class Context {
   DeviceInfo info_{};
   VkPhysicalDeviceMemoryProperties mem_{};
   std::atomic<uint64_t> validation_errors_{0};
+  std::atomic<uint64_t> device_bytes_{0};
 };
 
 }  // namespace wetdem::vk

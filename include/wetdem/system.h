@@ -39,6 +39,22 @@ struct SystemCounters {
   uint64_t escaped = 0;         // particles found outside the cell grid at the last rebuild
 };
 
+// ---- device memory of a System (benchmarks, resource estimates; host/gpu/system_memory.cpp) ----
+// Bytes of the buffers a System owns directly, by role, from their real sizes. Sorting and scan scratch are
+// not listed (vk::Context::device_bytes() counts every live buffer of a context).
+struct DeviceMemory {
+  uint64_t particle_sets = 0;     // both particle sets (current / being built)
+  uint64_t particle_scratch = 0;  // per-particle scratch: rebuild keys, reference positions, liquid scratch
+  uint64_t entry_sets = 0;        // both neighbour-entry sets, at their capacities
+  uint64_t entry_scratch = 0;     // per-entry scratch: pair forces and torques, event slots
+  uint64_t entry_capacity = 0;    // entries the two sets hold together
+  uint64_t grid = 0;              // cell ranges
+  uint64_t control = 0;           // control words, parameters, address table
+  uint64_t total() const {
+    return particle_sets + particle_scratch + entry_sets + entry_scratch + grid + control;
+  }
+};
+
 class System {
  public:
   System(vk::Context& ctx, const SimParams& prm, size_t num_particles, SystemOptions opt = {});
@@ -68,6 +84,7 @@ class System {
   EventCounts read_events();  // formations/ruptures since the last call
   SystemCounters counters() const;
   std::vector<PassTiming> pass_timings() const;
+  DeviceMemory device_memory() const;  // host/gpu/system_memory.cpp
   void reset_pass_timings();
 
   const SimParams& params() const;

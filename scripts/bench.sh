@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# The benchmark of README "Benchmark" in one command. Steady states are cached (~/.cache/wetdem/bench, or
+# --cache DIR), so a second call times only.
+#   scripts/bench.sh                 GPU machine: every shipped case, wet and dry, prepared through each case's own
+#                                    settle and run.steady_state_start (full steady rotation); bench.json
+#   scripts/bench.sh --lavapipe      the README's lavapipe table: demo slice and closed demo drum (wet and dry, own
+#                                    preparation) and PP2 l = 5 wet (short preparation: 0.05 s settle, 0.02 s
+#                                    rotation, 200 timed steps); bench-lavapipe.json
+# Further arguments go to wetdem_bench (--device, --cache, --bandwidth, ...).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+BENCH=${WETDEM_BENCH:-./build/host/wetdem_bench}
+if [[ "${1:-}" == "--lavapipe" ]]; then
+  shift
+  "$BENCH" assets/demo.toml assets/demo_closed.toml --variants wet,dry --steps 1000 --json bench-lavapipe-demo.json "$@"
+  "$BENCH" assets/pp2_l5.toml --variants wet --settle-s 0.05 --rotate-s 0.02 --steps 200 \
+    --json bench-lavapipe-pp2.json "$@"
+else
+  "$BENCH" --variants wet,dry --steps 2000 --json bench.json "$@"
+fi
