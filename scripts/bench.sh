@@ -4,7 +4,7 @@
 #   scripts/bench.sh                 GPU machine: every shipped case, wet and dry, prepared through each case's own
 #                                    settle and run.steady_state_start (full steady rotation); bench.json
 #   scripts/bench.sh --lavapipe      the README's lavapipe table: demo slice and closed demo drum (wet and dry, own
-#                                    preparation) and PP2 l = 5 wet (short preparation: 0.05 s settle, 0.02 s
+#                                    preparation) and PP2 l = 5 wet (short preparation: 0.03 s settle, 0.01 s
 #                                    rotation, 200 timed steps); bench-lavapipe.json
 # Further arguments go to wetdem_bench (--device, --cache, --bandwidth, ...).
 set -euo pipefail
@@ -13,7 +13,7 @@ BENCH=${WETDEM_BENCH:-./build/host/wetdem_bench}
 if [[ "${1:-}" == "--lavapipe" ]]; then
   shift
   "$BENCH" assets/demo.toml assets/demo_closed.toml --variants wet,dry --steps 1000 --json bench-lavapipe-demo.json "$@"
-  "$BENCH" assets/pp2_l5.toml --variants wet --settle-s 0.05 --rotate-s 0.02 --steps 200 \
+  "$BENCH" assets/pp2_l5.toml --variants wet --settle-s 0.03 --rotate-s 0.01 --steps 200 \
     --json bench-lavapipe-pp2.json "$@"
 else
   "$BENCH" --variants wet,dry --steps 2000 --json bench.json "$@"

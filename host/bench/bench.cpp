@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/drum/scenarios.h"
+#include "app/run/resources.h"
 #include "app/run/session.h"
 #include "bench/steady.h"
 #include "bench/traffic.h"
@@ -140,6 +141,10 @@ nlohmann::json bench_case(vk::Context& ctx, const app::Case& c, const std::strin
   j["bridges"] = obs.bridges;
   j["neighbour_entries"] = ctr.entries;
   j["entries_per_particle"] = double(ctr.entries) / double(n);
+  const app::ResourceEstimate est = app::estimate_resources(prep.c);  // what `wetdem check` says, to compare
+  j["estimate"] = {{"entries_in_list_per_particle", est.entries_in_list},
+                   {"entries_allocated_per_particle", est.entries_per_particle},
+                   {"device_bytes_per_particle", est.device_bytes / est.particles}};
 
   // Device memory from the real buffer sizes.
   const double cap_per_set = 0.5 * double(mem.entry_capacity);

@@ -39,8 +39,9 @@ ResourceEstimate estimate_resources(const Case& c) {
   const double s_cmax = c.liquid.on() ? (1.0 + 0.5 * c.liquid.theta) * std::cbrt(c.liquid.v_max * vbar) : 0.0;
   const double skin = c.run.skin ? *c.run.skin : 0.3 * 0.5 * psd.d_min();
   const double reach = (2.0 * r_bar + s_cmax + skin) / r_bar;
-  const double entries = std::max(16.0, c.drum.bed_solid_fraction * reach * reach * reach);
-  e.entries_per_particle = 1.5 * entries;
+  e.entries_in_list = c.drum.bed_solid_fraction * reach * reach * reach;
+  // Allocated: the initial capacity (16 per particle), or 1.5 × the need once a rebuild overflows it.
+  e.entries_per_particle = std::max(kInitialEntriesPerParticle, 1.5 * e.entries_in_list);
   e.device_bytes = e.particles * (kDeviceBytesPerParticle + e.entries_per_particle * kDeviceBytesPerEntry);
   e.host_bytes = e.particles * kHostBytesPerParticle;
   const double tr = rayleigh_time(0.5 * psd.d_min(), c.material.density,

@@ -11,12 +11,12 @@
 // 56 B each) and the per-entry scratch (pair_f/ti/tj 48, ev_a/ev_b 16): 176 B. The byte counts follow the
 // layout constants; tests/test_bench_traffic.cpp checks them against the buffers a System really allocates.
 // Entries per particle: two-sided neighbours with centres within 2 r̄ + S_c,max + skin in a bed of solid
-// fraction φ, ≈ φ (d/r̄)³ (at least 16, the initial capacity), times 1.5 for the headroom of a regrow
-// (system.cpp grows to 1.5 × the need). wetdem_bench measures the list length of real beds in rotation
-// (README "Benchmark", "Memory").
-// Host bytes: measured, the slope of the peak resident memory of `wetdem run` on lavapipe between the demo
-// slice (1,834 particles, 113 MB) and a 5x longer one (9,091 particles, 141 MB): 4.0 kB per particle. On
-// lavapipe that includes the device buffers (device memory is host memory there), so it errs high on a GPU.
+// fraction φ, ≈ φ (d/r̄)³ in the list; allocated: the initial capacity of 16 per particle, or 1.5 × the list
+// once a rebuild overflows it (system.cpp grows a set to 1.5 × the need). wetdem_bench measures the list
+// length of real beds in rotation (README "Benchmark", "Memory"). Host bytes: measured, the slope of the peak
+// resident memory of `wetdem run` on lavapipe between the demo slice (1,834 particles, 113 MB) and a 5x
+// longer one (9,091 particles, 141 MB): 4.0 kB per particle. On lavapipe that includes the device buffers
+// (device memory is host memory there), so it errs high on a GPU.
 #pragma once
 
 #include <cstdint>
@@ -34,6 +34,7 @@ namespace wetdem::app {
 
 struct ResourceEstimate {
   double particles = 0;             // expected n
+  double entries_in_list = 0;       // neighbour-list entries per particle expected in a settled bed
   double entries_per_particle = 0;  // neighbour-list entries allocated per particle (with regrow headroom)
   double device_bytes = 0;
   double host_bytes = 0;
@@ -69,6 +70,7 @@ inline constexpr double kDeviceCellBytesPerParticle = 64.0;   // <= 8 cells x (s
 inline constexpr double kDeviceBytesPerParticle =
     2.0 * kParticleSetBytes + kParticleScratchBytes + kSortScratchBytes + kDeviceCellBytesPerParticle;
 inline constexpr double kDeviceBytesPerEntry = 2.0 * kEntrySetBytes + kEntryScratchBytes;
+inline constexpr double kInitialEntriesPerParticle = 16.0;  // SystemOptions::initial_entries_per_particle
 inline constexpr double kHostBytesPerParticle = 4000.0;
 // Throughput `wetdem check` quotes: the demo on lavapipe (README: ~1,800 particles at 114 steps/s).
 inline constexpr double kLavapipeThroughput = 2.0e5;
