@@ -5,16 +5,18 @@
 #                                    settle and run.steady_state_start (full steady rotation); bench.json
 #   scripts/bench.sh --lavapipe      the README's lavapipe table: demo slice and closed demo drum (wet and dry, own
 #                                    preparation) and PP2 l = 5 wet (short preparation: 0.03 s settle, 0.01 s
-#                                    rotation, 200 timed steps); bench-lavapipe.json
+#                                    rotation, 200 timed steps); docs/bench/lavapipe-*.json
 # Further arguments go to wetdem_bench (--device, --cache, --bandwidth, ...).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BENCH=${WETDEM_BENCH:-./build/host/wetdem_bench}
 if [[ "${1:-}" == "--lavapipe" ]]; then
   shift
-  "$BENCH" assets/demo.toml assets/demo_closed.toml --variants wet,dry --steps 1000 --json bench-lavapipe-demo.json "$@"
-  "$BENCH" assets/pp2_l5.toml --variants wet --settle-s 0.03 --rotate-s 0.01 --steps 200 \
-    --json bench-lavapipe-pp2.json "$@"
+  "$BENCH" assets/demo.toml assets/demo_closed.toml --variants wet,dry --steps 1000 --json docs/bench/lavapipe-demo.json "$@"
+  "$BENCH" assets/pp2_l5.toml --variants wet --settle-s 0.03 --rotate-s 0.01 --steps 200 --warmup 20 \
+    --json docs/bench/lavapipe-pp2_l5.json "$@"
+  /usr/bin/python3 scripts/bench_table.py docs/bench/lavapipe-demo.json docs/bench/lavapipe-pp2_l5.json
 else
   "$BENCH" --variants wet,dry --steps 2000 --json bench.json "$@"
+  /usr/bin/python3 scripts/bench_table.py bench.json
 fi

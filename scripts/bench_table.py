@@ -1,0 +1,17 @@
+#!/usr/bin/env python3
+"""The README Benchmark table (markdown) from wetdem_bench --json files: scripts/bench_table.py A.json [B.json ...]"""
+import json,sys
+rows=[]
+for f in sys.argv[1:]:
+  d=json.load(open(f))
+  for r in d['runs']:
+    t=r['traffic']; m=r['memory']; tm=r['timing']
+    ri=r['rebuild_interval_steps']
+    passes=', '.join('%s %.0f %%'%(p['name'],100*p['share']) for p in r['passes'][:3])
+    rows.append('| %s | %s | %s | %s | %.3g | %.2g s (%.2g×) | %s | %d | %d | %.1f | %.0f | %.0f | %.1f %% | %s |'%(
+      r['case'], r['variant'], f"{r['particles']:,}", f"{tm['steps']:,}", r['particle_steps_per_s'], tm['rotation_s'], tm['rotation_fraction_of_steady_start'],
+      '-' if ri is None else '%.1f'%ri, r['contacts'], r['bridges'], r['entries_per_particle'], m['bytes_per_particle_at_measured_entries'],
+      t['bytes_per_particle_step'], 100*t.get('fraction_of_roofline',0), passes))
+print('| case | variant | particles | timed steps | p-steps/s | rotation before timing (of steady start) | rebuild | contacts | bridges | entr/p | B/p | B/p-st | roofl. | largest passes |')
+print('|---|---|---|---|---|---|---|---|---|---|---|---|---|---|')
+print('\n'.join(rows))
