@@ -21,11 +21,11 @@ import time
 
 # Truth overrides per effect: (weak, strong), as case keys the diagnosis is not told about.
 TRUTHS = {
-    "cohesion": ('"cohesion.surface_energy" = "0.004 J/m2"', '"cohesion.surface_energy" = "0.02 J/m2"'),
-    "absorption": ('"absorption.capacity" = 0.03\n"absorption.rate" = 10.0',
-                   '"absorption.capacity" = 0.15\n"absorption.rate" = 10.0'),
-    "evaporation": ('"liquid.evaporation_time" = "20 s"', '"liquid.evaporation_time" = "2 s"'),
-    "spread": ('"liquid.wetted_fraction" = 0.6', '"liquid.wetted_fraction" = 0.2'),
+    "cohesion": ('"cohesion.surface_energy" = "0.03 J/m2"', '"cohesion.surface_energy" = "0.1 J/m2"'),
+    "absorption": ('"absorption.capacity" = 0.02\n"absorption.rate" = 10.0',
+                   '"absorption.capacity" = 0.08\n"absorption.rate" = 10.0'),
+    "evaporation": ('"liquid.evaporation_time" = "5 s"', '"liquid.evaporation_time" = "1 s"'),
+    "spread": ('"liquid.wetted_fraction" = 0.6', '"liquid.wetted_fraction" = 0.25'),
     "viscous": ('"liquid.viscosity" = "0.01 Pa s"', '"liquid.viscosity" = "0.2 Pa s"'),
     "hysteresis": ('"liquid.theta_receding" = "20 deg"', '"liquid.theta_receding" = "2 deg"'),
 }

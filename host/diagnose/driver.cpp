@@ -282,6 +282,12 @@ nlohmann::json run_twin(const TwinSpec& t, const DiagnoseOptions& o) {
   truth_json["noise_seed"] = t.noise_seed;
   for (const Condition& c : conds) {
     for (const auto& [obs, sd] : t.noise) {
+      // A quantity the truth does not have at this condition (liquid_free_fraction of a dry bed) is no
+      // measurement: no row, and truth.json says so.
+      if (!book.reports(c, truth, t.seeds, obs)) {
+        truth_json["not_reported"].push_back({{"condition", c.label}, {"observable", obs}});
+        continue;
+      }
       const Prediction p = book.predict(c, truth, t.seeds, obs);
       const double sigma = std::sqrt(sd * sd + p.se * p.se);
       const double y = p.mean + sd * unit(rng);
