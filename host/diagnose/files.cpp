@@ -104,6 +104,7 @@ DiagnosisSpec parse_diagnosis_file(const std::string& path_in) {
       }
     }
     if (d.effects.empty()) throw DiagnoseError(fmt::format("{}: effects: name at least one effect", path));
+    d.effects_given = true;
   } else if (root.contains("effects")) {
     throw DiagnoseError(fmt::format("{}: effects: an array of effect names is required", path));
   } else {
