@@ -53,6 +53,17 @@ TEST(DiagnoseFiles, ShippedFilesParse) {
   EXPECT_EQ(t.truth, (std::vector<std::string>{"cohesion.surface_energy=\"0.08 J/m2\""}));
   EXPECT_EQ(t.condition_toml.at(0).size(), 3u);
   EXPECT_DOUBLE_EQ(t.noise.at("aor_deg_mean"), 0.5);
+  // The full-size example: its table comes with --observations (made on a GPU).
+  const std::string full = std::string(WETDEM_SOURCE_DIR) + "/assets/diagnosis/pp2_l5/";
+  const DiagnosisSpec f = parse_diagnosis_file(full + "diagnose.toml");
+  EXPECT_TRUE(f.observations.empty());
+  EXPECT_EQ(f.effects.size(), 6u);
+  for (const char* twin : {"twin_absorption.toml", "twin_null.toml"})
+    EXPECT_EQ(parse_twin_file(full + twin).condition_toml.at(0).size(), 4u) << twin;
+  DiagnoseOptions o;
+  o.out = (fs::temp_directory_path() / ("wetdem-diag-notable-" + std::to_string(::getpid()))).string();
+  EXPECT_NE(expect_error([&] { run_diagnosis(f, o); }).find("--observations"), std::string::npos);
+  EXPECT_FALSE(fs::exists(o.out));
 }
 
 TEST(DiagnoseFiles, BadDiagnosisFilesNameTheKey) {

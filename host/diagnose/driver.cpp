@@ -119,6 +119,9 @@ Table read_table(const std::string& path) {
 
 nlohmann::json run_diagnosis(const DiagnosisSpec& d, const DiagnoseOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
+  if (d.observations.empty())
+    throw DiagnoseError(d.path +
+                        ": observations: no table (give `observations` in the file or --observations)");
   Table tab = read_table(d.observations);
   const std::string store = o.store.empty() ? (fs::path(o.out) / "store").string() : o.store;
   RunBook book(store, d.path, d.name, d.case_path, d.set, exec_of(o));
