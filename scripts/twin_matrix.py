@@ -47,6 +47,9 @@ def main():
     ap.add_argument("--effects", nargs="*", help="truth effects (default: the diagnosis file's)")
     ap.add_argument("--nulls", type=int, default=2)
     ap.add_argument("--jobs", type=int, default=1)
+    ap.add_argument("--perturb", action="append", default=[],
+                    help="a truth key every twin also differs in, e.g. 'psd.tails = \"lognormal\"' or "
+                         "'scaling = 4.5' (diagnosis.md §5: a real system differs in more than one way)")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     store = os.path.join(a.out, "store")
@@ -70,8 +73,8 @@ def main():
         text = re.sub(r"^seeds\s*=.*$", f"seeds = [{1000 + 10 * i}, {1001 + 10 * i}]", base, flags=re.M)
         text = re.sub(r"^noise_seed\s*=.*$", f"noise_seed = {500 + i}", text, flags=re.M)
         text = re.sub(r"^\[truth\][^\[]*", "", text, flags=re.M)
-        if truth:
-            text += "\n[truth]\n" + truth + "\n"
+        if truth or a.perturb:
+            text += "\n[truth]\n" + "\n".join([truth] + a.perturb if truth else a.perturb) + "\n"
         tf = os.path.join(d, "twin.toml")
         open(tf, "w").write(text)
         run([a.wetdem, "twin", tf, "--out", os.path.join(d, "twin"), "--store", store, "--jobs", str(a.jobs),
@@ -89,7 +92,7 @@ def main():
     hits = sum(1 for r in eff if r["verdict"] == "effect" and r["effect"] == r["truth"])
     shrinks = [r["held_out_shrink"] for r in rows if r["verdict"] == "effect" and r["held_out_shrink"] is not None]
     nulls = [r for r in rows if not r["truth"]]
-    out = {"rows": rows, "top1_rate": hits / len(eff) if eff else None,
+    out = {"perturb": a.perturb, "rows": rows, "top1_rate": hits / len(eff) if eff else None,
            "median_held_out_shrink": statistics.median(shrinks) if shrinks else None,
            "nulls_ok": sum(1 for r in nulls if r["verdict"] != "effect"), "nulls": len(nulls),
            "device": next((r["device"] for r in rows if r["device"]), ""), "wall_s": wall}
@@ -102,7 +105,8 @@ def main():
     md.append("")
     md.append(f"Top-1 identification: {hits}/{len(eff)}; median held-out shrink where `effect`: "
               f"{'-' if not shrinks else f'{100 * statistics.median(shrinks):.0f} %'}; nulls without an effect: "
-              f"{out['nulls_ok']}/{len(nulls)}; device {out['device']}; wall {wall:.0f} s.")
+              f"{out['nulls_ok']}/{len(nulls)}; device {out['device']}; wall {wall:.0f} s."
+              + (f" Every truth also differs in: {'; '.join(a.perturb)}." if a.perturb else ""))
     open(os.path.join(a.out, "matrix.md"), "w").write("\n".join(md) + "\n")
     print("\n".join(md))
 
