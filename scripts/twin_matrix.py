@@ -109,6 +109,7 @@ def main():
     ap.add_argument("--effects", nargs="*", help="truth effects (default: the diagnosis file's)")
     ap.add_argument("--nulls", type=int, default=2)
     ap.add_argument("--jobs", type=int, default=1)
+    ap.add_argument("--store", help="run store (default OUT/store); share one across matrices to reuse runs")
     ap.add_argument("--summarize", action="store_true",
                     help="only (re)write matrix.json/.md/.png from the twin folders already in --out")
     ap.add_argument("--perturb", action="append", default=[],
@@ -116,7 +117,7 @@ def main():
                          "'scaling = 4.5' (diagnosis.md §5: a real system differs in more than one way)")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
-    store = os.path.join(a.out, "store")
+    store = a.store or os.path.join(a.out, "store")
     base = open(a.twin_base).read()
     base_dir = os.path.dirname(os.path.abspath(a.twin_base))
     base = re.sub(r'^case\s*=\s*"([^"]+)"', lambda m: f'case = "{os.path.join(base_dir, m.group(1))}"', base,
