@@ -208,17 +208,27 @@ nlohmann::json run_diagnosis(const DiagnosisSpec& d, const DiagnoseOptions& o) {
       for (const std::string& e : top)
         for (double s : d.probes.at(e)) book.want(c, variant(e, s, model), probe_seed);
     book.run();
+    // Common random numbers: the effect's change against replicate 1, on top of the replicate mean.
+    auto probe_at = [&](const std::string& e, double s) {
+      std::vector<Prediction> p = predictions(variant(e, s, model), probe_seed);
+      for (size_t k = 0; k < p.size(); ++k) p[k].mean = baseline[k].mean + (p[k].mean - base_seed1[k].mean);
+      return p;
+    };
     std::vector<Response> responses;
     std::vector<double> scores;
     for (const std::string& e : top) {
       Response r;
       r.effect = e;
       r.strengths = d.probes.at(e);
-      for (double s : r.strengths) {
-        std::vector<Prediction> p = predictions(variant(e, s, model), probe_seed);
-        // Common random numbers: the effect's change against replicate 1, on top of the replicate mean.
-        for (size_t k = 0; k < p.size(); ++k) p[k].mean = baseline[k].mean + (p[k].mean - base_seed1[k].mean);
-        r.pred.push_back(p);
+      for (double s : r.strengths) r.pred.push_back(probe_at(e, s));
+      // Refinement (candidates.h, next_knot): runs at the fitted strength, seed 1 (so the knot carries no
+      // seed noise against the baseline), added as knots.
+      for (int round = 0; round < d.refine; ++round) {
+        const double s = next_knot(tab.cells, baseline, r);
+        if (s == 0.0) break;
+        for (Condition& c : tab.conditions) book.want(c, variant(e, s, model), probe_seed);
+        book.run();
+        add_knot(r, s, probe_at(e, s));
       }
       responses.push_back(r);
       for (const auto& [sc, name] : screened)

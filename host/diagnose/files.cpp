@@ -78,8 +78,8 @@ DiagnosisSpec parse_diagnosis_file(const std::string& path_in) {
   const std::string path = fs::absolute(path_in).lexically_normal().string();
   const toml::table root = load(path);
   reject_unknown(root, path,
-                 {"name", "case", "observations", "effects", "replicates", "screen_top", "set", "probes",
-                  "verdict", "refit"});
+                 {"name", "case", "observations", "effects", "replicates", "screen_top", "refine", "set",
+                  "probes", "verdict", "refit"});
   DiagnosisSpec d;
   d.path = path;
   d.name = root["name"].value_or(fs::path(path).stem().string());
@@ -121,6 +121,11 @@ DiagnosisSpec parse_diagnosis_file(const std::string& path_in) {
     const auto r = root["screen_top"].value<int64_t>();
     if (!r || *r < 1) throw DiagnoseError(fmt::format("{}: screen_top: an integer >= 1", path));
     d.screen_top = size_t(*r);
+  }
+  if (root.contains("refine")) {
+    const auto r = root["refine"].value<int64_t>();
+    if (!r || *r < 0 || *r > 5) throw DiagnoseError(fmt::format("{}: refine: an integer in [0, 5]", path));
+    d.refine = int(*r);
   }
   if (const auto* t = root["set"].as_table()) d.set = overrides_of(*t, path, "set");
   if (const auto* t = root["probes"].as_table()) {

@@ -28,6 +28,7 @@ struct DiagnosisSpec {
       probes;             // per effect: strengths probed (default: the catalogue's)
   int replicates = 2;     // baseline and shrink seeds
   size_t screen_top = 3;  // candidates fitted after the screen
+  int refine = 2;         // per fitted candidate: runs added at its fitted strength, then refitted (0-5)
   VerdictRule rule;
 };
 DiagnosisSpec parse_diagnosis_file(const std::string& path);
