@@ -100,6 +100,7 @@ struct PlateHold {
   double moved_m;  // distance from where the plate carried its starting point
   int64_t bridge;  // wall bridge at the end
   bool contact;    // touching the plate at the end
+  int64_t film;    // film at the end
 };
 
 PlateHold hang_on_plate(const std::string& backend, double mu_s, double mu_r, double load_ratio,
@@ -140,7 +141,8 @@ PlateHold hang_on_plate(const std::string& backend, double mu_s, double mu_r, do
   const glm::dvec3 carried(x0.x * std::cos(a) - x0.y * std::sin(a), x0.x * std::sin(a) + x0.y * std::cos(a),
                            x0.z);
   const double gap = (st.p.x[0].z + 0.5 * prm.drum.length) - kR;
-  return {glm::length(glm::dvec2(st.p.x[0] - carried)), st.p.wall[kWallPlateLo].bridge, gap <= 0.0};
+  return {glm::length(glm::dvec2(st.p.x[0] - carried)), st.p.wall[kWallPlateLo].bridge, gap <= 0.0,
+          st.p.film[0]};
 }
 
 // Rolling binds (mu_r 0.3 < mu_s 0.8, the demo's values): held at 0.8 of the limit for 0.4 rad of the plate's
@@ -187,6 +189,7 @@ TEST_P(WetHold, SphereOnRotatingPlateHeldIffTheSlidingLimitCarriesIt) {
 TEST_P(WetHold, NoPlateBridgeWhenThePlatesBridgesAreOff) {
   const PlateHold off = hang_on_plate(GetParam(), 0.8, 0.3, 0.8, false);
   EXPECT_EQ(off.bridge, 0);
+  EXPECT_EQ(off.film, 4 * kVmax);
   EXPECT_GT(off.moved_m, 5e-3);
 }
 
