@@ -1,15 +1,15 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Liquid pass 4b (per owner entry): ruptured bridges empty; surviving bridges take the shares of both ends,
-// capped at V_max, the overflow going back to the two films in proportion to the shares (§5 rule 1).
+// Liquid pass 4b (per owner entry, over the owner list): ruptured bridges empty; surviving bridges take the
+// shares of both ends, capped at V_max, the overflow going back to the two films in proportion to the shares (§5 rule 1).
 #include "liquid.glsl"
 layout(local_size_x = 256) in;
 void main() {
-  uint e = gl_GlobalInvocationID.x;
+  uint k = gl_GlobalInvocationID.x;
   if (halted()) return;
-  if (e >= CTL().v[CTL_ENTRIES]) return;
+  if (k >= CTL().v[CTL_OWNERS]) return;
+  uint e = Uints(T().owners).v[k];
   uint s = parity();
-  if (Uints(eaddr(s, EF_MIRROR)).v[e] != e) return;
   Params P = PRM();
   Int64s liq = Int64s(eaddr(s, EF_LIQ));
   Uints flags = Uints(eaddr(s, EF_FLAGS));

@@ -1,19 +1,17 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Pass 2: every owner entry of the neighbour list evaluates its pair (physics.md §1-4) and writes the
+// Pass 2: one invocation per owner entry (the owner list) evaluates its pair (physics.md §1-4) and writes the
 // force on i and the torques on i and j; the per-particle gather sums them in list order (no atomics).
 // Also flags the liquid events the end-of-step passes will apply (§5), from the same positions.
 #include "geom.glsl"
 #include "contact_law.glsl"
 layout(local_size_x = 256) in;
 void main() {
-  uint e = gl_GlobalInvocationID.x;
+  uint k = gl_GlobalInvocationID.x;
   if (halted()) return;
-  Uints C = CTL();
-  if (e >= C.v[CTL_ENTRIES]) return;
+  if (k >= CTL().v[CTL_OWNERS]) return;
+  uint e = Uints(T().owners).v[k];
   uint s = parity();
-  Uints mirror = Uints(eaddr(s, EF_MIRROR));
-  if (mirror.v[e] != e) return;  // not the owner: the other side computes this pair
   Params P = PRM();
   uint i = Uints(eaddr(s, EF_SELF)).v[e], j = Uints(eaddr(s, EF_NBR)).v[e];
   IVec4s pos = IVec4s(paddr(s, PF_POS));

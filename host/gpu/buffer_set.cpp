@@ -19,6 +19,7 @@ BufferSet::BufferSet(vk::Context& c, uint32_t num_particles, uint32_t num_cells)
   cell_key = vk::Buffer(ctx, N * 4);
   sort_val = vk::Buffer(ctx, N * 4);
   cnt_scan = vk::Buffer(ctx, N * 4);
+  own_scan = vk::Buffer(ctx, N * 4);
   cell_start = vk::Buffer(ctx, uint64_t(std::max<uint32_t>(cells, 1)) * 4);
   cell_end = vk::Buffer(ctx, uint64_t(std::max<uint32_t>(cells, 1)) * 4);
   p_share = vk::Buffer(ctx, N * 8);
@@ -35,6 +36,7 @@ void BufferSet::grow_scratch(uint32_t entries) {
   pair_tj = vk::Buffer(ctx, E * 16);
   ev_a = vk::Buffer(ctx, E * 8);
   ev_b = vk::Buffer(ctx, E * 8);
+  owners = vk::Buffer(ctx, E * 4);
   scratch_capacity_ = entries;
 }
 
@@ -68,6 +70,8 @@ GpuTable BufferSet::table() const {
   t.p_gain = p_gain.address();
   t.p_full = p_full.address();
   t.p_offer = p_offer.address();
+  t.own_scan = own_scan.address();
+  t.owners = owners.address();
   return t;
 }
 

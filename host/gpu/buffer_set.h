@@ -47,6 +47,7 @@ struct GpuTable {
   uint64_t ref_pos, cell_key, sort_val, cell_start, cell_end, cnt_scan;
   uint64_t pair_f, pair_ti, pair_tj, ev_a, ev_b;
   uint64_t p_share, p_gain, p_full, p_offer;
+  uint64_t own_scan, owners;
 };
 
 struct BufferSet {
@@ -66,6 +67,9 @@ struct BufferSet {
   vk::Buffer ref_pos, cell_key, sort_val, cell_start, cell_end, cnt_scan;
   vk::Buffer pair_f, pair_ti, pair_tj, ev_a, ev_b;
   vk::Buffer p_share, p_gain, p_full, p_offer;
+  // The owner list: the entries that evaluate their pair (mirror[e] == e), in list order, so that the passes
+  // over pairs run one invocation per pair. One buffer: a rebuild writes it after the old list's last use.
+  vk::Buffer own_scan, owners;
 
  private:
   void grow_scratch(uint32_t entries);

@@ -42,6 +42,7 @@ layout(buffer_reference, std430, buffer_reference_align = 8) readonly buffer Tab
   uint64_t ref_pos, cell_key, sort_val, cell_start, cell_end, cnt_scan;
   uint64_t pair_f, pair_ti, pair_tj, ev_a, ev_b;
   uint64_t p_share, p_gain, p_full, p_offer;
+  uint64_t own_scan, owners;  // owner entries per particle (scanned) and the owner list of the current set
 };
 
 layout(push_constant) uniform Push {
