@@ -29,6 +29,6 @@ void main() {
       }
     }
   }
-  Int64s(T().ev_a).v[e] = ta;
-  Int64s(T().ev_b).v[e] = tb;
+  Int64s(T().ev).v[e] = ta;  // taken from i's film (4e), at i's entry
+  Int64s(T().ev).v[Uints(T().partner).v[e]] = tb;  // from j's film, at j's entry
 }

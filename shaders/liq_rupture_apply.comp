@@ -13,7 +13,7 @@ void main() {
   Params P = PRM();
   Int64s liq = Int64s(eaddr(s, EF_LIQ));
   Uints flags = Uints(eaddr(s, EF_FLAGS));
-  Int64s ev_a = Int64s(T().ev_a), ev_b = Int64s(T().ev_b);
+  Int64s ev = Int64s(T().ev);
   int64_t vb = liq.v[e];
   uint fl = flags.v[e];
   int64_t oa = 0, ob = 0;
@@ -33,6 +33,6 @@ void main() {
     }
     liq.v[e] = vn;
   }
-  ev_a.v[e] = oa;
-  ev_b.v[e] = ob;
+  ev.v[e] = oa;  // to i's film (4c), at i's entry
+  ev.v[Uints(T().partner).v[e]] = ob;  // to j's film, at j's entry
 }

@@ -32,10 +32,9 @@ void BufferSet::grow_scratch(uint32_t entries) {
   if (entries <= scratch_capacity_) return;
   const uint64_t E = std::max<uint32_t>(entries, 1);
   pair_f = vk::Buffer(ctx, E * 16);
-  pair_ti = vk::Buffer(ctx, E * 16);
-  pair_tj = vk::Buffer(ctx, E * 16);
-  ev_a = vk::Buffer(ctx, E * 8);
-  ev_b = vk::Buffer(ctx, E * 8);
+  pair_t = vk::Buffer(ctx, E * 16);
+  ev = vk::Buffer(ctx, E * 8);
+  partner = vk::Buffer(ctx, E * 4);
   owners = vk::Buffer(ctx, E * 4);
   scratch_capacity_ = entries;
 }
@@ -62,10 +61,9 @@ GpuTable BufferSet::table() const {
   t.cell_end = cell_end.address();
   t.cnt_scan = cnt_scan.address();
   t.pair_f = pair_f.address();
-  t.pair_ti = pair_ti.address();
-  t.pair_tj = pair_tj.address();
-  t.ev_a = ev_a.address();
-  t.ev_b = ev_b.address();
+  t.pair_t = pair_t.address();
+  t.ev = ev.address();
+  t.partner = partner.address();
   t.p_share = p_share.address();
   t.p_gain = p_gain.address();
   t.p_full = p_full.address();

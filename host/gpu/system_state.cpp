@@ -371,13 +371,18 @@ void System::Impl::restore(const std::vector<uint8_t>& blob) {
     at += bytes;
   }
   // The owner list is derived from the list, not stored: the entries that own their pair, in list order.
-  std::vector<uint32_t> owners;
+  // Likewise each owner's partner (its mirrored entry), where the owner writes the mirror's pair results.
+  std::vector<uint32_t> owners, partner(hd.entries, 0);
   for (uint32_t e = 0; e < hd.entries; ++e) {
     uint32_t m;
     std::memcpy(&m, mirror + size_t(e) * 4, 4);
-    if (m == e) owners.push_back(e);
+    if (m == e)
+      owners.push_back(e);
+    else if (m < hd.entries)
+      partner[m] = e;
   }
   if (!owners.empty()) B->owners.upload(owners);
+  if (!partner.empty()) B->partner.upload(partner);
   c[ctlw::kOwners] = uint32_t(owners.size());
   c[ctlw::kOwnerArgs] = groups_for(owners.size());
   c[ctlw::kOwnerArgs + 1] = c[ctlw::kOwnerArgs + 2] = 1;
