@@ -84,10 +84,11 @@ DiagnosisSpec parse_diagnosis_file(const std::string& path_in) {
   d.path = path;
   d.name = root["name"].value_or(fs::path(path).stem().string());
   d.case_path = rel_path(path, need_string(root, path, "case"));
-  d.observations = rel_path(path, need_string(root, path, "observations"));
+  // The table may come with --observations only (a shipped example whose table a GPU run makes).
+  if (root.contains("observations")) d.observations = rel_path(path, need_string(root, path, "observations"));
   if (!fs::exists(d.case_path))
     throw DiagnoseError(fmt::format("{}: case: no such file {}", path, d.case_path));
-  if (!fs::exists(d.observations))
+  if (!d.observations.empty() && !fs::exists(d.observations))
     throw DiagnoseError(fmt::format("{}: observations: no such file {}", path, d.observations));
   if (root.contains("refit"))
     throw DiagnoseError(
@@ -104,6 +105,7 @@ DiagnosisSpec parse_diagnosis_file(const std::string& path_in) {
       }
     }
     if (d.effects.empty()) throw DiagnoseError(fmt::format("{}: effects: name at least one effect", path));
+    d.effects_given = true;
   } else if (root.contains("effects")) {
     throw DiagnoseError(fmt::format("{}: effects: an array of effect names is required", path));
   } else {
