@@ -5,10 +5,10 @@
 // Particles: n = fill × π D²/4 × L_sim × bed_solid_fraction / V̄_S (the PSD model's mean volume), the same
 // estimate `wetdem check` prints; the fill then draws about that many.
 // Device bytes: per particle, the two particle sets of host/gpu/buffer_set.h (kParticleFieldBytes, 260 B
-// each) and the per-particle scratch (ref_pos 16, cell_key/sort_val/cnt_scan 12, liquid scratch 32, radix
-// sort ping-pong 8: 588 B), plus up to 8 cell-range entries of 8 B (the grid is hashed beyond 8 cells per
-// particle: 64 B); per neighbour-list entry, the two entry sets (kEntryFieldBytes, 56 B each) and the
-// per-entry scratch (pair_f/ti/tj 48, ev_a/ev_b 16): 176 B. Entries per particle: two-sided neighbours with
+// each) and the per-particle scratch (ref_pos 16, cell_key/sort_val/cnt_scan/own_scan 16, liquid scratch 32,
+// radix sort ping-pong 8: 592 B), plus up to 8 cell-range entries of 8 B (the grid is hashed beyond 8 cells
+// per particle: 64 B); per neighbour-list entry, the two entry sets (kEntryFieldBytes, 56 B each) and the
+// per-entry scratch (pair_f/pair_t 32, ev 8, partner 4, owner list 4): 160 B. Entries per particle: two-sided neighbours with
 // centres within 2 r̄ + S_c,max + skin in a bed of solid fraction φ, ≈ φ (d/r̄)³ (at least 16, the
 // initial capacity), times 1.5 for the headroom of a regrow (system.cpp grows to 1.5 × the need).
 // Host bytes: measured, the slope of the peak resident memory of `wetdem run` on lavapipe between the demo
@@ -44,8 +44,8 @@ struct Available {
   std::optional<double> host_bytes;  // /proc/meminfo MemAvailable; unknown where absent
 };
 
-inline constexpr double kDeviceBytesPerParticle = 588.0 + 64.0;
-inline constexpr double kDeviceBytesPerEntry = 176.0;
+inline constexpr double kDeviceBytesPerParticle = 592.0 + 64.0;
+inline constexpr double kDeviceBytesPerEntry = 160.0;
 inline constexpr double kHostBytesPerParticle = 4000.0;
 // Throughput `wetdem check` quotes: the demo on lavapipe (README: ~1,800 particles at 114 steps/s).
 inline constexpr double kLavapipeThroughput = 2.0e5;
