@@ -1,6 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Rebuild 6k (one invocation): the new set becomes current.
+// Rebuild 6n (one invocation): the new set (and its owner list) becomes current.
 #include "access.glsl"
 layout(local_size_x = 1) in;
 void main() {
@@ -11,4 +11,8 @@ void main() {
   C.v[CTL_ENTRY_ARGS] = C.v[CTL_BUILD_ARGS];
   C.v[CTL_ENTRY_ARGS + 1u] = 1u;
   C.v[CTL_ENTRY_ARGS + 2u] = 1u;
+  C.v[CTL_OWNERS] = C.v[CTL_OWNERS_NEEDED];
+  C.v[CTL_OWNER_ARGS] = (C.v[CTL_OWNERS_NEEDED] + 255u) / 256u;
+  C.v[CTL_OWNER_ARGS + 1u] = 1u;
+  C.v[CTL_OWNER_ARGS + 2u] = 1u;
 }

@@ -1,7 +1,8 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Pass 3: per particle, sum the pair results of its list segment in list order (owner entries: +F, T_i;
-// mirrored entries: -F, T_j of the owner), add the walls, then the second half kick (physics.md §0).
+// mirrored entries: -F, T_j of the owner, written there by pair_force), add the walls, then the second half
+// kick (physics.md §0).
 // Also the largest predicted displacement since the last list build, for the skin test.
 #include "walls.glsl"
 layout(local_size_x = 256) in;
@@ -11,19 +12,12 @@ void main() {
   if (i >= P.num_particles || halted()) return;
   uint s = parity();
   Uints nbr_off = Uints(paddr(s, PF_NOFFSET)), nbr_cnt = Uints(paddr(s, PF_NCOUNT));
-  Uints mirror = Uints(eaddr(s, EF_MIRROR));
-  Vec4s pf = Vec4s(T().pair_f), pti = Vec4s(T().pair_ti), ptj = Vec4s(T().pair_tj);
+  Vec4s pf = Vec4s(T().pair_f), pt = Vec4s(T().pair_t);
   vec3 F = vec3(0.0), Tq = vec3(0.0);
   uint b = nbr_off.v[i], c = nbr_cnt.v[i];
   for (uint e = b; e < b + c; ++e) {
-    uint o = mirror.v[e];
-    if (o == e) {
-      F += pf.v[e].xyz;
-      Tq += pti.v[e].xyz;
-    } else {
-      F -= pf.v[o].xyz;
-      Tq += ptj.v[o].xyz;
-    }
+    F += pf.v[e].xyz;  // a mirrored entry holds -F of its owner: x + (-y) is x - y exactly
+    Tq += pt.v[e].xyz;
   }
   for (uint w = 0u; w < 3u; ++w) wall_contact(w, i, s, P, F, Tq);
 

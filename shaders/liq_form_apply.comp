@@ -1,15 +1,15 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Liquid pass 4d (per owner entry): a first touch forms a bridge when the full films exceed V_min:
-// V_b = min(offer_i + offer_j, V_max), drawn in proportion to the offers (§5 rule 2).
+// Liquid pass 4d (per owner entry, over the owner list): a first touch forms a bridge when the full films
+// exceed V_min: V_b = min(offer_i + offer_j, V_max), drawn in proportion to the offers (§5 rule 2).
 #include "liquid.glsl"
 layout(local_size_x = 256) in;
 void main() {
-  uint e = gl_GlobalInvocationID.x;
+  uint k = gl_GlobalInvocationID.x;
   if (halted()) return;
-  if (e >= CTL().v[CTL_ENTRIES]) return;
+  if (k >= CTL().v[CTL_OWNERS]) return;
+  uint e = Uints(T().owners).v[k];
   uint s = parity();
-  if (Uints(eaddr(s, EF_MIRROR)).v[e] != e) return;
   Params P = PRM();
   Uints flags = Uints(eaddr(s, EF_FLAGS));
   uint fl = flags.v[e];
@@ -29,6 +29,6 @@ void main() {
       }
     }
   }
-  Int64s(T().ev_a).v[e] = ta;
-  Int64s(T().ev_b).v[e] = tb;
+  Int64s(T().ev).v[e] = ta;  // taken from i's film (4e), at i's entry
+  Int64s(T().ev).v[Uints(T().partner).v[e]] = tb;  // from j's film, at j's entry
 }

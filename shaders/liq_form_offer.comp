@@ -14,15 +14,14 @@ void main() {
   uint s = parity();
   Uints off = Uints(paddr(s, PF_NOFFSET)), cnt = Uints(paddr(s, PF_NCOUNT));
   Uints mirror = Uints(eaddr(s, EF_MIRROR)), flags = Uints(eaddr(s, EF_FLAGS));
-  Int64s ev_a = Int64s(T().ev_a), ev_b = Int64s(T().ev_b);
+  Int64s ev = Int64s(T().ev);
   Int64s film = Int64s(paddr(s, PF_FILM));
   int64_t f = film.v[i] + Int64s(T().p_gain).v[i];
   uint k = 0u;
   uint b = off.v[i], c = cnt.v[i];
   for (uint e = b; e < b + c; ++e) {
-    uint o = mirror.v[e];
-    f += (o == e) ? ev_a.v[o] : ev_b.v[o];
-    if ((flags.v[o] & FLAG_FORM) != 0u) k++;
+    f += ev.v[e];  // this particle's part of the overflow of its bridge (4b)
+    if ((flags.v[mirror.v[e]] & FLAG_FORM) != 0u) k++;
   }
   Int64s wliq = Int64s(paddr(s, PF_WLIQ));
   Uints wfl = Uints(paddr(s, PF_WFLAGS));

@@ -9,13 +9,9 @@ void main() {
   if (i >= P.num_particles || halted()) return;
   uint s = parity();
   Uints off = Uints(paddr(s, PF_NOFFSET)), cnt = Uints(paddr(s, PF_NCOUNT));
-  Uints mirror = Uints(eaddr(s, EF_MIRROR));
-  Int64s ev_a = Int64s(T().ev_a), ev_b = Int64s(T().ev_b);
+  Int64s ev = Int64s(T().ev);
   int64_t taken = 0;
   uint b = off.v[i], c = cnt.v[i];
-  for (uint e = b; e < b + c; ++e) {
-    uint o = mirror.v[e];
-    taken += (o == e) ? ev_a.v[o] : ev_b.v[o];
-  }
+  for (uint e = b; e < b + c; ++e) taken += ev.v[e];  // this particle's part of each new bridge (4d)
   Int64s(paddr(s, PF_FILM)).v[i] -= taken;
 }

@@ -1,19 +1,19 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Liquid pass 4b (per owner entry): ruptured bridges empty; surviving bridges take the shares of both ends,
-// capped at V_max, the overflow going back to the two films in proportion to the shares (§5 rule 1).
+// Liquid pass 4b (per owner entry, over the owner list): ruptured bridges empty; surviving bridges take the
+// shares of both ends, capped at V_max, the overflow going back to the two films in proportion to the shares (§5 rule 1).
 #include "liquid.glsl"
 layout(local_size_x = 256) in;
 void main() {
-  uint e = gl_GlobalInvocationID.x;
+  uint k = gl_GlobalInvocationID.x;
   if (halted()) return;
-  if (e >= CTL().v[CTL_ENTRIES]) return;
+  if (k >= CTL().v[CTL_OWNERS]) return;
+  uint e = Uints(T().owners).v[k];
   uint s = parity();
-  if (Uints(eaddr(s, EF_MIRROR)).v[e] != e) return;
   Params P = PRM();
   Int64s liq = Int64s(eaddr(s, EF_LIQ));
   Uints flags = Uints(eaddr(s, EF_FLAGS));
-  Int64s ev_a = Int64s(T().ev_a), ev_b = Int64s(T().ev_b);
+  Int64s ev = Int64s(T().ev);
   int64_t vb = liq.v[e];
   uint fl = flags.v[e];
   int64_t oa = 0, ob = 0;
@@ -33,6 +33,6 @@ void main() {
     }
     liq.v[e] = vn;
   }
-  ev_a.v[e] = oa;
-  ev_b.v[e] = ob;
+  ev.v[e] = oa;  // to i's film (4c), at i's entry
+  ev.v[Uints(T().partner).v[e]] = ob;  // to j's film, at j's entry
 }

@@ -1,7 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Rebuild 6h: the owner of a pair is the entry in the segment of the particle with the lower stable id.
-// Every other entry finds its owner by searching the partner's segment.
+// Every other entry finds its owner by searching the partner's segment, and becomes the owner's partner.
 #include "access.glsl"
 layout(local_size_x = 256) in;
 void main() {
@@ -21,6 +21,7 @@ void main() {
     for (uint k = b; k < b + c; ++k)
       if (nbr.v[k] == i) m = k;
     if (m == 0xFFFFFFFFu) atomicAdd(C.v[CTL_MIRROR_ERR], 1u);
+    else Uints(T().partner).v[m] = e;  // the owner writes this entry's pair results too
   }
   Uints(eaddr(s, EF_MIRROR)).v[e] = m;
 }

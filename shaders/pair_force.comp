@@ -1,19 +1,18 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Pass 2: every owner entry of the neighbour list evaluates its pair (physics.md §1-4) and writes the
-// force on i and the torques on i and j; the per-particle gather sums them in list order (no atomics).
+// Pass 2: one invocation per owner entry (the owner list) evaluates its pair (physics.md §1-4) and writes the
+// force and torque on i at its entry, on j at the mirrored entry; the per-particle gather sums them in list
+// order (no atomics).
 // Also flags the liquid events the end-of-step passes will apply (§5), from the same positions.
 #include "geom.glsl"
 #include "contact_law.glsl"
 layout(local_size_x = 256) in;
 void main() {
-  uint e = gl_GlobalInvocationID.x;
+  uint k = gl_GlobalInvocationID.x;
   if (halted()) return;
-  Uints C = CTL();
-  if (e >= C.v[CTL_ENTRIES]) return;
+  if (k >= CTL().v[CTL_OWNERS]) return;
+  uint e = Uints(T().owners).v[k];
   uint s = parity();
-  Uints mirror = Uints(eaddr(s, EF_MIRROR));
-  if (mirror.v[e] != e) return;  // not the owner: the other side computes this pair
   Params P = PRM();
   uint i = Uints(eaddr(s, EF_SELF)).v[e], j = Uints(eaddr(s, EF_NBR)).v[e];
   IVec4s pos = IVec4s(paddr(s, PF_POS));
@@ -72,7 +71,10 @@ void main() {
   stb.v[e] = vec4(st, 0.0);
   srb.v[e] = vec4(sr, 0.0);
   flags.v[e] = fl;
-  Vec4s(T().pair_f).v[e] = vec4(F, 0.0);
-  Vec4s(T().pair_ti).v[e] = vec4(t + cross(ci, F), 0.0);
-  Vec4s(T().pair_tj).v[e] = vec4(-t - cross(cj, F), 0.0);
+  uint m = Uints(T().partner).v[e];  // the mirrored entry, in j's segment
+  Vec4s pf = Vec4s(T().pair_f), pt = Vec4s(T().pair_t);
+  pf.v[e] = vec4(F, 0.0);
+  pf.v[m] = vec4(-F, 0.0);
+  pt.v[e] = vec4(t + cross(ci, F), 0.0);
+  pt.v[m] = vec4(-t - cross(cj, F), 0.0);
 }

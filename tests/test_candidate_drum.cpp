@@ -11,22 +11,17 @@
 #ifdef WETDEM_HAVE_APP
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <map>
 
 #include "app/run/run.h"
 #include "support/gpu.h"
-#include "support/small_case.h"
+#include "support/small_run.h"
 
 namespace wetdem::test {
 namespace {
-
-namespace fs = std::filesystem;
 
 struct Window {
   double aor = 0, kinetic = 0, bridges = 0;
@@ -40,38 +35,25 @@ struct Window {
 Window run_micro(const std::string& name, const std::vector<std::string>& sets) {
   static std::map<std::string, Window> cache;
   if (auto it = cache.find(name); it != cache.end()) return it->second;
-  const fs::path dir =
-      fs::temp_directory_path() / ("wetdem_test_candidate_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  std::ofstream(dir / "micro.toml") << kSmall;
-  app::RunOptions o;
-  o.case_path = (dir / "micro.toml").string();
-  o.out_dir = (dir / "run").string();
-  o.overrides = {"output.checkpoint_interval=0", "run.duration=\"0.4 s\"",
-                 "run.steady_state_start=\"0.15 s\""};
-  o.overrides.insert(o.overrides.end(), sets.begin(), sets.end());
-  o.quiet = true;
-  o.context = &gpu();
+  std::vector<std::string> o = {"run.duration=\"0.4 s\"", "run.steady_state_start=\"0.15 s\""};
+  o.insert(o.end(), sets.begin(), sets.end());
+  const SmallRun r = run_small("candidate_" + name, o);
   Window w;
   int n = 0;
-  o.on_sample = [&](const app::Sample& s) {
-    if (s.time < 0.25 + 0.15) return;
+  for (const app::Sample& s : r.samples) {
+    if (s.time < 0.25 + 0.15) continue;
     w.kinetic += s.kinetic_energy;
     w.bridges += double(s.bridges);
     w.stretched += double(s.bridges) - double(s.contacts);
     w.f_wet_min = std::min(w.f_wet_min, s.f_wet);
     ++n;
-  };
-  const app::RunResult r = app::run_case(o);
-  EXPECT_TRUE(r.completed);
+  }
   EXPECT_GT(n, 5);
   w.kinetic /= std::max(n, 1);
   w.bridges /= std::max(n, 1);
   w.stretched /= std::max(n, 1);
-  w.aor = r.summary.value("aor_deg_mean", -1.0);
-  w.conserved = r.summary.value("liquid_conserved", false);
-  fs::remove_all(dir);
+  w.aor = r.result.summary.value("aor_deg_mean", -1.0);
+  w.conserved = r.result.summary.value("liquid_conserved", false);
   cache[name] = w;
   return w;
 }

@@ -53,6 +53,17 @@ TEST(DiagnoseFiles, ShippedFilesParse) {
   EXPECT_EQ(t.truth, (std::vector<std::string>{"cohesion.surface_energy=\"0.08 J/m2\""}));
   EXPECT_EQ(t.condition_toml.at(0).size(), 3u);
   EXPECT_DOUBLE_EQ(t.noise.at("aor_deg_mean"), 0.5);
+  // The full-size example: its table comes with --observations (made on a GPU).
+  const std::string full = std::string(WETDEM_SOURCE_DIR) + "/assets/diagnosis/pp2_l5/";
+  const DiagnosisSpec f = parse_diagnosis_file(full + "diagnose.toml");
+  EXPECT_TRUE(f.observations.empty());
+  EXPECT_EQ(f.effects.size(), 6u);
+  for (const char* twin : {"twin_absorption.toml", "twin_null.toml"})
+    EXPECT_EQ(parse_twin_file(full + twin).condition_toml.at(0).size(), 4u) << twin;
+  DiagnoseOptions o;
+  o.out = (fs::temp_directory_path() / ("wetdem-diag-notable-" + std::to_string(::getpid()))).string();
+  EXPECT_NE(expect_error([&] { run_diagnosis(f, o); }).find("--observations"), std::string::npos);
+  EXPECT_FALSE(fs::exists(o.out));
 }
 
 TEST(DiagnoseFiles, BadDiagnosisFilesNameTheKey) {
@@ -109,11 +120,38 @@ TEST(DiagnoseFiles, BadObservationTablesAreRefusedBeforeAnyRun) {
 TEST(DiagnoseFiles, EveryEffectMapsStrengthsToCaseKeys) {
   for (const EffectSpec& e : effect_catalogue()) {
     ASSERT_FALSE(e.probes.empty()) << e.name;
-    for (double s : e.probes) EXPECT_FALSE(e.overrides(s, 0.5236).empty()) << e.name;
-    EXPECT_THROW(e.overrides(0.0, 0.5236), std::invalid_argument) << e.name;
+    for (double s : e.probes) EXPECT_FALSE(e.overrides(s, ModelFacts{0.5236}).empty()) << e.name;
+    EXPECT_THROW(e.overrides(0.0, ModelFacts{0.5236}), std::invalid_argument) << e.name;
   }
-  EXPECT_EQ(effect_spec("evaporation").overrides(0.1, 0.5)[0], "liquid.evaporation_time=\"10 s\"");
-  EXPECT_EQ(effect_spec("hysteresis").overrides(10.0, 30.0 * 3.14159265358979323846 / 180)[0],
+  EXPECT_EQ(effect_spec("evaporation").overrides(0.1, ModelFacts{0.5})[0],
+            "liquid.evaporation_time=\"10 s\"");
+  EXPECT_EQ(effect_spec("hysteresis").overrides(10.0, ModelFacts{30.0 * 3.14159265358979323846 / 180})[0],
             "liquid.theta_receding=\"20 deg\"");
   EXPECT_THROW(effect_spec("magic"), std::invalid_argument);
+  ModelFacts m;
+  m.scaling = 5.0;
+  m.has_plates = true;
+  m.plates_mu_s = 0.3;
+  m.plates_mu_r = 0.9;
+  EXPECT_EQ(effect_spec("scale").overrides(0.2, m), (std::vector<std::string>{"scaling=4"}));
+  EXPECT_EQ(effect_spec("plates").overrides(0.2, m),
+            (std::vector<std::string>{"walls.plates.mu_s=0.5", "walls.plates.mu_r=1"}));
+  EXPECT_EQ(effect_spec("plates").not_applicable(m), "");
+  m.has_plates = false;
+  EXPECT_NE(effect_spec("plates").not_applicable(m).find("periodic slice"), std::string::npos);
+}
+
+TEST(DiagnoseFiles, AnEffectThatCannotActIsRefusedBeforeAnyRun) {
+  Dir d;
+  d.write("obs.csv",
+          "liquid.content,observable,value,sigma\n\"5 %\",aor_deg_mean,30,1\n\"10 %\",aor_deg_mean,31,1\n");
+  const std::string f =
+      d.write("d.toml", "case = \"" + kCase + "\"\nobservations = \"obs.csv\"\neffects = [\"plates\"]\n");
+  DiagnoseOptions o;
+  o.out = (d.p / "out").string();
+  o.figures = false;
+  o.quiet = true;
+  EXPECT_NE(expect_error([&] { run_diagnosis(parse_diagnosis_file(f), o); }).find("'plates' cannot act here"),
+            std::string::npos);
+  EXPECT_FALSE(fs::exists(d.p / "out" / "store" / "runs")) << "nothing may run on bad input";
 }

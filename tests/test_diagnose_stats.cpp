@@ -146,3 +146,39 @@ TEST(DiagnoseStats, OneConditionAllowsNoHeldOutCheck) {
   r.pred = {base};
   EXPECT_THROW(loco_score(cells, Emulator(base, r)), std::invalid_argument);
 }
+
+// Refinement: pore absorption of capacity c (fraction of own volume) leaves a free liquid fraction
+// 1 - min(c, phi)/phi at liquid content phi, a response that bends between probes a factor 4-5 apart. The
+// emulator through the probes alone misplaces c; knots added at the fitted strength converge on it.
+TEST(DiagnoseStats, RefinementConvergesOnABentResponse) {
+  const std::vector<double> phi = {0.05, 0.10, 0.15};
+  auto free_fraction = [&](double c) {
+    std::vector<Prediction> p;
+    for (double f : phi) p.push_back({1.0 - std::min(c, f) / f, 0.0});
+    return p;
+  };
+  const double c_true = 0.08;
+  std::vector<Cell> cells;
+  for (size_t k = 0; k < phi.size(); ++k) {
+    Cell c;
+    c.condition = {{"liquid.content", phi[k]}};
+    c.observable = "liquid_free_fraction";
+    c.y = free_fraction(c_true)[k].mean;
+    c.sigma = 0.02;
+    cells.push_back(c);
+  }
+  const std::vector<Prediction> base = free_fraction(1e-9);
+  Response r;
+  r.effect = "absorption";
+  for (double s : {0.01, 0.05, 0.2}) r.strengths.push_back(s), r.pred.push_back(free_fraction(s));
+  const double coarse = fit_strength(cells, Emulator(base, r)).strength;
+  EXPECT_GT(std::fabs(std::log(coarse / c_true)), 0.05) << "the probes alone should misplace it: " << coarse;
+  int rounds = 0;
+  for (double s; rounds < 5 && (s = next_knot(cells, base, r)) > 0.0; ++rounds)
+    add_knot(r, s, free_fraction(s));
+  const StrengthFit f = fit_strength(cells, Emulator(base, r));
+  EXPECT_NEAR(f.strength, c_true, 0.02 * c_true) << "after " << rounds << " rounds";
+  EXPECT_TRUE(std::is_sorted(r.strengths.begin(), r.strengths.end()));
+  EXPECT_EQ(r.strengths.size(), r.pred.size());
+  EXPECT_EQ(next_knot(cells, base, r), 0.0) << "refined: the fit sits on a knot";
+}

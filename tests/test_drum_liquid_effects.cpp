@@ -11,17 +11,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 
 #include "app/run/run.h"
 #include "support/gpu.h"
-#include "support/small_case.h"
+#include "support/small_run.h"
 
 namespace wetdem::test {
 namespace {
-
-namespace fs = std::filesystem;
 
 struct Outcome {
   nlohmann::json summary;
@@ -30,27 +26,15 @@ struct Outcome {
 };
 
 Outcome run_micro(const std::string& name, const std::vector<std::string>& sets) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("wetdem_test_effects_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  std::ofstream(dir / "slice.toml") << kSmall;
-  app::RunOptions o;
-  o.case_path = (dir / "slice.toml").string();
-  o.out_dir = (dir / "run").string();
-  o.overrides = {"run.duration=\"0.6 s\"", "run.steady_state_start=\"0.2 s\"", "output.checkpoint_interval=0",
-                 "liquid.v_min=\"6 %\""};
-  o.overrides.insert(o.overrides.end(), sets.begin(), sets.end());
-  o.quiet = true;
-  o.context = &gpu();
+  std::vector<std::string> o = {"run.duration=\"0.6 s\"", "run.steady_state_start=\"0.2 s\"",
+                                "liquid.v_min=\"6 %\""};
+  o.insert(o.end(), sets.begin(), sets.end());
+  const SmallRun r = run_small("effects_" + name, o);
   std::vector<app::Sample> rot;
-  o.on_sample = [&](const app::Sample& s) {
+  for (const app::Sample& s : r.samples)
     if (s.time >= 0.25) rot.push_back(s);
-  };
-  app::RunResult r = app::run_case(o);
-  EXPECT_TRUE(r.completed);
   Outcome out;
-  out.summary = r.summary;
+  out.summary = r.result.summary;
   const size_t m = std::max<size_t>(rot.size() / 5, 1);
   for (size_t k = 0; k < m && k < rot.size(); ++k) {
     out.f_wet_first += rot[k].f_wet / double(m);
@@ -62,10 +46,9 @@ Outcome run_micro(const std::string& name, const std::vector<std::string>& sets)
   }
   for (const app::Sample& s : rot)
     EXPECT_EQ(s.liquid_films + s.liquid_bridges + s.liquid_pores + s.liquid_evaporated,
-              r.summary["liquid_total_units_start"].get<int64_t>())
+              r.result.summary["liquid_total_units_start"].get<int64_t>())
         << name << " t = " << s.time;
-  EXPECT_TRUE(r.summary.value("liquid_conserved", false)) << name;
-  fs::remove_all(dir);
+  EXPECT_TRUE(r.result.summary.value("liquid_conserved", false)) << name;
   return out;
 }
 

@@ -8,18 +8,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <sstream>
 
 #include "app/run/run.h"
 #include "support/gpu.h"
-#include "support/small_case.h"
+#include "support/small_run.h"
 
 namespace wetdem::test {
 namespace {
-
-namespace fs = std::filesystem;
 
 struct Outcome {
   double aor_mean, first_half, second_half;
@@ -28,37 +24,23 @@ struct Outcome {
 };
 
 Outcome run_slice(const std::string& name, const std::vector<std::string>& sets) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("wetdem_test_physics_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  std::ofstream(dir / "slice.toml") << kSmall;
-  app::RunOptions o;
-  o.case_path = (dir / "slice.toml").string();
-  o.out_dir = (dir / "run").string();
   // The small test case, run longer: 2.25 s of rotation (1.1 revolutions), AoR averaged over the last 1.5 s.
-  o.overrides = {"run.duration=\"2.25 s\"", "run.steady_state_start=\"0.75 s\"", "run.seed=5",
-                 "output.checkpoint_interval=0"};
-  o.overrides.insert(o.overrides.end(), sets.begin(), sets.end());
-  o.quiet = true;
-  o.context = &gpu();
+  std::vector<std::string> o = {"run.duration=\"2.25 s\"", "run.steady_state_start=\"0.75 s\"", "run.seed=5"};
+  o.insert(o.end(), sets.begin(), sets.end());
+  const SmallRun r = run_small("physics_" + name, o);
   std::vector<app::Sample> window;
-  o.on_sample = [&](const app::Sample& s) {
+  for (const app::Sample& s : r.samples)
     if (s.time >= 0.25 + 0.75 && !s.flagged) window.push_back(s);
-  };
-  app::RunResult r = app::run_case(o);
-  EXPECT_TRUE(r.completed);
   Outcome out{};
-  out.aor_mean = r.summary.value("aor_deg_mean", -1.0);
-  out.conserved = r.summary.value("liquid_conserved", false);
-  out.f_wet = r.summary.value("f_wet_mean", -1.0);
+  out.aor_mean = r.result.summary.value("aor_deg_mean", -1.0);
+  out.conserved = r.result.summary.value("liquid_conserved", false);
+  out.f_wet = r.result.summary.value("f_wet_mean", -1.0);
   const size_t h = window.size() / 2;
   for (size_t k = 0; k < window.size(); ++k)
     (k < h ? out.first_half : out.second_half) += std::fabs(window[k].aor_signed_deg);
   out.first_half /= double(std::max<size_t>(h, 1));
   out.second_half /= double(std::max<size_t>(window.size() - h, 1));
   EXPECT_GE(window.size(), 50u);
-  fs::remove_all(dir);
   return out;
 }
 

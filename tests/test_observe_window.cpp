@@ -9,6 +9,7 @@
 
 #include "app/observe/window.h"
 #include "app/output/summary.h"
+#include "app/output/timeseries_stats.h"
 
 namespace wetdem::test {
 namespace {
@@ -65,13 +66,14 @@ TEST(ObserveWindow, DriftWithCorrelatedNoiseIsWithinItsError) {
   EXPECT_NEAR(mean, slope, 3 * mse / std::sqrt(40.0));
 }
 
-TEST(ObserveWindow, WindowMeanSkipsSamplesWithoutValue) {
+TEST(ObserveWindow, WindowStatsSkipSamplesWithoutValue) {
   const double nan = std::nan("");
-  const observe::WindowMean w = observe::window_mean({1.0, nan, 3.0, nan, 5.0, 7.0});
+  const WindowStats w = window_stats_finite({1.0, nan, 3.0, nan, 5.0, 7.0}, 0.01);
   EXPECT_EQ(w.n, 4u);
   EXPECT_DOUBLE_EQ(w.mean, 4.0);
   EXPECT_GT(w.sem, 0.0);
-  EXPECT_EQ(observe::window_mean({nan, nan}).n, 0u);
+  EXPECT_FALSE(w.sem_reliable);  // 4 samples: too few for a verdict
+  EXPECT_EQ(window_stats_finite({nan, nan}, 0.01).n, 0u);
 }
 
 TEST(ObserveWindow, TimeseriesRowAndCheckpointRoundTrip) {

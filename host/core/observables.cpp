@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <stdexcept>
 #include <unordered_map>
 
 namespace wetdem {
@@ -59,7 +61,14 @@ Observables compute_observables(const SystemState& s, const SimParams& prm) {
   const bool periodic = prm.drum.periodic_z;
   const double L = prm.drum.length;
   const int64_t nz = periodic ? std::max<int64_t>(1, int64_t(std::floor(L / cell))) : 0;
-  auto key = [](int64_t a, int64_t b, int64_t c) { return (a * 73856093) ^ (b * 19349663) ^ (c * 83492791); };
+  // Exact cell keys (21 bits per axis), not a hash of the three: two of the 27 neighbour cells sharing a
+  // hashed key would list their particles twice and count those contacts twice.
+  auto key = [](int64_t a, int64_t b, int64_t c) {
+    constexpr int64_t kOff = int64_t(1) << 20;
+    if (std::max({std::llabs(a), std::llabs(b), std::llabs(c)}) >= kOff - 1)
+      throw std::invalid_argument("compute_observables: a particle lies 1e6 cells from the drum axis");
+    return ((a + kOff) << 42) | ((b + kOff) << 21) | (c + kOff);
+  };
   auto cz_of = [&](double z) {
     if (!periodic) return int64_t(std::floor(z / cell));
     double u = (z + 0.5 * L) / L;

@@ -1,5 +1,7 @@
 #include "diagnose/candidates.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -163,6 +165,19 @@ Verdict decide(const std::vector<Cell>& cells, const std::vector<Prediction>& ba
     v.kind = "unexplained";
   }
   return v;
+}
+
+double next_knot(const std::vector<Cell>& cells, const std::vector<Prediction>& baseline, const Response& r) {
+  const double s = std::stod(fmt::format("{:.3g}", fit_strength(cells, Emulator(baseline, r)).strength));
+  for (double k : r.strengths)
+    if (std::fabs(std::log(s / k)) < 0.02) return 0.0;
+  return s;
+}
+
+void add_knot(Response& r, double strength, std::vector<Prediction> pred) {
+  const auto at = std::upper_bound(r.strengths.begin(), r.strengths.end(), strength) - r.strengths.begin();
+  r.strengths.insert(r.strengths.begin() + at, strength);
+  r.pred.insert(r.pred.begin() + at, std::move(pred));
 }
 
 }  // namespace wetdem::diagnose

@@ -52,6 +52,13 @@ struct StrengthFit {
 StrengthFit fit_strength(const std::vector<Cell>& cells, const Emulator& em,
                          const std::vector<size_t>& idx = {});
 
+// Refinement of a candidate's response: the emulator interpolates between probes a factor 3-10 apart, and a
+// response that bends between them misplaces the fitted strength (measured on the micro twins: an absorption
+// capacity fitted at twice its true value). next_knot: the fitted strength (3 significant digits) when no knot
+// lies within 2 % of it in log strength, else 0 (refined). add_knot: inserts a run's predictions there.
+double next_knot(const std::vector<Cell>& cells, const std::vector<Prediction>& baseline, const Response& r);
+void add_knot(Response& r, double strength, std::vector<Prediction> pred);
+
 // Leave-one-condition-out score: for every condition c, fit the strength without c's cells, predict c's
 // cells, and add their χ². The null model (no effect, nothing fitted) scores Σ χ² of the baseline.
 double loco_score(const std::vector<Cell>& cells, const Emulator& em);

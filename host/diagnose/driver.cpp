@@ -61,12 +61,12 @@ std::vector<uint64_t> seed_range(uint64_t first, int n) {
   return s;
 }
 
-Variant variant(const std::string& effect, double strength, double theta) {
+Variant variant(const std::string& effect, double strength, const ModelFacts& model) {
   Variant v;
   if (effect.empty()) return v;
   v.effect = effect;
   v.strength = strength;
-  v.overrides = effect_spec(effect).overrides(strength, theta);
+  v.overrides = effect_spec(effect).overrides(strength, model);
   return v;
 }
 
@@ -119,6 +119,9 @@ Table read_table(const std::string& path) {
 
 nlohmann::json run_diagnosis(const DiagnosisSpec& d, const DiagnoseOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
+  if (d.observations.empty())
+    throw DiagnoseError(d.path +
+                        ": observations: no table (give `observations` in the file or --observations)");
   Table tab = read_table(d.observations);
   const std::string store = o.store.empty() ? (fs::path(o.out) / "store").string() : o.store;
   RunBook book(store, d.path, d.name, d.case_path, d.set, exec_of(o));
@@ -127,17 +130,27 @@ nlohmann::json run_diagnosis(const DiagnosisSpec& d, const DiagnoseOptions& o) {
   const std::vector<uint64_t> probe_seed = {1};  // common random numbers with baseline replicate 1
 
   // Validate every run the procedure may need before any runs (bad keys, conditions no case can express).
-  double theta = 0.0;
+  ModelFacts model;  // the calibrated case, as the effects' overrides need it
   {
     const app::Case base = app::parse_case_file(d.case_path, d.set);
-    theta = base.liquid.theta;
+    model.theta_rad = base.liquid.theta;
+    model.scaling = base.scaling;
+    model.has_plates = !base.drum.periodic_slice;
+    model.plates_mu_s = base.plates.mu_s;
+    model.plates_mu_r = base.plates.mu_r;
+    for (const std::string& e : d.effects)
+      if (const std::string why = effect_spec(e).not_applicable(model); !why.empty() && d.effects_given)
+        throw DiagnoseError(fmt::format("{}: effects: '{}' cannot act here: {}", d.path, e, why));
   }
+  std::vector<std::string> effects;  // the catalogue by default, less what cannot act in this model
+  for (const std::string& e : d.effects)
+    if (effect_spec(e).not_applicable(model).empty()) effects.push_back(e);
   try {
     for (Condition& c : tab.conditions) {
-      book.want(c, variant("", 0, theta), base_seeds);
-      for (const std::string& e : d.effects) {
+      book.want(c, variant("", 0, model), base_seeds);
+      for (const std::string& e : effects) {
         const std::vector<double>& p = d.probes.at(e);
-        book.want(c, variant(e, p[p.size() / 2], theta), probe_seed);
+        book.want(c, variant(e, p[p.size() / 2], model), probe_seed);
       }
     }
   } catch (const study::StudyError& e) {
@@ -155,7 +168,7 @@ nlohmann::json run_diagnosis(const DiagnosisSpec& d, const DiagnoseOptions& o) {
 
   // 1. Baseline and 3. screen probes (run together: both are needed whatever the verdict).
   book.run();
-  const Variant base = variant("", 0, theta);
+  const Variant base = variant("", 0, model);
   const std::vector<Prediction> baseline = predictions(base, base_seeds);
   const std::vector<Prediction> base_seed1 = predictions(base, probe_seed);
   // 2. Where.
@@ -164,9 +177,9 @@ nlohmann::json run_diagnosis(const DiagnosisSpec& d, const DiagnoseOptions& o) {
 
   // 3. Screen: the probe's change against baseline replicate 1 (same seed), projected on the z-vector.
   std::vector<std::pair<double, std::string>> screened;
-  for (const std::string& e : d.effects) {
+  for (const std::string& e : effects) {
     const std::vector<double>& p = d.probes.at(e);
-    std::vector<Prediction> probe = predictions(variant(e, p[p.size() / 2], theta), probe_seed);
+    std::vector<Prediction> probe = predictions(variant(e, p[p.size() / 2], model), probe_seed);
     for (size_t k = 0; k < probe.size(); ++k)
       probe[k].mean = baseline[k].mean + (probe[k].mean - base_seed1[k].mean);
     screened.push_back({screen_score(tab.cells, baseline, probe), e});
@@ -193,19 +206,29 @@ nlohmann::json run_diagnosis(const DiagnosisSpec& d, const DiagnoseOptions& o) {
     for (size_t i = 0; i < screened.size() && i < d.screen_top; ++i) top.push_back(screened[i].second);
     for (Condition& c : tab.conditions)
       for (const std::string& e : top)
-        for (double s : d.probes.at(e)) book.want(c, variant(e, s, theta), probe_seed);
+        for (double s : d.probes.at(e)) book.want(c, variant(e, s, model), probe_seed);
     book.run();
+    // Common random numbers: the effect's change against replicate 1, on top of the replicate mean.
+    auto probe_at = [&](const std::string& e, double s) {
+      std::vector<Prediction> p = predictions(variant(e, s, model), probe_seed);
+      for (size_t k = 0; k < p.size(); ++k) p[k].mean = baseline[k].mean + (p[k].mean - base_seed1[k].mean);
+      return p;
+    };
     std::vector<Response> responses;
     std::vector<double> scores;
     for (const std::string& e : top) {
       Response r;
       r.effect = e;
       r.strengths = d.probes.at(e);
-      for (double s : r.strengths) {
-        std::vector<Prediction> p = predictions(variant(e, s, theta), probe_seed);
-        // Common random numbers: the effect's change against replicate 1, on top of the replicate mean.
-        for (size_t k = 0; k < p.size(); ++k) p[k].mean = baseline[k].mean + (p[k].mean - base_seed1[k].mean);
-        r.pred.push_back(p);
+      for (double s : r.strengths) r.pred.push_back(probe_at(e, s));
+      // Refinement (candidates.h, next_knot): runs at the fitted strength, seed 1 (so the knot carries no
+      // seed noise against the baseline), added as knots.
+      for (int round = 0; round < d.refine; ++round) {
+        const double s = next_knot(tab.cells, baseline, r);
+        if (s == 0.0) break;
+        for (Condition& c : tab.conditions) book.want(c, variant(e, s, model), probe_seed);
+        book.run();
+        add_knot(r, s, probe_at(e, s));
       }
       responses.push_back(r);
       for (const auto& [sc, name] : screened)
@@ -217,9 +240,9 @@ nlohmann::json run_diagnosis(const DiagnosisSpec& d, const DiagnoseOptions& o) {
     if (rep.verdict.kind == "effect") {
       const double s = std::stod(fmt::format("{:.3g}", rep.verdict.ranking.front().fit.strength));
       rep.chosen_strength = s;
-      for (Condition& c : tab.conditions) book.want(c, variant(rep.verdict.effect, s, theta), fresh_seeds);
+      for (Condition& c : tab.conditions) book.want(c, variant(rep.verdict.effect, s, model), fresh_seeds);
       book.run();
-      rep.after = predictions(variant(rep.verdict.effect, s, theta), fresh_seeds);
+      rep.after = predictions(variant(rep.verdict.effect, s, model), fresh_seeds);
       rep.gaps_after = where(tab.cells, rep.after, d.rule.q);
     }
   }
@@ -282,6 +305,12 @@ nlohmann::json run_twin(const TwinSpec& t, const DiagnoseOptions& o) {
   truth_json["noise_seed"] = t.noise_seed;
   for (const Condition& c : conds) {
     for (const auto& [obs, sd] : t.noise) {
+      // A quantity the truth does not have at this condition (liquid_free_fraction of a dry bed) is no
+      // measurement: no row, and truth.json says so.
+      if (!book.reports(c, truth, t.seeds, obs)) {
+        truth_json["not_reported"].push_back({{"condition", c.label}, {"observable", obs}});
+        continue;
+      }
       const Prediction p = book.predict(c, truth, t.seeds, obs);
       const double sigma = std::sqrt(sd * sd + p.se * p.se);
       const double y = p.mean + sd * unit(rng);

@@ -8,14 +8,24 @@
 
 namespace wetdem::diagnose {
 
+// What an effect's overrides depend on in the calibrated case.
+struct ModelFacts {
+  double theta_rad = 0.0;    // static contact angle (hysteresis is relative to it)
+  double scaling = 1.0;      // particle scaling l (scale coarsens it further)
+  bool has_plates = false;   // closed drum (plates needs end plates)
+  double plates_mu_s = 0.0;  // the plates' sliding friction in the model (plates adds to it)
+  double plates_mu_r = 0.0;
+};
+
 struct EffectSpec {
   std::string name;            // "viscous", "absorption", ...
   std::string strength;        // what the strength is, with its unit ("eta (Pa s)", "1/tau (1/s)", ...)
   std::vector<double> probes;  // default strengths probed (ascending, > 0, inside the physical range)
   std::string fingerprint;     // what it leaves in the observables (for the report)
-  // The --set overrides ("key=toml") that switch the effect on at strength s, given the case's own contact
-  // angle (rad) where the strength is relative to it.
-  std::vector<std::string> overrides(double s, double theta_rad) const;
+  // The --set overrides ("key=toml") that switch the effect on at strength s in the model m.
+  std::vector<std::string> overrides(double s, const ModelFacts& m) const;
+  // Why the effect cannot act in the model m ("" when it can): plates in a periodic slice.
+  std::string not_applicable(const ModelFacts& m) const;
 };
 
 // Every effect the diagnosis knows, in a fixed order.

@@ -78,16 +78,17 @@ DiagnosisSpec parse_diagnosis_file(const std::string& path_in) {
   const std::string path = fs::absolute(path_in).lexically_normal().string();
   const toml::table root = load(path);
   reject_unknown(root, path,
-                 {"name", "case", "observations", "effects", "replicates", "screen_top", "set", "probes",
-                  "verdict", "refit"});
+                 {"name", "case", "observations", "effects", "replicates", "screen_top", "refine", "set",
+                  "probes", "verdict", "refit"});
   DiagnosisSpec d;
   d.path = path;
   d.name = root["name"].value_or(fs::path(path).stem().string());
   d.case_path = rel_path(path, need_string(root, path, "case"));
-  d.observations = rel_path(path, need_string(root, path, "observations"));
+  // The table may come with --observations only (a shipped example whose table a GPU run makes).
+  if (root.contains("observations")) d.observations = rel_path(path, need_string(root, path, "observations"));
   if (!fs::exists(d.case_path))
     throw DiagnoseError(fmt::format("{}: case: no such file {}", path, d.case_path));
-  if (!fs::exists(d.observations))
+  if (!d.observations.empty() && !fs::exists(d.observations))
     throw DiagnoseError(fmt::format("{}: observations: no such file {}", path, d.observations));
   if (root.contains("refit"))
     throw DiagnoseError(
@@ -104,6 +105,7 @@ DiagnosisSpec parse_diagnosis_file(const std::string& path_in) {
       }
     }
     if (d.effects.empty()) throw DiagnoseError(fmt::format("{}: effects: name at least one effect", path));
+    d.effects_given = true;
   } else if (root.contains("effects")) {
     throw DiagnoseError(fmt::format("{}: effects: an array of effect names is required", path));
   } else {
@@ -119,6 +121,11 @@ DiagnosisSpec parse_diagnosis_file(const std::string& path_in) {
     const auto r = root["screen_top"].value<int64_t>();
     if (!r || *r < 1) throw DiagnoseError(fmt::format("{}: screen_top: an integer >= 1", path));
     d.screen_top = size_t(*r);
+  }
+  if (root.contains("refine")) {
+    const auto r = root["refine"].value<int64_t>();
+    if (!r || *r < 0 || *r > 5) throw DiagnoseError(fmt::format("{}: refine: an integer in [0, 5]", path));
+    d.refine = int(*r);
   }
   if (const auto* t = root["set"].as_table()) d.set = overrides_of(*t, path, "set");
   if (const auto* t = root["probes"].as_table()) {

@@ -23,10 +23,12 @@ struct DiagnosisSpec {
   std::string observations;          // the observation table (absolute)
   std::vector<std::string> set;      // "key=toml" for every run
   std::vector<std::string> effects;  // candidates (default: the whole catalogue)
+  bool effects_given = false;  // named in the file (else the catalogue: those that cannot act are dropped)
   std::map<std::string, std::vector<double>>
       probes;             // per effect: strengths probed (default: the catalogue's)
   int replicates = 2;     // baseline and shrink seeds
   size_t screen_top = 3;  // candidates fitted after the screen
+  int refine = 2;         // per fitted candidate: runs added at its fitted strength, then refitted (0-5)
   VerdictRule rule;
 };
 DiagnosisSpec parse_diagnosis_file(const std::string& path);

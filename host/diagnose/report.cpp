@@ -54,14 +54,31 @@ std::string verdict_paragraph(const Report& r) {
         c.effect, ns, n, where, c.effect, e.fingerprint, e.strength, r.chosen_strength, c.fit.lo, c.fit.hi,
         100 * r.verdict.held_out_shrink, before, after, n, significant(r.gaps_after), c.effect);
   }
+  // Unexplained: either the best candidate helps but not by the rule's margin (a lead worth more data), or
+  // none helps (the cause lies outside the candidates).
+  const double ratio = r.spec->rule.ratio;
+  if (!r.verdict.ranking.empty() && r.verdict.held_out_shrink >= 0.5 * (1.0 - ratio)) {
+    const Candidate& c = r.verdict.ranking.front();
+    return fmt::format(
+        "**Gap not explained (a lead: `{}`).** The model departs from the observations at {} of {} cells "
+        "({}). "
+        "The best candidate, `{}` ({}), improves the held-out predictions by {:.0f} % (at {} = {:.3g}), "
+        "short "
+        "of the {:.0f} % the rule asks: the data point to it but do not single it out. To decide, measure "
+        "more "
+        "conditions where its fingerprint is strongest, or repeat the measurements to shrink their error "
+        "bars.",
+        c.effect, ns, n, where, c.effect, effect_spec(c.effect).fingerprint, 100 * r.verdict.held_out_shrink,
+        effect_spec(c.effect).strength, c.fit.strength, 100 * (1.0 - ratio));
+  }
   std::string best = r.verdict.ranking.empty()
                          ? "none was fitted"
                          : fmt::format("the best, `{}`, improves the held-out predictions by only {:.0f} %",
                                        r.verdict.ranking.front().effect, 100 * r.verdict.held_out_shrink);
   return fmt::format(
       "**Gap not explained.** The model departs from the observations at {} of {} cells ({}), but none of "
-      "the "
-      "candidate effects explains it by the rule's margin ({}). The cause is likely outside the candidates "
+      "the candidate effects explains it by the rule's margin ({}). The cause is likely outside the "
+      "candidates "
       "(another mechanism, a measurement bias, or a model parameter to re-calibrate).",
       ns, n, where, best);
 }

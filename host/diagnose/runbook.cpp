@@ -106,6 +106,17 @@ std::string sem_key(const std::string& observable, const nlohmann::json& s) {
   return "";
 }
 
+bool RunBook::reports(const Condition& c, const Variant& v, const std::vector<uint64_t>& seeds,
+                      const std::string& observable) const {
+  for (uint64_t seed : seeds) {
+    auto it = key_to_hash_.find(c.label + "|" + v.label() + "|" + std::to_string(seed));
+    if (it == key_to_hash_.end()) throw std::logic_error("RunBook::reports: run not wanted: " + c.label);
+    const nlohmann::json& s = summary(it->second);
+    if (s.contains(observable) && s[observable].is_number()) return true;
+  }
+  return false;
+}
+
 Prediction RunBook::predict(const Condition& c, const Variant& v, const std::vector<uint64_t>& seeds,
                             const std::string& observable) const {
   std::vector<double> x;

@@ -40,6 +40,10 @@ class RunBook {
   // run's own window SE when it reports one, else 0). Throws when a run is missing or never reports it.
   Prediction predict(const Condition& c, const Variant& v, const std::vector<uint64_t>& seeds,
                      const std::string& observable) const;
+  // Whether any of these runs reports `observable` as a number (e.g. liquid_free_fraction is null in a dry
+  // run).
+  bool reports(const Condition& c, const Variant& v, const std::vector<uint64_t>& seeds,
+               const std::string& observable) const;
   size_t runs() const { return runs_.size(); }
   size_t computed() const { return computed_; }
   double wall_s() const { return wall_s_; }

@@ -19,6 +19,7 @@ BufferSet::BufferSet(vk::Context& c, uint32_t num_particles, uint32_t num_cells)
   cell_key = vk::Buffer(ctx, N * 4);
   sort_val = vk::Buffer(ctx, N * 4);
   cnt_scan = vk::Buffer(ctx, N * 4);
+  own_scan = vk::Buffer(ctx, N * 4);
   cell_start = vk::Buffer(ctx, uint64_t(std::max<uint32_t>(cells, 1)) * 4);
   cell_end = vk::Buffer(ctx, uint64_t(std::max<uint32_t>(cells, 1)) * 4);
   p_share = vk::Buffer(ctx, N * 8);
@@ -31,10 +32,10 @@ void BufferSet::grow_scratch(uint32_t entries) {
   if (entries <= scratch_capacity_) return;
   const uint64_t E = std::max<uint32_t>(entries, 1);
   pair_f = vk::Buffer(ctx, E * 16);
-  pair_ti = vk::Buffer(ctx, E * 16);
-  pair_tj = vk::Buffer(ctx, E * 16);
-  ev_a = vk::Buffer(ctx, E * 8);
-  ev_b = vk::Buffer(ctx, E * 8);
+  pair_t = vk::Buffer(ctx, E * 16);
+  ev = vk::Buffer(ctx, E * 8);
+  partner = vk::Buffer(ctx, E * 4);
+  owners = vk::Buffer(ctx, E * 4);
   scratch_capacity_ = entries;
 }
 
@@ -60,14 +61,15 @@ GpuTable BufferSet::table() const {
   t.cell_end = cell_end.address();
   t.cnt_scan = cnt_scan.address();
   t.pair_f = pair_f.address();
-  t.pair_ti = pair_ti.address();
-  t.pair_tj = pair_tj.address();
-  t.ev_a = ev_a.address();
-  t.ev_b = ev_b.address();
+  t.pair_t = pair_t.address();
+  t.ev = ev.address();
+  t.partner = partner.address();
   t.p_share = p_share.address();
   t.p_gain = p_gain.address();
   t.p_full = p_full.address();
   t.p_offer = p_offer.address();
+  t.own_scan = own_scan.address();
+  t.owners = owners.address();
   return t;
 }
 

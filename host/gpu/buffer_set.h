@@ -45,8 +45,9 @@ struct GpuTable {
   uint64_t pset[2][kNumParticleFields];
   uint64_t eset[2][kNumEntryFields];
   uint64_t ref_pos, cell_key, sort_val, cell_start, cell_end, cnt_scan;
-  uint64_t pair_f, pair_ti, pair_tj, ev_a, ev_b;
+  uint64_t pair_f, pair_t, ev, partner;
   uint64_t p_share, p_gain, p_full, p_offer;
+  uint64_t own_scan, owners;
 };
 
 struct BufferSet {
@@ -64,8 +65,13 @@ struct BufferSet {
   vk::Buffer pset[2][kNumParticleFields];
   vk::Buffer eset[2][kNumEntryFields];
   vk::Buffer ref_pos, cell_key, sort_val, cell_start, cell_end, cnt_scan;
-  vk::Buffer pair_f, pair_ti, pair_tj, ev_a, ev_b;
+  // Per-entry pair results, written by the owner at its entry and at its mirror's (partner), so that the
+  // per-particle gathers read their own segment in order.
+  vk::Buffer pair_f, pair_t, ev, partner;
   vk::Buffer p_share, p_gain, p_full, p_offer;
+  // The owner list: the entries that evaluate their pair (mirror[e] == e), in list order, so that the passes
+  // over pairs run one invocation per pair. One buffer: a rebuild writes it after the old list's last use.
+  vk::Buffer own_scan, owners;
 
  private:
   void grow_scratch(uint32_t entries);

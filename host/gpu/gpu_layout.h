@@ -79,7 +79,7 @@ enum : uint32_t {
   kMaxDispBits = 3,
   kEntries = 4,
   kEntriesNeeded = 5,
-  kUnused6 = 6,
+  kOwners = 6,  // owner entries of the current list (length of the owner list)
   kParity = 7,
   kLostBridges = 8,
   kEscaped = 9,
@@ -94,10 +94,13 @@ enum : uint32_t {
   kLostArgs = 24,   // uvec4: lost-bridge check over the old list (rebuild steps only)
   kCapacity0 = 28,  // entry capacity of pair set 0 (kCapacity0 + 1: set 1)
   kGateArgs = 32,   // kMaxGates uvec4 slots: rebuild-gated dispatch sizes
-  kMaxGates = 48,
+  kMaxGates = 47,
   kGateGroups = kGateArgs + 4 * kMaxGates,  // kMaxGates uints: nominal group counts of the gated slots
-  kWords = kGateGroups + kMaxGates,
+  kOwnerArgs = kGateGroups + kMaxGates,     // uvec3: dispatch over the current list's owner entries
+  kOwnersNeeded = kOwnerArgs + 3,           // owner entries of the list being built (after its scan)
+  kWords = 272,                             // unchanged by the owner words: snapshots keep their size
 };
-}
+static_assert(kOwnersNeeded < kWords);
+}  // namespace ctl
 
 }  // namespace wetdem::gpu

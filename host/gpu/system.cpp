@@ -18,11 +18,11 @@ System::Impl::Impl(vk::Context& c, const SimParams& p, size_t num, SystemOptions
   if (num == 0 || num >= (1u << 31))
     throw std::invalid_argument("System: particle count must be in [1, 2^31)");
   const char* names[] = {
-      "kick_drift",     "pair_force",      "gather_kick",   "liq_rupture_share", "liq_rupture_apply",
-      "liq_form_offer", "liq_form_apply",  "liq_form_take", "rebuild_decide",    "cell_key",
-      "reorder",        "fill_u32",        "cell_ranges",   "nbr_count",         "build_args",
-      "nbr_fill",       "mirror",          "history_map",   "lost_check",        "flip",
-      "end_step",       "liq_upload_flags"};
+      "kick_drift",     "pair_force",       "gather_kick",   "liq_rupture_share", "liq_rupture_apply",
+      "liq_form_offer", "liq_form_apply",   "liq_form_take", "rebuild_decide",    "cell_key",
+      "reorder",        "fill_u32",         "cell_ranges",   "nbr_count",         "build_args",
+      "nbr_fill",       "mirror",           "history_map",   "lost_check",        "flip",
+      "end_step",       "liq_upload_flags", "owner_count",   "owner_fill"};
   for (const char* nm : names) kernels[nm] = std::make_unique<vk::Kernel>(ctx, nm);
   sort = std::make_unique<gpu::RadixSort>(ctx, n);
   scan = std::make_unique<gpu::Scan>(ctx, n);
@@ -215,7 +215,7 @@ void System::Impl::gated(VkCommandBuffer cb, const char* name, uint32_t groups) 
   vk::barrier(cb);
 }
 
-// Rebuild chain 6a-6k (ARCHITECTURE.md); every dispatch is gated by rebuild_decide.
+// Rebuild chain 6a-6n (ARCHITECTURE.md); every dispatch is gated by rebuild_decide.
 void System::Impl::record_rebuild(VkCommandBuffer cb) {
   const uint32_t gN = groups_for(n);
   gated(cb, "cell_key", gN);
@@ -233,7 +233,8 @@ void System::Impl::record_rebuild(VkCommandBuffer cb) {
   record_list_tail(cb, false);
 }
 
-// 6g-6k: fill, mirror, history, lost check, flip. Direct dispatches when finishing a halted rebuild.
+// 6g-6n: fill, mirror, history, lost check, owner list, flip. Direct dispatches when finishing a halted
+// rebuild.
 void System::Impl::record_list_tail(VkCommandBuffer cb, bool direct) {
   const uint32_t gN = groups_for(n);
   if (direct)
@@ -243,22 +244,33 @@ void System::Impl::record_list_tail(VkCommandBuffer cb, bool direct) {
   run_indirect(cb, "mirror", ctlw::kBuildArgs);
   run_indirect(cb, "history_map", ctlw::kBuildArgs);
   run_indirect(cb, "lost_check", ctlw::kLostArgs);
+  // 6k-6m: the owner list of the new list (count per particle, scan, fill).
+  gpu::DirectDispatcher now;
   if (direct)
-    run(cb, "flip", 1);
+    run(cb, "owner_count", gN);
   else
+    gated(cb, "owner_count", gN);
+  scan->record(cb, direct ? static_cast<gpu::Dispatcher&>(now) : gate, B->own_scan.address(), n,
+               B->ctl.address() + ctlw::kOwnersNeeded * 4);
+  if (direct) {
+    run(cb, "owner_fill", gN);
+    run(cb, "flip", 1);
+  } else {
+    gated(cb, "owner_fill", gN);
     gated(cb, "flip", 1);
+  }
 }
 
 void System::Impl::record_step(VkCommandBuffer cb) {
   const uint32_t gN = groups_for(n);
   run(cb, "kick_drift", gN);
-  run_indirect(cb, "pair_force", ctlw::kEntryArgs);
+  run_indirect(cb, "pair_force", ctlw::kOwnerArgs);
   run(cb, "gather_kick", gN);
   if (gp.liquid_on) {
     run(cb, "liq_rupture_share", gN);
-    run_indirect(cb, "liq_rupture_apply", ctlw::kEntryArgs);
+    run_indirect(cb, "liq_rupture_apply", ctlw::kOwnerArgs);
     run(cb, "liq_form_offer", gN);
-    run_indirect(cb, "liq_form_apply", ctlw::kEntryArgs);
+    run_indirect(cb, "liq_form_apply", ctlw::kOwnerArgs);
     run(cb, "liq_form_take", gN);
   }
   run(cb, "rebuild_decide", 1);

@@ -100,9 +100,10 @@ struct System::Impl {
   void run(VkCommandBuffer cb, const char* name, uint32_t groups);
   void run_indirect(VkCommandBuffer cb, const char* name, uint32_t word);
   void gated(VkCommandBuffer cb, const char* name, uint32_t groups);
-  // Rebuild chain 6a-6k (ARCHITECTURE.md); every dispatch is gated by rebuild_decide.
+  // Rebuild chain 6a-6n (ARCHITECTURE.md); every dispatch is gated by rebuild_decide.
   void record_rebuild(VkCommandBuffer cb);
-  // 6g-6k: fill, mirror, history, lost check, flip. Direct dispatches when finishing a halted rebuild.
+  // 6g-6n: fill, mirror, history, lost check, owner list, flip. Direct dispatches when finishing a halted
+  // rebuild.
   void record_list_tail(VkCommandBuffer cb, bool direct);
   void record_step(VkCommandBuffer cb);
   VkCommandBuffer allocate_cb();

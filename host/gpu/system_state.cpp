@@ -175,9 +175,9 @@ void System::Impl::upload(const SystemState& s) {
     VkCommandBuffer lb = record([&](VkCommandBuffer r) {
       run(r, "liq_upload_flags", gN);
       run(r, "liq_rupture_share", gN);
-      run_indirect(r, "liq_rupture_apply", ctlw::kEntryArgs);
+      run_indirect(r, "liq_rupture_apply", ctlw::kOwnerArgs);
       run(r, "liq_form_offer", gN);
-      run_indirect(r, "liq_form_apply", ctlw::kEntryArgs);
+      run_indirect(r, "liq_form_apply", ctlw::kOwnerArgs);
       run(r, "liq_form_take", gN);
     });
     submit(lb);
@@ -363,11 +363,29 @@ void System::Impl::restore(const std::vector<uint8_t>& blob) {
     B->pset[s][f].upload(at, bytes);
     at += bytes;
   }
+  const uint8_t* mirror = nullptr;
   for (uint32_t f = 0; f < gpu::kNumEntryFields; ++f) {
     size_t bytes = size_t(hd.entries) * gpu::kEntryFieldBytes[f];
+    if (f == gpu::kMirror) mirror = at;
     B->eset[s][f].upload(at, bytes);
     at += bytes;
   }
+  // The owner list is derived from the list, not stored: the entries that own their pair, in list order.
+  // Likewise each owner's partner (its mirrored entry), where the owner writes the mirror's pair results.
+  std::vector<uint32_t> owners, partner(hd.entries, 0);
+  for (uint32_t e = 0; e < hd.entries; ++e) {
+    uint32_t m;
+    std::memcpy(&m, mirror + size_t(e) * 4, 4);
+    if (m == e)
+      owners.push_back(e);
+    else if (m < hd.entries)
+      partner[m] = e;
+  }
+  if (!owners.empty()) B->owners.upload(owners);
+  if (!partner.empty()) B->partner.upload(partner);
+  c[ctlw::kOwners] = uint32_t(owners.size());
+  c[ctlw::kOwnerArgs] = groups_for(owners.size());
+  c[ctlw::kOwnerArgs + 1] = c[ctlw::kOwnerArgs + 2] = 1;
   B->ctl.upload(c);
   time0 = hd.time0;
   step0 = hd.step0;

@@ -40,8 +40,12 @@ layout(buffer_reference, std430, buffer_reference_align = 8) readonly buffer Tab
   uint64_t pset[2 * PF_COUNT];
   uint64_t eset[2 * EF_COUNT];
   uint64_t ref_pos, cell_key, sort_val, cell_start, cell_end, cnt_scan;
-  uint64_t pair_f, pair_ti, pair_tj, ev_a, ev_b;
+  // Per-entry results, written by the pair's owner at both of its entries (the mirror's at partner[e]), so
+  // that the per-particle gathers read their own segment in order: force and torque on the segment's particle,
+  // liquid moved to or from it.
+  uint64_t pair_f, pair_t, ev, partner;
   uint64_t p_share, p_gain, p_full, p_offer;
+  uint64_t own_scan, owners;  // owner entries per particle (scanned) and the owner list of the current set
 };
 
 layout(push_constant) uniform Push {

@@ -13,6 +13,10 @@ J() { /usr/bin/python3 -c "import json,sys; j=json.load(open(sys.argv[1])); prin
 
 t0=$(date +%s)
 "$W" twin "$SRC/assets/diagnosis/micro/twin_spread.toml" --out "$D/ts" --store "$D/store" --quiet
+# A dry condition has no liquid_free_fraction: the twin writes no row for it and says so in truth.json.
+[ "$(J "$D/ts/truth.json" '[x["observable"] for x in j["not_reported"]]')" = "['liquid_free_fraction']" ] ||
+  { echo "FAIL: the dry liquid_free_fraction cell"; exit 1; }
+grep -q '"0 %",liquid_free_fraction' "$D/ts/observations.csv" && { echo "FAIL: a row for an unreported cell"; exit 1; }
 mv "$D/ts/truth.json" "$D/truth-spread.json"
 "$W" diagnose "$SRC/tests/diagnose/micro_ci.toml" --observations "$D/ts/observations.csv" --out "$D/ds" \
   --store "$D/store" --quiet --no-figures

@@ -62,17 +62,4 @@ Drift aor_drift(const std::vector<double>& t, const std::vector<double>& a, doub
   return d;
 }
 
-WindowMean window_mean(const std::vector<double>& v) {
-  std::vector<double> t, x;
-  for (double y : v)
-    if (std::isfinite(y)) t.push_back(static_cast<double>(x.size())), x.push_back(y);
-  WindowMean w;
-  const SeriesStats s = series_stats(t, x);
-  w.n = s.n;
-  w.mean = s.mean;
-  w.sem = s.sem;
-  w.sem_reliable = s.sem_reliable;
-  return w;
-}
-
 }  // namespace wetdem::observe

@@ -1,5 +1,5 @@
-// Quantities of the AoR window as a whole (diagnosis.md §2): the drift of the angle of repose, and the window
-// statistics (mean and blocked standard error) of any per-sample observable.
+// The drift of the angle of repose over the AoR window (diagnosis.md §2). The window mean and error bar of a
+// per-sample observable: window_stats_finite (app/output/timeseries_stats.h).
 #pragma once
 
 #include <cstddef>
@@ -23,13 +23,5 @@ struct Drift {
   int block_level = 0;              // level of se_deg_per_rev (blocks of 2^level samples)
 };
 Drift aor_drift(const std::vector<double>& t, const std::vector<double>& aor_deg, double omega);
-
-// Mean and blocked SEM of the finite values of v (NaN marks a sample without a value) in time order.
-struct WindowMean {
-  size_t n = 0;  // finite samples
-  double mean = 0.0, sem = 0.0;
-  bool sem_reliable = false;
-};
-WindowMean window_mean(const std::vector<double>& v);
 
 }  // namespace wetdem::observe

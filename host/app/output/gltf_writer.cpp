@@ -163,28 +163,23 @@ void write_glb(const std::string& path, const ParticleFrame& f, const GltfOption
 }
 
 GltfSeries::GltfSeries(std::string dir, std::string prefix, GltfOptions opt)
-    : dir_(std::move(dir)), prefix_(std::move(prefix)), opt_(opt) {
+    : dir_(std::move(dir)), opt_(opt), index_(prefix, "glb") {
   std::filesystem::create_directories(dir_);
-  index_path_ = (std::filesystem::path(dir_) / (prefix_ + "s.json")).string();
+  index_path_ = (std::filesystem::path(dir_) / (prefix + "s.json")).string();
   std::ifstream in(index_path_);
   if (in) {
     const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
     if (j.is_object() && j.contains("frames") && j["frames"].is_array())
       for (const auto& e : j["frames"])
-        entries_.push_back(
-            {e.value("time", 0.0), e.value("step", uint64_t{0}), e.value("file", std::string())});
+        index_.load({e.value("time", 0.0), e.value("step", uint64_t{0}), e.value("file", std::string())});
   }
 }
 
 std::string GltfSeries::write(const ParticleFrame& f) {
-  const std::string file = fmt::format("{}_{:010d}.glb", prefix_, f.step);
-  const std::string path = (std::filesystem::path(dir_) / file).string();
+  const std::string path = (std::filesystem::path(dir_) / index_.file_for(f.step)).string();
   write_glb(path, f, opt_);
   clusters_ = !f.cluster.empty();
-  entries_.erase(
-      std::remove_if(entries_.begin(), entries_.end(), [&](const Entry& e) { return e.step >= f.step; }),
-      entries_.end());
-  entries_.push_back({f.time, f.step, file});
+  index_.add(f.time, f.step);
   write_index();
   return path;
 }
@@ -199,7 +194,7 @@ void GltfSeries::write_index() const {
   j["attributes"] = {"POSITION", "COLOR_0", "_RADIUS", "_VELOCITY", "_LIQUID_VOLUME", "_ID"};
   if (clusters_) j["attributes"].push_back("_CLUSTER"), j["attributes"].push_back("_CLUSTER_SIZE");
   j["frames"] = nlohmann::json::array();
-  for (const Entry& e : entries_)
+  for (const FrameEntry& e : index_.entries())
     j["frames"].push_back({{"time", e.time}, {"step", e.step}, {"file", e.file}});
   // Write then rename, so a reader never sees a half-written index.
   const std::string tmp = index_path_ + ".tmp";

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "colormap.h"
+#include "frame_index.h"
 
 namespace wetdem {
 
@@ -45,18 +46,13 @@ class GltfSeries {
   GltfSeries(std::string dir, std::string prefix = "frame", GltfOptions opt = {});
   std::string write(const ParticleFrame& f);  // returns the .glb path
   const std::string& index_path() const { return index_path_; }
-  size_t frames() const { return entries_.size(); }
+  size_t frames() const { return index_.entries().size(); }
 
  private:
-  struct Entry {
-    double time;
-    uint64_t step;
-    std::string file;
-  };
   void write_index() const;
-  std::string dir_, prefix_, index_path_;
+  std::string dir_, index_path_;
   GltfOptions opt_;
-  std::vector<Entry> entries_;
+  FrameIndex index_;
   bool clusters_ = false;  // the last frame carried _CLUSTER
 };
 

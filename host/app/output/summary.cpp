@@ -147,8 +147,9 @@ nlohmann::json number_or_null(double x) {
 }
 
 // diagnosis.md §2: each camera observable as <name> (window mean of the samples that have a value) and
-// <name>_sem (blocked standard error, as aor_sem_block); null when no sample of the window has one; the plate
-// and centre slab angles are absent on a periodic slice. The AoR drift over the window, per revolution.
+// <name>_sem (the correlation-aware error of window_stats, as aor_sem_tau); null when no sample of the window
+// has one (the error bar: fewer than two); the plate and centre slab angles are absent on a periodic slice.
+// The AoR drift over the window, per revolution.
 void add_camera_observables(nlohmann::json& j, const Case& c, const std::vector<Sample>& samples,
                             double t_from, bool aor_flag) {
   for (const observe::CameraField& f : observe::kCameraFields) {
@@ -156,9 +157,9 @@ void add_camera_observables(nlohmann::json& j, const Case& c, const std::vector<
     std::vector<double> v;
     for (const Sample& s : samples)
       if (s.time >= t_from) v.push_back(s.camera.*f.value);
-    const observe::WindowMean w = observe::window_mean(v);
+    const WindowStats w = window_stats_finite(v, c.run.sample_interval);
     j[f.name] = w.n ? number_or_null(w.mean) : nlohmann::json(nullptr);
-    j[std::string(f.name) + "_sem"] = w.n ? number_or_null(w.sem) : nlohmann::json(nullptr);
+    j[std::string(f.name) + "_sem"] = w.n >= 2 ? number_or_null(w.sem) : nlohmann::json(nullptr);
   }
   std::vector<double> t, a;
   for (const Sample& s : samples)

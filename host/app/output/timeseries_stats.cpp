@@ -117,4 +117,11 @@ WindowStats window_stats(const std::vector<double>& v, double spacing_s) {
   return s;
 }
 
+WindowStats window_stats_finite(const std::vector<double>& v, double spacing_s) {
+  std::vector<double> x;
+  for (double y : v)
+    if (std::isfinite(y)) x.push_back(y);
+  return window_stats(x, spacing_s);
+}
+
 }  // namespace wetdem

@@ -56,4 +56,8 @@ bool integrated_autocorrelation_time(const std::vector<double>& v, double* tau, 
 // give stationary = sem_reliable = false with a reason.
 WindowStats window_stats(const std::vector<double>& v, double spacing_s);
 
+// window_stats over the finite values of v only (NaN marks a sample without a value, e.g. a camera observable
+// the bed did not show), in time order; spacing_s is the spacing of the samples kept.
+WindowStats window_stats_finite(const std::vector<double>& v, double spacing_s);
+
 }  // namespace wetdem

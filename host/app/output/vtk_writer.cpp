@@ -354,21 +354,17 @@ std::vector<std::pair<double, std::string>> read_pvd(const std::string& path) {
 }
 
 PvdSeries::PvdSeries(std::string dir, std::string prefix, VtkOptions opt)
-    : dir_(std::move(dir)), prefix_(std::move(prefix)), opt_(opt) {
+    : dir_(std::move(dir)), opt_(opt), index_(prefix, "vtp") {
   std::filesystem::create_directories(dir_);
-  pvd_path_ = (std::filesystem::path(dir_) / (prefix_ + "s.pvd")).string();
+  pvd_path_ = (std::filesystem::path(dir_) / (prefix + "s.pvd")).string();
   if (std::filesystem::exists(pvd_path_))
-    for (const auto& [t, file] : read_pvd(pvd_path_)) entries_.push_back({t, step_of_file(file), file});
+    for (const auto& [t, file] : read_pvd(pvd_path_)) index_.load({t, step_of_file(file), file});
 }
 
 std::string PvdSeries::write(const ParticleFrame& f) {
-  const std::string file = fmt::format("{}_{:010d}.vtp", prefix_, f.step);
-  const std::string path = (std::filesystem::path(dir_) / file).string();
+  const std::string path = (std::filesystem::path(dir_) / index_.file_for(f.step)).string();
   write_vtp(path, f, opt_);
-  entries_.erase(
-      std::remove_if(entries_.begin(), entries_.end(), [&](const Entry& e) { return e.step >= f.step; }),
-      entries_.end());
-  entries_.push_back({f.time, f.step, file});
+  index_.add(f.time, f.step);
   write_collection();
   return path;
 }
@@ -377,7 +373,7 @@ void PvdSeries::write_collection() const {
   std::string x =
       "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n";
   x += "  <Collection>\n";
-  for (const Entry& e : entries_)
+  for (const FrameEntry& e : index_.entries())
     x += fmt::format("    <DataSet timestep=\"{:.17g}\" group=\"\" part=\"0\" file=\"{}\"/>\n", e.time,
                      e.file);
   x += "  </Collection>\n</VTKFile>\n";

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "colormap.h"
+#include "frame_index.h"
 
 namespace wetdem {
 
@@ -36,18 +37,13 @@ class PvdSeries {
   PvdSeries(std::string dir, std::string prefix = "frame", VtkOptions opt = {});
   std::string write(const ParticleFrame& f);  // returns the .vtp path
   const std::string& collection_path() const { return pvd_path_; }
-  size_t frames() const { return entries_.size(); }
+  size_t frames() const { return index_.entries().size(); }
 
  private:
-  struct Entry {
-    double time;
-    uint64_t step;
-    std::string file;
-  };
   void write_collection() const;
-  std::string dir_, prefix_, pvd_path_;
+  std::string dir_, pvd_path_;
   VtkOptions opt_;
-  std::vector<Entry> entries_;
+  FrameIndex index_;
 };
 
 // Minimal reader for what write_vtp writes (both encodings): tests and tools. Arrays converted to double.

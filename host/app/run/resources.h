@@ -5,18 +5,18 @@
 // Particles: n = fill × π D²/4 × L_sim × bed_solid_fraction / V̄_S (the PSD model's mean volume), the same
 // estimate `wetdem check` prints; the fill then draws about that many.
 // Device bytes: per particle, the two particle sets of host/gpu/buffer_set.h (kParticleFieldBytes, 284 B
-// each), the per-particle scratch (ref_pos 16, cell_key/sort_val/cnt_scan 12, liquid scratch 32: 60 B), the
-// radix sort's ping-pong keys and values (8 B) and up to 8 cell-range entries of 8 B (the grid is hashed
-// beyond 8 cells per particle: 64 B): 700 B; per neighbour-list entry, the two entry sets (kEntryFieldBytes,
-// 56 B each) and the per-entry scratch (pair_f/ti/tj 48, ev_a/ev_b 16): 176 B. The byte counts follow the
-// layout constants; tests/test_bench_traffic.cpp checks them against the buffers a System really allocates.
-// Entries per particle: two-sided neighbours with centres within 2 r̄ + S_c,max + skin in a bed of solid
-// fraction φ, ≈ φ (d/r̄)³ in the list; allocated: the initial capacity of 16 per particle, or 1.5 × the list
-// once a rebuild overflows it (system.cpp grows a set to 1.5 × the need). wetdem_bench measures the list
-// length of real beds in rotation (README "Benchmark", "Memory"). Host bytes: measured, the slope of the peak
-// resident memory of `wetdem run` on lavapipe between the demo slice (1,834 particles, 113 MB) and a 5x
-// longer one (9,091 particles, 141 MB): 4.0 kB per particle. On lavapipe that includes the device buffers
-// (device memory is host memory there), so it errs high on a GPU.
+// each), the per-particle scratch (ref_pos 16, cell_key/sort_val/cnt_scan/own_scan 16, liquid scratch 32:
+// 64 B), the radix sort's ping-pong keys and values (8 B) and up to 8 cell-range entries of 8 B (the grid is
+// hashed beyond 8 cells per particle: 64 B): 704 B; per neighbour-list entry, the two entry sets
+// (kEntryFieldBytes, 56 B each) and the per-entry scratch (pair_f/pair_t 32, ev 8, partner 4, owners 4): 160
+// B. The byte counts follow the layout constants; tests/test_bench_traffic.cpp checks them against the
+// buffers a System really allocates. Entries per particle: two-sided neighbours with centres within 2 r̄ +
+// S_c,max + skin in a bed of solid fraction φ, ≈ φ (d/r̄)³ in the list; allocated: the initial capacity of 16
+// per particle, or 1.5 × the list once a rebuild overflows it (system.cpp grows a set to 1.5 × the need).
+// wetdem_bench measures the list length of real beds in rotation (README "Benchmark", "Memory"). Host bytes:
+// measured, the slope of the peak resident memory of `wetdem run` on lavapipe between the demo slice (1,834
+// particles, 113 MB) and a 5x longer one (9,091 particles, 141 MB): 4.0 kB per particle. On lavapipe that
+// includes the device buffers (device memory is host memory there), so it errs high on a GPU.
 #pragma once
 
 #include <cstdint>
@@ -62,11 +62,12 @@ inline constexpr double kEntrySetBytes = [] {
   for (uint32_t f : gpu::kEntryFieldBytes) b += f;
   return b;
 }();
-inline constexpr double kParticleScratchBytes =
-    16 + 3 * 4 + 4 * 8;                                       // ref_pos; cell_key, sort_val, cnt_scan; p_*
-inline constexpr double kEntryScratchBytes = 3 * 16 + 2 * 8;  // pair_f, pair_ti, pair_tj; ev_a, ev_b
-inline constexpr double kSortScratchBytes = 2 * 4;            // radix sort ping-pong keys, values
-inline constexpr double kDeviceCellBytesPerParticle = 64.0;   // <= 8 cells x (start, end) per particle
+// ref_pos; cell_key, sort_val, cnt_scan, own_scan; p_share, p_gain, p_full, p_offer
+inline constexpr double kParticleScratchBytes = 16 + 4 * 4 + 4 * 8;
+// pair_f, pair_t; ev; partner, owners
+inline constexpr double kEntryScratchBytes = 2 * 16 + 8 + 2 * 4;
+inline constexpr double kSortScratchBytes = 2 * 4;           // radix sort ping-pong keys, values
+inline constexpr double kDeviceCellBytesPerParticle = 64.0;  // <= 8 cells x (start, end) per particle
 inline constexpr double kDeviceBytesPerParticle =
     2.0 * kParticleSetBytes + kParticleScratchBytes + kSortScratchBytes + kDeviceCellBytesPerParticle;
 inline constexpr double kDeviceBytesPerEntry = 2.0 * kEntrySetBytes + kEntryScratchBytes;
