@@ -23,15 +23,6 @@ SimParams wet_params(int64_t v_min, int64_t v_max, double d_c = 1.0) {
   return prm;
 }
 
-PairRecord bridge_record(uint32_t i, uint32_t j, int64_t v) {
-  PairRecord r;
-  r.id_i = i;
-  r.id_j = j;
-  r.bridge = v;
-  r.flags = kFlagWasInContact;
-  return r;
-}
-
 double gap_of(const SystemState& s, uint32_t i, uint32_t j) {
   return glm::length(s.p.x[i] - s.p.x[j]) - s.p.radius[i] - s.p.radius[j];
 }

@@ -79,12 +79,7 @@ TEST_P(Sinks, EvaporationDecaysFilmsAndBridgesExactly) {
   put_sphere(s, 2, glm::dvec3(kR, 0.0, 0.0), kR, kRho);
   const int64_t f0 = 123'456'789'012, b0 = int64_t(1) << 40;  // 1.1e-12 m^3 bridge
   s.p.film[0] = f0;
-  PairRecord r;
-  r.id_i = 1;
-  r.id_j = 2;
-  r.bridge = b0;
-  r.flags = kFlagWasInContact;
-  s.pairs.push_back(r);
+  s.pairs.push_back(bridge_record(1, 2, b0));
   const int64_t total0 = s.total_liquid();
   auto be = make_backend(GetParam(), prm, 3);
   be->set_state(s);

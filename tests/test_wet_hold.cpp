@@ -44,12 +44,7 @@ TEST_P(WetHold, VmaxBridgeFollowsWillettUntilTheInteractionRange) {
   put_sphere(s, 0, glm::dvec3(kR, 0.0, 0.0), kR, 2500.0, glm::dvec3(0.5 * v, 0.0, 0.0));
   put_sphere(s, 1, glm::dvec3(-kR, 0.0, 0.0), kR, 2500.0, glm::dvec3(-0.5 * v, 0.0, 0.0));
   for (int k = 0; k < 2; ++k) s.p.mass[k] = s.p.inertia[k] = 1e20;
-  PairRecord r;
-  r.id_i = 0;
-  r.id_j = 1;
-  r.bridge = kVmax;
-  r.flags = kFlagWasInContact;
-  s.pairs.push_back(r);
+  s.pairs.push_back(bridge_record(0, 1, kVmax));
   auto b = make_backend(GetParam(), prm, 2);
   b->set_state(s);
 

@@ -54,8 +54,8 @@ StrengthFit fit_strength(const std::vector<Cell>& cells, const Emulator& em,
 
 // Refinement of a candidate's response: the emulator interpolates between probes a factor 3-10 apart, and a
 // response that bends between them misplaces the fitted strength (measured on the micro twins: an absorption
-// capacity fitted at twice its true value). next_knot: the fitted strength (3 significant digits) when no knot
-// lies within 2 % of it in log strength, else 0 (refined). add_knot: inserts a run's predictions there.
+// capacity fitted at twice its true value). next_knot: the fitted strength (3 significant digits) when no
+// knot lies within 2 % of it in log strength, else 0 (refined). add_knot: inserts a run's predictions there.
 double next_knot(const std::vector<Cell>& cells, const std::vector<Prediction>& baseline, const Response& r);
 void add_knot(Response& r, double strength, std::vector<Prediction> pred);
 

@@ -71,6 +71,16 @@ inline void put_sphere(SystemState& s, size_t k, glm::dvec3 x, double r, double 
   s.p.w[k] = w;
 }
 
+// A pair record of particles i and j that were in contact, carrying a bridge of v liquid units (0: dry).
+inline PairRecord bridge_record(uint32_t i, uint32_t j, int64_t v) {
+  PairRecord r;
+  r.id_i = i;
+  r.id_j = j;
+  r.bridge = v;
+  r.flags = kFlagWasInContact;
+  return r;
+}
+
 // Hertz contact duration for impact speed v (undamped): t_c = 2.9432 delta_max / v with
 // delta_max = (15 m* v^2 / (16 E* sqrt(R*)))^(2/5) (energy balance on F = (4/3) E* sqrt(R*) delta^(3/2)).
 inline double hertz_contact_time(double m_star, double R_star, double E_star, double v) {
