@@ -16,12 +16,7 @@
 #include "app/output/gltf_writer.h"
 #include "app/output/vtk_writer.h"
 
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wshadow"
-#pragma GCC diagnostic ignored "-Wunused-parameter"
-#pragma GCC diagnostic ignored "-Wpedantic"
-#include <tiny_gltf.h>
-#pragma GCC diagnostic pop
+#include "support/tiny_gltf_quiet.h"
 
 namespace wetdem::test {
 namespace {

@@ -26,12 +26,17 @@ RunBook::RunBook(std::string store_dir, std::string spec_path, std::string name,
       set_(std::move(set)),
       exec_(std::move(exec)) {}
 
-void RunBook::want(Condition& c, const Variant& v, const std::vector<uint64_t>& seeds) {
+study::StudySpec RunBook::spec() const {
   study::StudySpec s;
   s.path = spec_path_;
   s.name = name_;
   s.base = case_path_;
   s.set = set_;
+  return s;
+}
+
+void RunBook::want(Condition& c, const Variant& v, const std::vector<uint64_t>& seeds) {
+  study::StudySpec s = spec();
   s.seeds = seeds;
   std::vector<study::AxisValue> values = c.values;
   for (const std::string& o : v.overrides) {
@@ -60,11 +65,7 @@ void RunBook::want(Condition& c, const Variant& v, const std::vector<uint64_t>& 
 }
 
 void RunBook::run() {
-  study::StudySpec s;
-  s.path = spec_path_;
-  s.name = name_;
-  s.base = case_path_;
-  s.set = set_;
+  study::StudySpec s = spec();
   s.points = points_;
   study::write_plan(dir_, s, runs_);
   const study::ExecReport rep = study::run_study(dir_, exec_);
@@ -106,12 +107,17 @@ std::string sem_key(const std::string& observable, const nlohmann::json& s) {
   return "";
 }
 
+const nlohmann::json& RunBook::summary_of(const Condition& c, const Variant& v, uint64_t seed) const {
+  const std::string key = c.label + "|" + v.label() + "|" + std::to_string(seed);
+  auto it = key_to_hash_.find(key);
+  if (it == key_to_hash_.end()) throw std::logic_error("RunBook: run not wanted: " + key);
+  return summary(it->second);
+}
+
 bool RunBook::reports(const Condition& c, const Variant& v, const std::vector<uint64_t>& seeds,
                       const std::string& observable) const {
   for (uint64_t seed : seeds) {
-    auto it = key_to_hash_.find(c.label + "|" + v.label() + "|" + std::to_string(seed));
-    if (it == key_to_hash_.end()) throw std::logic_error("RunBook::reports: run not wanted: " + c.label);
-    const nlohmann::json& s = summary(it->second);
+    const nlohmann::json& s = summary_of(c, v, seed);
     if (s.contains(observable) && s[observable].is_number()) return true;
   }
   return false;
@@ -122,10 +128,7 @@ Prediction RunBook::predict(const Condition& c, const Variant& v, const std::vec
   std::vector<double> x;
   double own_se = 0.0;
   for (uint64_t seed : seeds) {
-    const std::string key = c.label + "|" + v.label() + "|" + std::to_string(seed);
-    auto it = key_to_hash_.find(key);
-    if (it == key_to_hash_.end()) throw std::logic_error("RunBook::predict: run not wanted: " + key);
-    const nlohmann::json& s = summary(it->second);
+    const nlohmann::json& s = summary_of(c, v, seed);
     if (!s.contains(observable) || !s[observable].is_number()) continue;  // flagged or absent in this run
     x.push_back(s[observable].get<double>());
     const std::string k = sem_key(observable, s);

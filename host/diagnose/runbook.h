@@ -51,6 +51,9 @@ class RunBook {
 
  private:
   const nlohmann::json& summary(const std::string& hash) const;
+  // The summary of the run of v at c with this seed (wanted before; throws std::logic_error otherwise).
+  const nlohmann::json& summary_of(const Condition& c, const Variant& v, uint64_t seed) const;
+  study::StudySpec spec() const;  // the store's study: this book's file, name, case and [set]
   std::string dir_, spec_path_, name_, case_path_;
   std::vector<std::string> set_;
   study::ExecOptions exec_;
