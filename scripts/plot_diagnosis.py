@@ -27,19 +27,25 @@ def main(d):
 
     # Gap map.
     panels = [("baseline", lambda c: c["z"])] + ([("with " + str(j["effect"]), lambda c: c["after"]["z"])] if after else [])
+    # The panels share the condition axis (labels on the first only); a cell without an observation is grey
+    # with a dash, not white (white is z = 0); |z| > 3 is written in white on the dark colours.
     fig, axes = plt.subplots(1, len(panels), figsize=(4 + 2.2 * len(panels) * max(1, len(obs)) / 2, 1.2 + 0.45 * len(conds)),
-                             squeeze=False)
-    for ax, (title, zf) in zip(axes[0], panels):
+                             squeeze=False, sharey=True)
+    cmap = plt.get_cmap("RdBu_r").copy()
+    cmap.set_bad("0.85")
+    for p, (ax, (title, zf)) in enumerate(zip(axes[0], panels)):
         m = [[float("nan")] * len(obs) for _ in conds]
         for c in cells:
             m[conds.index(c["condition"])][obs.index(c["observable"])] = zf(c)
-        im = ax.imshow(m, cmap="RdBu_r", vmin=-5, vmax=5, aspect="auto")
+        im = ax.imshow(m, cmap=cmap, vmin=-5, vmax=5, aspect="auto")
         ax.set_xticks(range(len(obs)), obs, rotation=30, ha="right", fontsize=8)
-        ax.set_yticks(range(len(conds)), conds, fontsize=8)
+        if p == 0:
+            ax.set_yticks(range(len(conds)), conds, fontsize=8)
         for i in range(len(conds)):
             for k in range(len(obs)):
-                if m[i][k] == m[i][k]:
-                    ax.text(k, i, f"{m[i][k]:+.1f}", ha="center", va="center", fontsize=8)
+                z = m[i][k]
+                ax.text(k, i, "–" if z != z else f"{z:+.1f}", ha="center", va="center", fontsize=8,
+                        color="white" if z == z and abs(z) > 3 else "black")
         ax.set_title(f"z = (obs - model)/σ, {title}", fontsize=9)
     fig.colorbar(im, ax=axes[0].tolist(), shrink=0.8, label="z")
     fig.savefig(os.path.join(out, "gap_map.png"), dpi=120, bbox_inches="tight")
@@ -81,6 +87,13 @@ def main(d):
     ax.barh(range(len(names)), vals, color=["0.6"] + ["tab:blue"] * len(rk))
     ax.set_yticks(range(len(names)), names)
     ax.invert_yaxis()
+    # The chosen candidate's χ² is often a thousandth of the null's: a log axis, and each value written out.
+    pos = [v for v in vals if v > 0]
+    if pos and max(pos) > 100 * min(pos):
+        ax.set_xscale("log")
+    for i, v in enumerate(vals):
+        ax.text(v, i, f" {v:.3g}", va="center", fontsize=8)
+    ax.set_xlim(right=max(vals) * (3.0 if ax.get_xscale() == "log" else 1.15) if vals else 1)
     ax.set_xlabel("held-out χ² (leave one condition out); lower is better")
     fig.tight_layout()
     fig.savefig(os.path.join(out, "ranking.png"), dpi=120)
