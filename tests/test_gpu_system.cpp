@@ -143,4 +143,42 @@ TEST_F(GpuSystem, ContactBufferGrowsOnOverflowAndLosesNothing) {
   EXPECT_TRUE(bitwise_equal(small, big)) << "growing the buffers changed the result";
 }
 
+TEST_F(GpuSystem, SplitRebuildsAreBitwiseTheGatedChain) {
+  // The rebuild chain submitted on its own when a step halts for it must give bitwise the state of the chain
+  // recorded, gated, into every step: wet pairs, rebuilds, a list that overflows and grows, and batches of
+  // any length (one step at a time, or many).
+  SimParams prm = twin_drum_params(0.012, 0.012, 0.5e-3, false);
+  prm.liq_pp.enabled = true;
+  prm.liq_pp.gamma = 0.1;
+  prm.liq_pp.theta = 0.5;
+  prm.liq_pp.v_max = 1 << 28;
+  prm.liquid_unit_m3 = 1e-20;
+  prm.skin = 0.6e-3;  // rebuilds some steps apart, so that split batches halt for them
+  SystemState s = random_drum_packing(prm, 500, 0.5e-3, 0.8e-3, 11, 0.02);
+  for (auto& f : s.p.film) f = 1 << 27;
+  auto run = [&](bool split, uint32_t per_particle, bool one_at_a_time) {
+    SystemOptions o;
+    o.split_rebuilds = split;
+    o.initial_entries_per_particle = per_particle;
+    System sys(gpu(), prm, s.p.size(), o);
+    sys.upload(s);
+    if (one_at_a_time)
+      for (int k = 0; k < 100; ++k) sys.step(1);
+    else
+      sys.step(100);
+    sys.step(250);
+    return std::make_pair(sys.download(), sys.counters());
+  };
+  const auto [gated, cg] = run(false, 16, false);
+  EXPECT_GT(cg.rebuilds, 3u);
+  for (bool one : {false, true}) {
+    for (uint32_t per : {16u, 1u}) {
+      const auto [split, cs] = run(true, per, one);
+      EXPECT_TRUE(bitwise_equal(gated, split)) << "entries/particle " << per << ", one at a time " << one;
+      EXPECT_EQ(cs.rebuilds, cg.rebuilds);
+      EXPECT_EQ(cs.regrows > 0, per == 1u);
+    }
+  }
+}
+
 }  // namespace wetdem::test

@@ -184,6 +184,21 @@ nlohmann::json bench_case(vk::Context& ctx, const app::Case& c, const std::strin
   }
   j["traffic"] = jt;
 
+  // The same steps with the rebuild chain recorded, gated, into every step (SystemOptions::split_rebuilds
+  // off): the speed-up of split rebuilds measured in this run, on this device.
+  {
+    SystemOptions so;
+    so.steps_per_submit = prep.c.run.steps_per_submit;
+    so.split_rebuilds = false;
+    System gated(ctx, rotating_prm, n, so);
+    gated.restore(st.ck.system);
+    gated.step(warmup);
+    const auto t0 = std::chrono::steady_clock::now();
+    gated.step(o.steps);
+    const double gated_pss = double(n) * double(o.steps) / seconds_since(t0);
+    j["gated_rebuilds"] = {{"particle_steps_per_s", gated_pss}, {"split_speedup", pss / gated_pss}};
+  }
+
   // Per pass: the same steps from the same state with a timestamp before every pass.
   {
     SystemOptions so;
@@ -238,6 +253,11 @@ void print_table(const nlohmann::json& runs) {
             : std::string("-"),
         passes_text(j, 3));
   }
+  fmt::print("split rebuilds against the gated chain in every step (same steps, same device):");
+  for (const auto& j : runs)
+    fmt::print(" {} {} {:.2f}x;", j["case"].get<std::string>(), j["variant"].get<std::string>(),
+               j["gated_rebuilds"]["split_speedup"].get<double>());
+  fmt::print("\n");
 }
 
 }  // namespace

@@ -72,6 +72,7 @@ static_assert(sizeof(GpuParams) ==
 
 // Control block (uint32 words); see shaders/common/ctl.glsl.
 namespace ctl {
+inline constexpr uint32_t kHaltForRebuild = 2;  // ctl[kHalt] of a split-rebuild step (1: list overflow)
 enum : uint32_t {
   kHalt = 0,
   kRebuild = 1,

@@ -37,8 +37,12 @@ System::Impl::~Impl() {
 }
 
 void System::Impl::drop_cache() {
-  for (auto& [k, cb] : cached) vkFreeCommandBuffers(ctx.device(), ctx.pool(), 1, &cb);
-  cached.clear();
+  for (auto* m : {&cached, &plain}) {
+    for (auto& [k, cb] : *m) vkFreeCommandBuffers(ctx.device(), ctx.pool(), 1, &cb);
+    m->clear();
+  }
+  if (chain_cb) vkFreeCommandBuffers(ctx.device(), ctx.pool(), 1, &chain_cb);
+  chain_cb = VK_NULL_HANDLE;
 }
 
 void System::Impl::setup(double r_max, double r_min) {
@@ -261,7 +265,7 @@ void System::Impl::record_list_tail(VkCommandBuffer cb, bool direct) {
   }
 }
 
-void System::Impl::record_step(VkCommandBuffer cb) {
+void System::Impl::record_step(VkCommandBuffer cb, bool split) {
   const uint32_t gN = groups_for(n);
   run(cb, "kick_drift", gN);
   run_indirect(cb, "pair_force", ctlw::kOwnerArgs);
@@ -273,9 +277,28 @@ void System::Impl::record_step(VkCommandBuffer cb) {
     run_indirect(cb, "liq_form_apply", ctlw::kOwnerArgs);
     run(cb, "liq_form_take", gN);
   }
+  if (split) {
+    // Ends the step, or halts it (and the rest of the command buffer) when it must rebuild; see step().
+    gpu::Push p = push();
+    p.a0 = 1;
+    if (opt.profile_passes) prof.mark(cb, "rebuild_decide");
+    kernels.at("rebuild_decide")->dispatch(cb, 1, &p, sizeof(p));
+    vk::barrier(cb);
+    return;
+  }
   run(cb, "rebuild_decide", 1);
   record_rebuild(cb);
   run(cb, "end_step", 1);
+}
+
+// Split rebuilds: steps per submit. A batch that ends before the next rebuild costs a host round trip, one
+// that halts early costs its remaining steps' (empty) dispatches; so a batch runs to the estimated next
+// rebuild, then short batches follow until it comes. One command buffer is recorded per batch length.
+uint32_t System::Impl::plan_split_batch(uint64_t count) const {
+  const double left = interval_est - double(since_rebuild);
+  const double want = left >= 1.0 ? std::ceil(left) : std::max(1.0, std::floor(interval_est / 4.0));
+  const double cap = double(std::max<uint32_t>(1, opt.steps_per_submit));
+  return uint32_t(std::min<double>({want, cap, double(count)}));
 }
 
 VkCommandBuffer System::Impl::allocate_cb() {
@@ -342,14 +365,33 @@ void System::Impl::check_health(const std::vector<uint32_t>& c) {
 void System::Impl::step(uint64_t count) {
   if (!uploaded) throw std::logic_error("System::step before upload");
   while (count > 0) {
-    uint32_t k = uint32_t(std::min<uint64_t>(count, std::max<uint32_t>(1, opt.steps_per_submit)));
-    VkCommandBuffer& cb = cached[k];
+    // Split only while rebuilds are a few steps apart or more: below that the round trips cost more than
+    // the empty gated dispatches they save.
+    const bool split = opt.split_rebuilds && interval_est >= 4.0;
+    uint32_t k = split ? plan_split_batch(count)
+                       : uint32_t(std::min<uint64_t>(count, std::max<uint32_t>(1, opt.steps_per_submit)));
+    VkCommandBuffer& cb = split ? plain[k] : cached[k];
     if (!cb)
       cb = record([&](VkCommandBuffer r) {
-        for (uint32_t s = 0; s < k; ++s) record_step(r);
+        for (uint32_t s = 0; s < k; ++s) record_step(r, split);
       });
+    const uint32_t rebuilds_before = last_rebuilds;
     submit(cb);
     auto c = read_ctl();
+    bool halted_for_rebuild = false;
+    if (c[ctlw::kHalt] == ctlw::kHaltForRebuild) {
+      // The step that asked stopped after rebuild_decide (gates open): clear the halt, run its chain and end.
+      halted_for_rebuild = true;
+      if (!chain_cb)
+        chain_cb = record([&](VkCommandBuffer r) {
+          vkCmdFillBuffer(r, B->ctl.handle(), ctlw::kHalt * 4, 4, 0u);
+          vk::barrier(r);
+          record_rebuild(r);
+          run(r, "end_step", 1);
+        });
+      submit(chain_cb);
+      c = read_ctl();
+    }
     if (c[ctlw::kHalt]) {
       recover(c, true);
       c = read_ctl();
@@ -360,6 +402,19 @@ void System::Impl::step(uint64_t count) {
     steps += done;
     count -= std::min<uint64_t>(count, done);
     if (done == 0) throw std::runtime_error("GPU step made no progress");
+    // Interval estimate: exact when a split batch halted (the rebuild was its last step); a gated batch only
+    // says whether rebuilds happened in it.
+    if (halted_for_rebuild) {
+      interval_est = 0.5 * interval_est + 0.5 * double(since_rebuild + done);
+      since_rebuild = 0;
+    } else if (last_rebuilds != rebuilds_before) {
+      const uint32_t r = last_rebuilds - rebuilds_before;
+      interval_est = 0.5 * interval_est + 0.5 * double(done) / double(r);
+      since_rebuild = 0;
+    } else {
+      since_rebuild += done;
+      interval_est = std::max(interval_est, double(since_rebuild));
+    }
   }
 }
 

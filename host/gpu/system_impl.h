@@ -82,6 +82,10 @@ struct System::Impl {
   gpu::GatedDispatcher gate;
   gpu::Profiler prof;
   std::map<uint32_t, VkCommandBuffer> cached;  // recorded k-step command buffers, by k
+  std::map<uint32_t, VkCommandBuffer> plain;   // the same without the rebuild chain (split rebuilds)
+  VkCommandBuffer chain_cb = VK_NULL_HANDLE;   // rebuild chain + end_step of a halted split step
+  double interval_est = 8.0;                   // steps between rebuilds, running estimate (split rebuilds)
+  uint64_t since_rebuild = 0;                  // completed steps since the last rebuild (split rebuilds)
   VkFence fence = VK_NULL_HANDLE;
   double time0 = 0.0;
   uint64_t step0 = 0, steps = 0;
@@ -105,7 +109,8 @@ struct System::Impl {
   // 6g-6n: fill, mirror, history, lost check, owner list, flip. Direct dispatches when finishing a halted
   // rebuild.
   void record_list_tail(VkCommandBuffer cb, bool direct);
-  void record_step(VkCommandBuffer cb);
+  void record_step(VkCommandBuffer cb, bool split);
+  uint32_t plan_split_batch(uint64_t count) const;
   VkCommandBuffer allocate_cb();
   template <class Fn>
   VkCommandBuffer record(Fn&& fn) {

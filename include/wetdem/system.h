@@ -22,6 +22,10 @@ struct SystemOptions {
   uint32_t steps_per_submit = 200;             // steps recorded into one command buffer
   uint32_t initial_entries_per_particle = 16;  // neighbour-list capacity hint; grows on overflow
   bool profile_passes = false;                 // timestamp every pass (benchmarks)
+  // Record steps without the rebuild chain and submit the chain on its own when a step asks for it (the
+  // step halts there), instead of recording the gated chain, ~25 empty dispatches, into every step.
+  // Bitwise the same result either way; see ARCHITECTURE.md "Split rebuilds".
+  bool split_rebuilds = true;
 };
 
 struct PassTiming {

@@ -4,6 +4,7 @@
 #define WETDEM_CTL_GLSL
 #include "table.glsl"
 #define CTL_HALT 0
+#define CTL_HALT_FOR_REBUILD 2u  // CTL_HALT value of a split-rebuild step; 1 = list overflow
 #define CTL_REBUILD 1
 #define CTL_FORCE_REBUILD 2
 #define CTL_MAX_DISP 3
