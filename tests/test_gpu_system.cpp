@@ -153,12 +153,13 @@ TEST_F(GpuSystem, SplitRebuildsAreBitwiseTheGatedChain) {
   prm.liq_pp.theta = 0.5;
   prm.liq_pp.v_max = 1 << 28;
   prm.liquid_unit_m3 = 1e-20;
-  prm.skin = 0.6e-3;  // rebuilds some steps apart, so that split batches halt for them
+  prm.skin = 0.6e-3;  // rebuilds ~8 steps apart
   SystemState s = random_drum_packing(prm, 500, 0.5e-3, 0.8e-3, 11, 0.02);
   for (auto& f : s.p.film) f = 1 << 27;
   auto run = [&](bool split, uint32_t per_particle, bool one_at_a_time) {
     SystemOptions o;
     o.split_rebuilds = split;
+    o.split_min_interval = 1.0;  // split at any rebuild interval (the default waits for 8 steps)
     o.initial_entries_per_particle = per_particle;
     System sys(gpu(), prm, s.p.size(), o);
     sys.upload(s);
@@ -176,6 +177,8 @@ TEST_F(GpuSystem, SplitRebuildsAreBitwiseTheGatedChain) {
       const auto [split, cs] = run(true, per, one);
       EXPECT_TRUE(bitwise_equal(gated, split)) << "entries/particle " << per << ", one at a time " << one;
       EXPECT_EQ(cs.rebuilds, cg.rebuilds);
+      EXPECT_GT(cs.split_rebuilds, cs.rebuilds / 2) << "split batches did not halt for most rebuilds";
+      EXPECT_EQ(cg.split_rebuilds, 0u);
       EXPECT_EQ(cs.regrows > 0, per == 1u);
     }
   }

@@ -84,7 +84,7 @@ struct System::Impl {
   std::map<uint32_t, VkCommandBuffer> cached;  // recorded k-step command buffers, by k
   std::map<uint32_t, VkCommandBuffer> plain;   // the same without the rebuild chain (split rebuilds)
   VkCommandBuffer chain_cb = VK_NULL_HANDLE;   // rebuild chain + end_step of a halted split step
-  double interval_est = 8.0;                   // steps between rebuilds, running estimate (split rebuilds)
+  double interval_est = 16.0;                  // steps between rebuilds, running estimate (split rebuilds)
   uint64_t since_rebuild = 0;                  // completed steps since the last rebuild (split rebuilds)
   VkFence fence = VK_NULL_HANDLE;
   double time0 = 0.0;

@@ -26,6 +26,7 @@ struct SystemOptions {
   // step halts there), instead of recording the gated chain, ~25 empty dispatches, into every step.
   // Bitwise the same result either way; see ARCHITECTURE.md "Split rebuilds".
   bool split_rebuilds = true;
+  double split_min_interval = 8.0;  // ... while rebuilds are at least this many steps apart (estimated)
 };
 
 struct PassTiming {
@@ -37,6 +38,7 @@ struct PassTiming {
 struct SystemCounters {
   uint64_t rebuilds = 0;        // neighbour-list rebuilds so far
   uint64_t regrows = 0;         // contact-buffer regrowths (overflow, step redone)
+  uint64_t split_rebuilds = 0;  // rebuilds submitted on their own (SystemOptions::split_rebuilds)
   uint64_t entry_capacity = 0;  // current neighbour-entry capacity
   uint64_t entries = 0;         // neighbour entries in the current list (both directions)
   uint64_t lost_bridges = 0;    // bridges dropped with a pair leaving the list: must stay 0
