@@ -35,7 +35,7 @@ bool has_refit(const Report& r) {
 std::string null_refit_sentence(const Report& r) {
   if (!has_refit(r) || r.null_refit_gaps.empty()) return "";
   return fmt::format(
-      " Without any added effect the model{} scores a held-out χ² of {:.1f} and leaves {} of {} cells "
+      " Without any added effect, the model with {} scores a held-out χ² of {:.1f} and leaves {} of {} cells "
       "significant.",
       refit_phrase(r, r.verdict.null_refit), r.verdict.null_loco, significant(r.null_refit_gaps),
       r.cells.size());
@@ -47,7 +47,7 @@ std::string refit_phrase(const Report& r, size_t j) {
   if (!has_refit(r)) return "";
   std::string keys;
   for (const RefitKey& k : r.spec->refit) keys += (keys.empty() ? "" : ", ") + k.key;
-  if (j == 0) return fmt::format(", with {} kept as calibrated", keys);
+  if (j == 0) return keys + " kept as calibrated";
   std::string to;
   for (const std::string& o : r.settings.at(j).overrides) {
     const size_t eq = o.find('=');
@@ -55,7 +55,7 @@ std::string refit_phrase(const Report& r, size_t j) {
     if (v.size() >= 2 && v.front() == '"') v = v.substr(1, v.size() - 2);
     to += (to.empty() ? "" : " and ") + o.substr(0, eq) + " re-fitted to " + v;
   }
-  return ", with " + to;
+  return to;
 }
 
 std::string verdict_paragraph(const Report& r) {
@@ -82,8 +82,8 @@ std::string verdict_paragraph(const Report& r) {
         "significant.{} "
         "Add `{}` to the model (or measure it directly) before trusting predictions at new conditions.",
         c.effect, ns, n, where, c.effect, e.fingerprint, e.strength, r.chosen_strength, c.fit.lo, c.fit.hi,
-        refit_phrase(r, c.refit), 100 * r.verdict.held_out_shrink, before, after, n,
-        significant(r.gaps_after), null_refit_sentence(r), c.effect);
+        has_refit(r) ? " and " + refit_phrase(r, c.refit) : "", 100 * r.verdict.held_out_shrink, before,
+        after, n, significant(r.gaps_after), null_refit_sentence(r), c.effect);
   }
   // Unexplained: either the best candidate helps but not by the rule's margin (a lead worth more data), or
   // none helps (the cause lies outside the candidates).
