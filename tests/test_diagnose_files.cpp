@@ -49,6 +49,13 @@ TEST(DiagnoseFiles, ShippedFilesParse) {
   EXPECT_EQ(d.effects, (std::vector<std::string>{"cohesion", "absorption", "evaporation", "spread"}));
   EXPECT_EQ(d.replicates, 2);
   EXPECT_EQ(d.probes.at("cohesion"), (std::vector<double>{0.01, 0.04, 0.15}));
+  EXPECT_TRUE(d.refit.empty());
+  const DiagnosisSpec r = parse_diagnosis_file(dir + "diagnose_refit.toml");
+  ASSERT_EQ(r.refit.size(), 1u);
+  EXPECT_EQ(refit_settings(r.refit).size(), 3u);
+  EXPECT_EQ(parse_twin_file(dir + "twin_spread_vmax.toml").truth.size(), 2u);
+  EXPECT_EQ(parse_twin_file(dir + "twin_vmax.toml").truth,
+            (std::vector<std::string>{"liquid.v_max=\"2 %\""}));
   const TwinSpec t = parse_twin_file(dir + "twin_cohesion.toml");
   EXPECT_EQ(t.truth, (std::vector<std::string>{"cohesion.surface_energy=\"0.08 J/m2\""}));
   EXPECT_EQ(t.condition_toml.at(0).size(), 3u);
