@@ -60,12 +60,13 @@ TEST(DiagnoseParagraph, RefitNamesTheFittedValues) {
   r.verdict.ranking[0].refit = 0;
   EXPECT_NE(verdict_paragraph(r).find("and liquid.v_max kept as calibrated"), std::string::npos);
 
-  r.verdict.kind = "unexplained";
-  r.verdict.held_out_shrink = 0.1;
+  r.verdict.kind = "refit";
   r.null_refit_gaps[0].significant = r.null_refit_gaps[2].significant = false;
   const std::string closed = verdict_paragraph(r);
   EXPECT_NE(closed.find("Gap closed by re-fitting, no effect needed"), std::string::npos) << closed;
   EXPECT_NE(closed.find("re-fitted to 2 %"), std::string::npos) << closed;
-  r.verdict.null_refit = 0;  // the calibrated value is best: no such claim
+  EXPECT_NE(closed.find("leaves 0 of 3 cells significant"), std::string::npos) << closed;
+  r.verdict.kind = "unexplained";
+  r.verdict.held_out_shrink = 0.1;
   EXPECT_EQ(verdict_paragraph(r).find("closed by re-fitting"), std::string::npos);
 }

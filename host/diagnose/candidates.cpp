@@ -229,8 +229,17 @@ Verdict decide(const std::vector<Cell>& cells, const std::vector<std::vector<Pre
   const bool any = std::any_of(g.begin(), g.end(), [](const CellGap& x) { return x.significant; });
   if (!v.ranking.empty())
     v.held_out_shrink = v.null_loco > 0 ? 1.0 - v.ranking.front().loco / v.null_loco : 0.0;
+  // With refit, a gap the null closes at its re-fitted setting (no cell significant there, by the same rule)
+  // needs no effect: the analogue of no_gap for the re-fitted model.
+  const auto closed = [&] {
+    if (baselines.size() < 2 || v.null_refit == 0) return false;
+    const std::vector<CellGap> r = where(cells, baselines[v.null_refit], rule.q);
+    return std::none_of(r.begin(), r.end(), [](const CellGap& x) { return x.significant; });
+  };
   if (!any) {
     v.kind = "no_gap";
+  } else if (closed()) {
+    v.kind = "refit";
   } else if (!v.ranking.empty() && v.ranking.front().loco <= rule.ratio * v.null_loco &&
              v.null_loco - v.ranking.front().loco >= rule.min_drop) {
     v.kind = "effect";

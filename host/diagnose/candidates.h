@@ -99,6 +99,8 @@ struct Candidate {
 //  no_gap      no cell significant at FDR q (Benjamini-Hochberg);
 //  effect      else, the candidate with the lowest LOCO score when it beats the null by a clear margin:
 //              LOCO_best <= ratio x LOCO_null and LOCO_null - LOCO_best >= min_drop;
+//  refit       (with refit only) else, when the null at its re-fitted setting leaves no cell significant at
+//              FDR q: re-fitting closes the gap, no effect is chosen;
 //  unexplained otherwise (the ranking is still reported).
 struct VerdictRule {
   double q = 0.05;
@@ -106,7 +108,7 @@ struct VerdictRule {
   double min_drop = 4.0;
 };
 struct Verdict {
-  std::string kind;                // "no_gap", "effect", "unexplained"
+  std::string kind;                // "no_gap", "effect", "refit", "unexplained"
   std::string effect;              // the chosen effect when kind == "effect"
   std::vector<Candidate> ranking;  // by LOCO score, best first
   double null_loco = 0.0;

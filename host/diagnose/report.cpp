@@ -88,17 +88,20 @@ std::string verdict_paragraph(const Report& r) {
   // Unexplained: either the best candidate helps but not by the rule's margin (a lead worth more data), or
   // none helps (the cause lies outside the candidates).
   const double ratio = r.spec->rule.ratio;
-  // With refit, the model without any effect may close the gap at a re-fitted setting: then no effect is
-  // needed, the calibration is.
-  if (has_refit(r) && r.verdict.null_refit != 0 && !r.null_refit_gaps.empty() &&
-      significant(r.null_refit_gaps) == 0)
+  // With refit, the model without any effect may close the gap at a re-fitted setting (decide: "refit").
+  if (r.verdict.kind == "refit") {
+    const std::string best =
+        r.verdict.ranking.empty()
+            ? ""
+            : fmt::format(
+                  " The best candidate, `{}`, scores {:.1f} held out, but no cell is left for it to explain.",
+                  r.verdict.ranking.front().effect, r.verdict.ranking.front().loco);
     return fmt::format(
         "**Gap closed by re-fitting, no effect needed.** The model as calibrated departs from the "
-        "observations "
-        "at {} of {} cells ({}).{} No candidate effect improves the held-out predictions by the rule's "
-        "margin "
-        "over that: re-calibrate the model rather than add an effect.",
-        ns, n, where, null_refit_sentence(r));
+        "observations at "
+        "{} of {} cells ({}).{}{} Re-calibrate the model with these values rather than add an effect.",
+        ns, n, where, null_refit_sentence(r), best);
+  }
   if (!r.verdict.ranking.empty() && r.verdict.held_out_shrink >= 0.5 * (1.0 - ratio)) {
     const Candidate& c = r.verdict.ranking.front();
     return fmt::format(
@@ -148,6 +151,11 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
               {"p", r.gaps[k].p},
               {"significant", bool(r.gaps[k].significant)}};
     for (const auto& [key, v] : r.cells[k].condition) c["condition_si"][key] = v;
+    if (!r.null_refit_gaps.empty())
+      c["null_refit"] = {{"model", r.null_refit_pred[k].mean},
+                         {"model_se", r.null_refit_pred[k].se},
+                         {"z", r.null_refit_gaps[k].z},
+                         {"significant", bool(r.null_refit_gaps[k].significant)}};
     if (!r.after.empty())
       c["after"] = {{"model", r.after[k].mean},
                     {"model_se", r.after[k].se},

@@ -40,7 +40,8 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
 // The plain-language paragraph of report.md.
 std::string verdict_paragraph(const Report& r);
 
-// "liquid.v_max re-fitted to 0.5 %" ("liquid.v_max kept as calibrated") for refit setting j; "" without refit.
+// "liquid.v_max re-fitted to 0.5 %" ("liquid.v_max kept as calibrated") for refit setting j; "" without
+// refit.
 std::string refit_phrase(const Report& r, size_t j);
 
 }  // namespace wetdem::diagnose
