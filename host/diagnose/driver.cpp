@@ -150,8 +150,8 @@ nlohmann::json run_diagnosis(const DiagnosisSpec& d, const DiagnoseOptions& o) {
   const std::vector<uint64_t> probe_seed = {1};  // common random numbers with baseline replicate 1
 
   // Validate every run the procedure may need before any runs (bad keys, conditions no case can express).
-  Variants
-      variant;  // the calibrated case and every refit setting (refit.h), as the effects' overrides need it
+  // The calibrated case and every refit setting (refit.h), as the effects' overrides need them.
+  Variants variant;
   variant.settings = refit_settings(d.refit);
   for (const RefitSetting& r : variant.settings) variant.models.push_back(model_facts(d, r));
   const size_t n_refit = variant.settings.size();
