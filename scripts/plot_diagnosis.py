@@ -2,9 +2,9 @@
 """Figures of a wetdem diagnosis (DIR/diagnosis.json -> DIR/figures/*.png). Debian's matplotlib.
 
 gap_map.png      cells (condition x observable) coloured by z, before and (if an effect was chosen) after
-observables.png  each observable against its condition: observations with error bars, baseline band, and the
-                 chosen effect's band
-ranking.png      held-out chi^2 of every fitted candidate against the null model
+observables.png  each observable against its condition: observations with error bars, baseline band, the
+                 chosen effect's band, and with refit the re-fitted null's band (when not the calibrated model)
+ranking.png      held-out chi^2 of every fitted candidate against the null model (with refit: each one's setting)
 """
 import json
 import os
@@ -63,6 +63,12 @@ def main(d):
         ax.fill_between(x, [a - b for a, b in zip(m, s)], [a + b for a, b in zip(m, s)], color="0.7", alpha=0.6,
                         label="model, baseline (±2 SE)")
         ax.plot(x, m, color="0.35")
+        if all("null_refit" in c for c in cs) and j.get("null_refit", {}).get("setting", 0) != 0:
+            mr = [c["null_refit"]["model"] for c in cs]
+            sr = [2 * c["null_refit"]["model_se"] for c in cs]
+            ax.fill_between(x, [a - b for a, b in zip(mr, sr)], [a + b for a, b in zip(mr, sr)], color="tab:green",
+                            alpha=0.25, label=f"no effect, {j['null_refit']['label']} (±2 SE)")
+            ax.plot(x, mr, color="tab:green", ls="--")
         if after:
             ma = [c["after"]["model"] for c in cs]
             sa = [2 * c["after"]["model_se"] for c in cs]
@@ -81,9 +87,11 @@ def main(d):
 
     # Ranking.
     rk = j.get("ranking") or []
-    names = ["none (null)"] + [r["effect"] for r in rk]
+    refit = lambda r: f"\n{r['refit']['label']}" if "refit" in r else ""  # noqa: E731
+    null = "none (null)" + (f"\n{j['null_refit']['label']}" if "null_refit" in j else "")
+    names = [null] + [r["effect"] + refit(r) for r in rk]
     vals = [j["null_loco_chi2"]] + [r["loco_chi2"] for r in rk]
-    fig, ax = plt.subplots(figsize=(5, 1 + 0.4 * len(names)))
+    fig, ax = plt.subplots(figsize=(5.5, 1 + (0.65 if "refit" in j else 0.4) * len(names)))
     ax.barh(range(len(names)), vals, color=["0.6"] + ["tab:blue"] * len(rk))
     ax.set_yticks(range(len(names)), names)
     ax.invert_yaxis()

@@ -49,6 +49,13 @@ TEST(DiagnoseFiles, ShippedFilesParse) {
   EXPECT_EQ(d.effects, (std::vector<std::string>{"cohesion", "absorption", "evaporation", "spread"}));
   EXPECT_EQ(d.replicates, 2);
   EXPECT_EQ(d.probes.at("cohesion"), (std::vector<double>{0.01, 0.04, 0.15}));
+  EXPECT_TRUE(d.refit.empty());
+  const DiagnosisSpec r = parse_diagnosis_file(dir + "diagnose_refit.toml");
+  ASSERT_EQ(r.refit.size(), 1u);
+  EXPECT_EQ(refit_settings(r.refit).size(), 3u);
+  EXPECT_EQ(parse_twin_file(dir + "twin_spread_vmax.toml").truth.size(), 2u);
+  EXPECT_EQ(parse_twin_file(dir + "twin_vmax.toml").truth,
+            (std::vector<std::string>{"liquid.v_max=\"2 %\""}));
   const TwinSpec t = parse_twin_file(dir + "twin_cohesion.toml");
   EXPECT_EQ(t.truth, (std::vector<std::string>{"cohesion.surface_energy=\"0.08 J/m2\""}));
   EXPECT_EQ(t.condition_toml.at(0).size(), 3u);
@@ -76,7 +83,6 @@ TEST(DiagnoseFiles, BadDiagnosisFilesNameTheKey) {
     return expect_error([&] { parse_diagnosis_file(f); });
   };
   EXPECT_NE(err("effects = [\"gravity\"]\n").find("unknown effect 'gravity'"), std::string::npos);
-  EXPECT_NE(err("refit = [\"liquid.v_max\"]\n").find("refit"), std::string::npos);
   EXPECT_NE(err("colour = 3\n").find("colour: unknown key"), std::string::npos);
   EXPECT_NE(err("replicates = 0\n").find("replicates"), std::string::npos);
   EXPECT_NE(err("effects = [\"cohesion\"]\n[probes]\ncohesion = [0.1, 0.01]\n").find("ascending"),
@@ -86,6 +92,87 @@ TEST(DiagnoseFiles, BadDiagnosisFilesNameTheKey) {
   const std::string f = d.write("d2.toml", "case = \"" + kCase + "\"\nobservations = \"missing.csv\"\n");
   EXPECT_NE(expect_error([&] { parse_diagnosis_file(f); }).find("observations: no such file"),
             std::string::npos);
+}
+
+// Re-fitted parameters (refit.h): every value is resolved through the case schema when the file is read, so a
+// wrong key, a value out of its range or a clash with a candidate's own key is refused before anything runs.
+TEST(DiagnoseFiles, RefitIsCheckedAgainstTheCaseBeforeAnyRun) {
+  Dir d;
+  d.write(
+      "obs.csv",
+      "liquid.content,observable,value,sigma\n\"5 %\",f_wet_mean,0.8,0.02\n\"10 %\",f_wet_mean,0.9,0.02\n");
+  const std::string head =
+      "case = \"" + kCase + "\"\nobservations = \"obs.csv\"\neffects = [\"spread\", \"cohesion\"]\n";
+  auto parse = [&](const std::string& body) { return parse_diagnosis_file(d.write("d.toml", head + body)); };
+  auto err = [&](const std::string& body) { return expect_error([&] { parse(body); }); };
+
+  // A good one: the calibrated value (1 % in the case) is setting 0 and is not repeated when listed.
+  const DiagnosisSpec ok = parse(
+      "refit = [\"liquid.v_max\"]\n[refit_values]\n\"liquid.v_max\" = "
+      "[\"0.5 %\", \"1 %\", 0.02]\n");
+  ASSERT_EQ(ok.refit.size(), 1u);
+  EXPECT_EQ(ok.refit[0].key, "liquid.v_max");
+  EXPECT_DOUBLE_EQ(ok.refit[0].calibrated_si, 0.01);
+  ASSERT_EQ(ok.refit[0].values.size(), 2u);
+  EXPECT_DOUBLE_EQ(ok.refit[0].values[0].si, 0.005);
+  EXPECT_EQ(ok.refit[0].values[0].written, "0.5 %");
+  EXPECT_DOUBLE_EQ(ok.refit[0].values[1].si, 0.02);
+  const std::vector<RefitSetting> one = refit_settings(ok.refit);
+  ASSERT_EQ(one.size(), 3u);
+  EXPECT_TRUE(one[0].overrides.empty());
+  EXPECT_EQ(one[0].label, "calibrated");
+  EXPECT_DOUBLE_EQ(one[0].si.at("liquid.v_max"), 0.01);
+  EXPECT_EQ(one[1].overrides, (std::vector<std::string>{"liquid.v_max=\"0.5 %\""}));
+  EXPECT_EQ(one[2].label, "liquid.v_max=0.02");
+  // Two keys: the Cartesian product of [calibrated] + values, the calibrated model first.
+  const DiagnosisSpec two = parse(
+      "refit = [\"liquid.v_max\", \"friction.mu_r\"]\n[refit_values]\n\"liquid.v_max\" = [\"2 %\"]\n"
+      "\"friction.mu_r\" = [0.1, 0.5]\n");
+  const std::vector<RefitSetting> grid = refit_settings(two.refit);
+  ASSERT_EQ(grid.size(), 6u);
+  EXPECT_EQ(grid[1].label, "friction.mu_r=0.1");
+  EXPECT_EQ(grid[5].label, "liquid.v_max=2 %, friction.mu_r=0.5");
+  EXPECT_TRUE(refit_settings({}).size() == 1 && refit_settings({})[0].overrides.empty());
+
+  const std::string refit = "refit = [\"liquid.v_max\"]\n";
+  EXPECT_NE(err("refit = [\"liquid.vmax\"]\n[refit_values]\n\"liquid.vmax\" = [0.02]\n").find("liquid.vmax"),
+            std::string::npos);
+  EXPECT_NE(err(refit + "[refit_values]\n\"liquid.v_max\" = []\n").find("non-empty array"),
+            std::string::npos);
+  EXPECT_NE(err(refit).find("[refit_values]"), std::string::npos);
+  const std::string range = err(refit + "[refit_values]\n\"liquid.v_max\" = [\"150 %\"]\n");
+  EXPECT_NE(range.find("liquid.v_max"), std::string::npos) << range;
+  EXPECT_NE(range.find("[0, 1]"), std::string::npos) << range;
+  EXPECT_NE(range.find("d.toml"), std::string::npos) << range;
+  EXPECT_NE(err(refit + "[refit_values]\n\"liquid.v_max\" = [\"1 %\"]\n").find("no value other than"),
+            std::string::npos);
+  EXPECT_NE(err(refit + "[refit_values]\n\"liquid.v_max\" = [0.02, \"2 %\"]\n").find("the same value"),
+            std::string::npos);
+  EXPECT_NE(err(refit + "[refit_values]\n\"liquid.v_max\" = [0.02]\n\"liquid.v_min\" = [0.1]\n")
+                .find("\"liquid.v_min\": not named in refit"),
+            std::string::npos);
+  EXPECT_NE(err("refit = [\"liquid.wetted_fraction\"]\n[refit_values]\n\"liquid.wetted_fraction\" = [0.5]\n")
+                .find("candidate effect 'spread'"),
+            std::string::npos);
+  EXPECT_NE(err("refit = [\"liquid.films\"]\n[refit_values]\n\"liquid.films\" = [\"mean_volume\"]\n")
+                .find("not a numeric case key"),
+            std::string::npos);
+  EXPECT_NE(err("refit = [\"friction.mu_r\"]\n[refit_values]\n\"friction.mu_r\" = [0.01, 0.02, 0.03, 0.04, "
+                "0.05, 0.06, 0.07, 0.08, 0.09, 0.1, 0.11, 0.12, 0.13, 0.14, 0.15, 0.16]\n")
+                .find("at most 16"),
+            std::string::npos);
+
+  // A refit key that is also a condition of the table is measured, not fitted: refused before any run.
+  const std::string f = d.write("c.toml", head +
+                                              "refit = [\"liquid.content\"]\n[refit_values]\n"
+                                              "\"liquid.content\" = [\"3 %\"]\n");
+  DiagnoseOptions o;
+  o.out = (d.p / "out").string();
+  o.figures = false;
+  o.quiet = true;
+  EXPECT_NE(expect_error([&] { run_diagnosis(parse_diagnosis_file(f), o); }).find("is a condition"),
+            std::string::npos);
+  EXPECT_FALSE(fs::exists(d.p / "out" / "store" / "runs")) << "nothing may run on bad input";
 }
 
 TEST(DiagnoseFiles, BadObservationTablesAreRefusedBeforeAnyRun) {

@@ -35,3 +35,38 @@ TEST(DiagnoseParagraph, UnexplainedNamesALeadOnlyWhenTheBestCandidateHelps) {
   EXPECT_EQ(none.find("a lead"), std::string::npos) << none;
   EXPECT_NE(none.find("outside the candidates"), std::string::npos) << none;
 }
+
+// With refit the paragraph names the value each model was fitted with, and says when re-fitting alone, with
+// no added effect, closes the gap.
+TEST(DiagnoseParagraph, RefitNamesTheFittedValues) {
+  static DiagnosisSpec spec;
+  spec.refit = {{"liquid.v_max", 0.01, {{"0.5 %", "\"0.5 %\"", 0.005}, {"2 %", "\"2 %\"", 0.02}}}};
+  Report r = unexplained(0.8);
+  r.spec = &spec;
+  r.settings = refit_settings(spec.refit);
+  r.verdict.kind = "effect";
+  r.verdict.ranking[0].refit = 1;
+  r.gaps_after.resize(3);
+  r.verdict.null_refit = 2;
+  r.null_refit_gaps.resize(3);
+  r.null_refit_gaps[0].significant = r.null_refit_gaps[2].significant = true;
+  const std::string effect = verdict_paragraph(r);
+  EXPECT_NE(effect.find("(interval 0-0) and liquid.v_max re-fitted to 0.5 % it predicts"), std::string::npos)
+      << effect;
+  EXPECT_NE(effect.find("Without any added effect, the model with liquid.v_max re-fitted to 2 % scores"),
+            std::string::npos)
+      << effect;
+  EXPECT_NE(effect.find("leaves 2 of 3 cells significant"), std::string::npos) << effect;
+  r.verdict.ranking[0].refit = 0;
+  EXPECT_NE(verdict_paragraph(r).find("and liquid.v_max kept as calibrated"), std::string::npos);
+
+  r.verdict.kind = "refit";
+  r.null_refit_gaps[0].significant = r.null_refit_gaps[2].significant = false;
+  const std::string closed = verdict_paragraph(r);
+  EXPECT_NE(closed.find("Gap closed by re-fitting, no effect needed"), std::string::npos) << closed;
+  EXPECT_NE(closed.find("re-fitted to 2 %"), std::string::npos) << closed;
+  EXPECT_NE(closed.find("leaves 0 of 3 cells significant"), std::string::npos) << closed;
+  r.verdict.kind = "unexplained";
+  r.verdict.held_out_shrink = 0.1;
+  EXPECT_EQ(verdict_paragraph(r).find("closed by re-fitting"), std::string::npos);
+}

@@ -182,3 +182,125 @@ TEST(DiagnoseStats, RefinementConvergesOnABentResponse) {
   EXPECT_EQ(r.strengths.size(), r.pred.size());
   EXPECT_EQ(next_knot(cells, base, r), 0.0) << "refined: the fit sits on a knot";
 }
+
+namespace {
+
+// A model family with a re-fitted parameter p (refit settings p = 1 as calibrated, 0.5, 2): p shifts every
+// cell by 3 (p - 1) and scales the candidate's response, so the effect's strength and p interact.
+constexpr double kP[] = {1.0, 0.5, 2.0};
+const std::vector<double> kSlope = {0.0, 0.3, 1.0, 2.5, 4.0};
+
+std::vector<Prediction> refit_model(size_t j, double strength) {
+  std::vector<Prediction> p;
+  for (double k : kSlope)
+    p.push_back(
+        {30.0 + 3.0 * (kP[j] - 1.0) + (strength > 0 ? kP[j] * k * (std::log10(strength) + 4.0) : 0.0), 0.2});
+  return p;
+}
+
+std::vector<std::vector<Prediction>> refit_baselines() {
+  return {refit_model(0, 0), refit_model(1, 0), refit_model(2, 0)};
+}
+
+// The candidate at every setting, probed at 1e-3, 1e-2, 1e-1 (emulated linearly in log strength: exact here).
+std::vector<Response> refit_responses(const std::string& name) {
+  std::vector<Response> rs;
+  for (size_t j = 0; j < 3; ++j) {
+    Response r;
+    r.effect = name;
+    for (double s : {1e-3, 1e-2, 1e-1}) r.strengths.push_back(s), r.pred.push_back(refit_model(j, s));
+    rs.push_back(r);
+  }
+  return rs;
+}
+
+std::vector<Cell> observed(const std::vector<Prediction>& truth, uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> noise(0.0, 0.3);
+  std::vector<double> y;
+  for (const Prediction& p : truth) y.push_back(p.mean + noise(rng));
+  return aor_cells(y);
+}
+
+}  // namespace
+
+// Refit (refit.h): observations from the candidate at strength 0.05 in a model whose parameter p is 2, not
+// the calibrated 1. Without refit the candidate cannot absorb the offset; with refit the profile fit recovers
+// p = 2 (setting 2) and the strength, in the fit on all cells and in every leave-one-condition-out fold, and
+// the refinement asks for its knot at setting 2.
+TEST(DiagnoseStats, RefitRecoversTheParameterWithACandidate) {
+  const double s_true = 0.05;
+  const std::vector<Cell> cells = observed(refit_model(2, s_true), 3);
+  const std::vector<std::vector<Prediction>> base = refit_baselines();
+  const std::vector<Response> rs = refit_responses("evaporation");
+  std::vector<Emulator> ems;
+  for (size_t j = 0; j < 3; ++j) ems.emplace_back(base[j], rs[j]);
+
+  const RefitFit f = fit_refit(cells, ems);
+  EXPECT_EQ(f.setting, 2u);
+  EXPECT_NEAR(std::log10(f.fit.strength), std::log10(s_true), 0.1);
+  EXPECT_LT(f.fit.chi2, 10.0);
+  for (size_t left = 0; left < cells.size(); ++left) {  // one cell per condition: a fold leaves one out
+    std::vector<size_t> train;
+    for (size_t k = 0; k < cells.size(); ++k)
+      if (k != left) train.push_back(k);
+    EXPECT_EQ(fit_refit(cells, ems, train).setting, 2u) << "fold without condition " << left;
+  }
+  const double with = loco_score(cells, ems), without = loco_score(cells, ems[0]);
+  EXPECT_LT(with, 15.0);
+  EXPECT_GT(without, 4.0 * with) << "without refit the offset is left in the held-out predictions";
+  EXPECT_EQ(next_refit_knot(cells, base, rs).first, 2u);
+
+  const Verdict v = decide(cells, base, {rs}, {1.0});
+  ASSERT_EQ(v.ranking.size(), 1u);
+  EXPECT_EQ(v.kind, "effect");
+  EXPECT_EQ(v.ranking[0].refit, 2u);
+  EXPECT_DOUBLE_EQ(v.ranking[0].loco, with);
+  EXPECT_EQ(v.null_refit, 2u) << "the null alone also prefers p = 2 (it absorbs part of the gap)";
+  EXPECT_DOUBLE_EQ(v.null_loco, loco_null(cells, base));
+  EXPECT_GT(v.null_loco, loco_null(cells, {base[2]}) - 1e-9) << "held out, the null refits p in every fold";
+}
+
+// Refit, null: observations from the model without any effect at p = 0.5. The gap against the calibrated
+// model is significant, the null with refit recovers p = 0.5 (setting 1) on all cells and in every fold and
+// predicts the held-out cells to the noise and leaves no cell significant: verdict `refit`, no effect.
+TEST(DiagnoseStats, RefitClosesAGapOfTheParameterAloneWithoutAnEffect) {
+  const std::vector<Cell> cells = observed(refit_model(1, 0), 5);
+  const std::vector<std::vector<Prediction>> base = refit_baselines();
+  EXPECT_EQ(fit_null_refit(cells, base), 1u);
+  for (size_t left = 0; left < cells.size(); ++left) {
+    std::vector<size_t> train;
+    for (size_t k = 0; k < cells.size(); ++k)
+      if (k != left) train.push_back(k);
+    EXPECT_EQ(fit_null_refit(cells, base, train), 1u) << "fold without condition " << left;
+  }
+  const double null_refit = loco_null(cells, base), null_plain = loco_null(cells, base[0]);
+  EXPECT_LT(null_refit, 12.0);
+  EXPECT_GT(null_plain, 30.0);  // 5 cells at z = -1.5 / sqrt(0.5^2 + 0.2^2) = -2.8
+  EXPECT_GT(null_plain, 4.0 * null_refit);
+  const Verdict without = decide(cells, base[0], {refit_responses("evaporation")[0]}, {1.0});
+  const Verdict with = decide(cells, base, {refit_responses("evaporation")}, {1.0});
+  EXPECT_EQ(with.null_refit, 1u);
+  EXPECT_DOUBLE_EQ(with.null_loco, null_refit);
+  EXPECT_EQ(with.kind, "refit") << "no cell is left significant at p = 0.5: no effect is needed";
+  // Without refit the calibrated null is far worse, and the verdict rests on the candidate alone.
+  EXPECT_DOUBLE_EQ(without.null_loco, null_plain);
+  EXPECT_EQ(without.null_refit, 0u);
+}
+
+// One refit setting is the diagnosis without refit: the same scores, bit for bit.
+TEST(DiagnoseStats, OneRefitSettingIsThePlainDiagnosis) {
+  const std::vector<Cell> cells = observed(refit_model(0, 0.02), 9);
+  const std::vector<Prediction> base = refit_model(0, 0);
+  const Response r = refit_responses("evaporation")[0];
+  const Emulator em(base, r);
+  EXPECT_EQ(loco_null(cells, std::vector<std::vector<Prediction>>{base}), chi2(cells, base));
+  const RefitFit f = fit_refit(cells, {em});
+  const StrengthFit g = fit_strength(cells, em);
+  EXPECT_EQ(f.setting, 0u);
+  EXPECT_EQ(f.fit.strength, g.strength);
+  EXPECT_EQ(f.fit.chi2, g.chi2);
+  const auto [j, s] = next_refit_knot(cells, {base}, {r});
+  EXPECT_EQ(j, 0u);
+  EXPECT_EQ(s, next_knot(cells, base, r));
+}

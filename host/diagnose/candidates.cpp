@@ -110,53 +110,136 @@ StrengthFit fit_strength(const std::vector<Cell>& cells, const Emulator& em,
   return f;
 }
 
-double loco_score(const std::vector<Cell>& cells, const Emulator& em) {
+RefitFit fit_refit(const std::vector<Cell>& cells, const std::vector<Emulator>& ems,
+                   const std::vector<size_t>& idx) {
+  if (ems.empty()) throw std::invalid_argument("fit_refit: one emulator per refit setting, at least one");
+  RefitFit best;
+  for (size_t j = 0; j < ems.size(); ++j) {
+    const StrengthFit f = fit_strength(cells, ems[j], idx);
+    if (j == 0 || f.chi2 < best.fit.chi2) best = {j, f};
+  }
+  return best;
+}
+
+size_t fit_null_refit(const std::vector<Cell>& cells, const std::vector<std::vector<Prediction>>& baselines,
+                      const std::vector<size_t>& idx) {
+  if (baselines.empty()) throw std::invalid_argument("fit_null_refit: one baseline per refit setting");
+  if (idx.empty() && cells.empty()) return 0;
+  size_t best = 0;
+  double c_best = 0;
+  for (size_t j = 0; j < baselines.size(); ++j) {
+    const double c = idx.empty() ? chi2(cells, baselines[j]) : chi2(cells, baselines[j], idx);
+    if (j == 0 || c < c_best) best = j, c_best = c;
+  }
+  return best;
+}
+
+namespace {
+
+// The conditions' cells for leave-one-condition-out: per condition c, (train, test) index lists.
+std::vector<std::pair<std::vector<size_t>, std::vector<size_t>>> loco_folds(const std::vector<Cell>& cells,
+                                                                            const char* who) {
   std::vector<size_t> cond;
   const size_t nc = conditions_of(cells, &cond).size();
   if (nc < 2)
-    throw std::invalid_argument("loco_score: fewer than two conditions (no held-out check possible)");
+    throw std::invalid_argument(std::string(who) +
+                                ": fewer than two conditions (no held-out check possible)");
+  std::vector<std::pair<std::vector<size_t>, std::vector<size_t>>> folds(nc);
+  for (size_t c = 0; c < nc; ++c)
+    for (size_t k = 0; k < cells.size(); ++k) (cond[k] == c ? folds[c].second : folds[c].first).push_back(k);
+  return folds;
+}
+
+}  // namespace
+
+double loco_score(const std::vector<Cell>& cells, const std::vector<Emulator>& ems) {
   double total = 0;
-  for (size_t c = 0; c < nc; ++c) {
-    std::vector<size_t> train, test;
-    for (size_t k = 0; k < cells.size(); ++k) (cond[k] == c ? test : train).push_back(k);
-    const StrengthFit f = fit_strength(cells, em, train);
-    const double u = std::log10(f.strength);
+  for (const auto& [train, test] : loco_folds(cells, "loco_score")) {
+    const RefitFit f = fit_refit(cells, ems, train);
+    const double u = std::log10(f.fit.strength);
     for (size_t k : test) {
-      const double z = z_score(cells[k], em.at(k, u));
+      const double z = z_score(cells[k], ems[f.setting].at(k, u));
       total += z * z;
     }
   }
   return total;
 }
 
+double loco_score(const std::vector<Cell>& cells, const Emulator& em) {
+  return loco_score(cells, std::vector<Emulator>{em});
+}
+
 double loco_null(const std::vector<Cell>& cells, const std::vector<Prediction>& baseline) {
   return chi2(cells, baseline);
+}
+
+double loco_null(const std::vector<Cell>& cells, const std::vector<std::vector<Prediction>>& baselines) {
+  if (baselines.size() == 1) return loco_null(cells, baselines.front());
+  double total = 0;
+  for (const auto& [train, test] : loco_folds(cells, "loco_null"))
+    total += chi2(cells, baselines[fit_null_refit(cells, baselines, train)], test);
+  return total;
+}
+
+std::pair<size_t, double> next_refit_knot(const std::vector<Cell>& cells,
+                                          const std::vector<std::vector<Prediction>>& baselines,
+                                          const std::vector<Response>& responses) {
+  if (baselines.size() != responses.size())
+    throw std::invalid_argument("next_refit_knot: one baseline and one response per refit setting");
+  std::vector<Emulator> ems;
+  for (size_t j = 0; j < baselines.size(); ++j) ems.emplace_back(baselines[j], responses[j]);
+  const size_t j = fit_refit(cells, ems).setting;
+  return {j, next_knot(cells, baselines[j], responses[j])};
 }
 
 Verdict decide(const std::vector<Cell>& cells, const std::vector<Prediction>& baseline,
                const std::vector<Response>& responses, const std::vector<double>& screens,
                const VerdictRule& rule) {
+  std::vector<std::vector<Response>> per_setting;
+  for (const Response& r : responses) per_setting.push_back({r});
+  return decide(cells, std::vector<std::vector<Prediction>>{baseline}, per_setting, screens, rule);
+}
+
+Verdict decide(const std::vector<Cell>& cells, const std::vector<std::vector<Prediction>>& baselines,
+               const std::vector<std::vector<Response>>& responses, const std::vector<double>& screens,
+               const VerdictRule& rule) {
   if (screens.size() != responses.size())
     throw std::invalid_argument("decide: one screen score per response");
+  if (baselines.empty()) throw std::invalid_argument("decide: one baseline per refit setting, at least one");
   Verdict v;
-  v.null_loco = loco_null(cells, baseline);
+  v.null_loco = loco_null(cells, baselines);
+  v.null_refit = fit_null_refit(cells, baselines);
   for (size_t i = 0; i < responses.size(); ++i) {
-    const Emulator em(baseline, responses[i]);
+    if (responses[i].size() != baselines.size())
+      throw std::invalid_argument("decide: one response per refit setting for every candidate");
+    std::vector<Emulator> ems;
+    for (size_t j = 0; j < baselines.size(); ++j) ems.emplace_back(baselines[j], responses[i][j]);
     Candidate c;
-    c.effect = responses[i].effect;
+    c.effect = responses[i].front().effect;
     c.screen = screens[i];
-    c.loco = loco_score(cells, em);
-    c.fit = fit_strength(cells, em);
+    c.loco = loco_score(cells, ems);
+    const RefitFit f = fit_refit(cells, ems);
+    c.fit = f.fit;
+    c.refit = f.setting;
     v.ranking.push_back(c);
   }
   std::stable_sort(v.ranking.begin(), v.ranking.end(),
                    [](const Candidate& a, const Candidate& b) { return a.loco < b.loco; });
-  const std::vector<CellGap> g = where(cells, baseline, rule.q);
+  const std::vector<CellGap> g = where(cells, baselines.front(), rule.q);
   const bool any = std::any_of(g.begin(), g.end(), [](const CellGap& x) { return x.significant; });
   if (!v.ranking.empty())
     v.held_out_shrink = v.null_loco > 0 ? 1.0 - v.ranking.front().loco / v.null_loco : 0.0;
+  // With refit, a gap the null closes at its re-fitted setting (no cell significant there, by the same rule)
+  // needs no effect: the analogue of no_gap for the re-fitted model.
+  const auto closed = [&] {
+    if (baselines.size() < 2 || v.null_refit == 0) return false;
+    const std::vector<CellGap> r = where(cells, baselines[v.null_refit], rule.q);
+    return std::none_of(r.begin(), r.end(), [](const CellGap& x) { return x.significant; });
+  };
   if (!any) {
     v.kind = "no_gap";
+  } else if (closed()) {
+    v.kind = "refit";
   } else if (!v.ranking.empty() && v.ranking.front().loco <= rule.ratio * v.null_loco &&
              v.null_loco - v.ranking.front().loco >= rule.min_drop) {
     v.kind = "effect";

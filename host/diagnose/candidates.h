@@ -3,6 +3,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "diagnose/cells.h"
@@ -63,18 +64,43 @@ void add_knot(Response& r, double strength, std::vector<Prediction> pred);
 // cells, and add their χ². The null model (no effect, nothing fitted) scores Σ χ² of the baseline.
 double loco_score(const std::vector<Cell>& cells, const Emulator& em);
 double loco_null(const std::vector<Cell>& cells, const std::vector<Prediction>& baseline);
+// With refit: the setting is refitted with the strength in every fold (one emulator per setting), and the
+// null's setting too (one baseline per setting; with one setting this is the plain χ² above).
+double loco_score(const std::vector<Cell>& cells, const std::vector<Emulator>& ems);
+double loco_null(const std::vector<Cell>& cells, const std::vector<std::vector<Prediction>>& baselines);
+
+// Re-fitted parameters (refit.h): the models form a family indexed by a refit setting j (0 = as calibrated),
+// each with its own baseline and, per candidate, its own response (runs at j). The fit is a discrete profile:
+// at each j the strength is fitted as above; the (j, strength) of least χ² is kept, the lowest j on a tie.
+struct RefitFit {
+  size_t setting = 0;
+  StrengthFit fit;
+};
+RefitFit fit_refit(const std::vector<Cell>& cells, const std::vector<Emulator>& ems,
+                   const std::vector<size_t>& idx = {});
+// The null model with the same refit: the setting whose baseline has the least χ² over idx (lowest on a tie).
+size_t fit_null_refit(const std::vector<Cell>& cells, const std::vector<std::vector<Prediction>>& baselines,
+                      const std::vector<size_t>& idx = {});
+// Refinement with refit: the knot next_knot asks for at the setting the profile fit chooses: (setting,
+// strength), strength 0 when refined. baselines[j] and responses[j] belong to setting j.
+std::pair<size_t, double> next_refit_knot(const std::vector<Cell>& cells,
+                                          const std::vector<std::vector<Prediction>>& baselines,
+                                          const std::vector<Response>& responses);
 
 struct Candidate {
   std::string effect;
   double screen = 0.0;
   double loco = 0.0;
-  StrengthFit fit;  // on all cells
+  StrengthFit fit;   // on all cells
+  size_t refit = 0;  // the refit setting fitted with it on all cells (0 without refit)
 };
 
 // The verdict rule (README, "Sim-to-real diagnosis"):
 //  no_gap      no cell significant at FDR q (Benjamini-Hochberg);
 //  effect      else, the candidate with the lowest LOCO score when it beats the null by a clear margin:
 //              LOCO_best <= ratio x LOCO_null and LOCO_null - LOCO_best >= min_drop;
+//  refit       (with refit only) else, when the null at its re-fitted setting leaves no cell significant at
+//              FDR q: re-fitting closes the gap, no effect is chosen;
 //  unexplained otherwise (the ranking is still reported).
 struct VerdictRule {
   double q = 0.05;
@@ -82,14 +108,20 @@ struct VerdictRule {
   double min_drop = 4.0;
 };
 struct Verdict {
-  std::string kind;                // "no_gap", "effect", "unexplained"
+  std::string kind;                // "no_gap", "effect", "refit", "unexplained"
   std::string effect;              // the chosen effect when kind == "effect"
   std::vector<Candidate> ranking;  // by LOCO score, best first
   double null_loco = 0.0;
+  size_t null_refit = 0;         // the null's refit setting fitted on all cells (0 without refit)
   double held_out_shrink = 0.0;  // 1 - LOCO_best / LOCO_null (the left-out predictions)
 };
 Verdict decide(const std::vector<Cell>& cells, const std::vector<Prediction>& baseline,
                const std::vector<Response>& responses, const std::vector<double>& screens,
+               const VerdictRule& rule = {});
+// With refit: baselines[j] per setting (baselines[0], as calibrated, decides where the gap is) and
+// responses[i][j] per candidate and setting; the rule is the same, on the refitted LOCO scores.
+Verdict decide(const std::vector<Cell>& cells, const std::vector<std::vector<Prediction>>& baselines,
+               const std::vector<std::vector<Response>>& responses, const std::vector<double>& screens,
                const VerdictRule& rule = {});
 
 }  // namespace wetdem::diagnose

@@ -61,14 +61,34 @@ std::vector<uint64_t> seed_range(uint64_t first, int n) {
   return s;
 }
 
-Variant variant(const std::string& effect, double strength, const ModelFacts& model) {
-  Variant v;
-  if (effect.empty()) return v;
-  v.effect = effect;
-  v.strength = strength;
-  v.overrides = effect_spec(effect).overrides(strength, model);
-  return v;
+// The calibrated case with [set] and a refit setting's overrides, as the effects' overrides need it.
+ModelFacts model_facts(const DiagnosisSpec& d, const RefitSetting& r) {
+  std::vector<std::string> set = d.set;
+  set.insert(set.end(), r.overrides.begin(), r.overrides.end());
+  const app::Case base = app::parse_case_file(d.case_path, set);
+  ModelFacts model;
+  model.theta_rad = base.liquid.theta;
+  model.scaling = base.scaling;
+  model.has_plates = !base.drum.periodic_slice;
+  model.plates_mu_s = base.plates.mu_s;
+  model.plates_mu_r = base.plates.mu_r;
+  return model;
 }
+
+// The effect (none: "") at a strength, at refit setting j (setting 0: as calibrated, no override).
+struct Variants {
+  std::vector<RefitSetting> settings;
+  std::vector<ModelFacts> models;  // per setting
+  Variant operator()(const std::string& effect, double strength, size_t j = 0) const {
+    Variant v;
+    if (j > 0) v.refit = settings[j].label, v.overrides = settings[j].overrides;
+    if (effect.empty()) return v;
+    v.effect = effect;
+    v.strength = strength;
+    for (const std::string& o : effect_spec(effect).overrides(strength, models[j])) v.overrides.push_back(o);
+    return v;
+  }
+};
 
 // The observation rows as conditions and cells; errors name the row.
 struct Table {
@@ -130,28 +150,36 @@ nlohmann::json run_diagnosis(const DiagnosisSpec& d, const DiagnoseOptions& o) {
   const std::vector<uint64_t> probe_seed = {1};  // common random numbers with baseline replicate 1
 
   // Validate every run the procedure may need before any runs (bad keys, conditions no case can express).
-  ModelFacts model;  // the calibrated case, as the effects' overrides need it
-  {
-    const app::Case base = app::parse_case_file(d.case_path, d.set);
-    model.theta_rad = base.liquid.theta;
-    model.scaling = base.scaling;
-    model.has_plates = !base.drum.periodic_slice;
-    model.plates_mu_s = base.plates.mu_s;
-    model.plates_mu_r = base.plates.mu_r;
-    for (const std::string& e : d.effects)
-      if (const std::string why = effect_spec(e).not_applicable(model); !why.empty() && d.effects_given)
-        throw DiagnoseError(fmt::format("{}: effects: '{}' cannot act here: {}", d.path, e, why));
-  }
+  // The calibrated case and every refit setting (refit.h), as the effects' overrides need them.
+  Variants variant;
+  variant.settings = refit_settings(d.refit);
+  for (const RefitSetting& r : variant.settings) variant.models.push_back(model_facts(d, r));
+  const size_t n_refit = variant.settings.size();
+  const ModelFacts& model = variant.models.front();
+  for (const std::string& e : d.effects)
+    if (const std::string why = effect_spec(e).not_applicable(model); !why.empty() && d.effects_given)
+      throw DiagnoseError(fmt::format("{}: effects: '{}' cannot act here: {}", d.path, e, why));
+  for (const RefitKey& k : d.refit)
+    for (const Condition& c : tab.conditions)
+      for (const auto& v : c.values)
+        if (v.key == k.key)
+          throw DiagnoseError(
+              fmt::format("{}: refit: \"{}\" is a condition of the observation table {}: it is "
+                          "measured, not fitted",
+                          d.path, k.key, d.observations));
   std::vector<std::string> effects;  // the catalogue by default, less what cannot act in this model
   for (const std::string& e : d.effects)
     if (effect_spec(e).not_applicable(model).empty()) effects.push_back(e);
   try {
     for (Condition& c : tab.conditions) {
-      book.want(c, variant("", 0, model), base_seeds);
+      book.want(c, variant("", 0), base_seeds);
       for (const std::string& e : effects) {
         const std::vector<double>& p = d.probes.at(e);
-        book.want(c, variant(e, p[p.size() / 2], model), probe_seed);
+        book.want(c, variant(e, p[p.size() / 2]), probe_seed);
+        for (size_t j = 1; j < n_refit; ++j)
+          for (double s : p) book.check(c, variant(e, s, j));
       }
+      for (size_t j = 1; j < n_refit; ++j) book.check(c, variant("", 0, j));
     }
   } catch (const study::StudyError& e) {
     throw DiagnoseError(e.what());
@@ -168,7 +196,7 @@ nlohmann::json run_diagnosis(const DiagnosisSpec& d, const DiagnoseOptions& o) {
 
   // 1. Baseline and 3. screen probes (run together: both are needed whatever the verdict).
   book.run();
-  const Variant base = variant("", 0, model);
+  const Variant base = variant("", 0);
   const std::vector<Prediction> baseline = predictions(base, base_seeds);
   const std::vector<Prediction> base_seed1 = predictions(base, probe_seed);
   // 2. Where.
@@ -179,7 +207,7 @@ nlohmann::json run_diagnosis(const DiagnosisSpec& d, const DiagnoseOptions& o) {
   std::vector<std::pair<double, std::string>> screened;
   for (const std::string& e : effects) {
     const std::vector<double>& p = d.probes.at(e);
-    std::vector<Prediction> probe = predictions(variant(e, p[p.size() / 2], model), probe_seed);
+    std::vector<Prediction> probe = predictions(variant(e, p[p.size() / 2]), probe_seed);
     for (size_t k = 0; k < probe.size(); ++k)
       probe[k].mean = baseline[k].mean + (probe[k].mean - base_seed1[k].mean);
     screened.push_back({screen_score(tab.cells, baseline, probe), e});
@@ -196,53 +224,75 @@ nlohmann::json run_diagnosis(const DiagnosisSpec& d, const DiagnoseOptions& o) {
   rep.gaps = gaps;
   rep.where = describe_where(tab.cells, gaps);
   rep.screened = screened;
+  rep.settings = variant.settings;
 
   if (!any_gap) {
     rep.verdict.kind = "no_gap";
     rep.verdict.null_loco = loco_null(tab.cells, baseline);
   } else {
-    // 4. Fit and select: the top candidates at every probe strength (seed 1).
+    // 4. Fit and select: the top candidates at every probe strength (seed 1), and with refit (refit.h) the
+    // baseline and the top candidates at every refit setting.
     std::vector<std::string> top;
     for (size_t i = 0; i < screened.size() && i < d.screen_top; ++i) top.push_back(screened[i].second);
-    for (Condition& c : tab.conditions)
+    for (Condition& c : tab.conditions) {
+      for (size_t j = 1; j < n_refit; ++j) book.want(c, variant("", 0, j), base_seeds);
       for (const std::string& e : top)
-        for (double s : d.probes.at(e)) book.want(c, variant(e, s, model), probe_seed);
+        for (double s : d.probes.at(e))
+          for (size_t j = 0; j < n_refit; ++j) book.want(c, variant(e, s, j), probe_seed);
+    }
     book.run();
-    // Common random numbers: the effect's change against replicate 1, on top of the replicate mean.
-    auto probe_at = [&](const std::string& e, double s) {
-      std::vector<Prediction> p = predictions(variant(e, s, model), probe_seed);
-      for (size_t k = 0; k < p.size(); ++k) p[k].mean = baseline[k].mean + (p[k].mean - base_seed1[k].mean);
+    std::vector<std::vector<Prediction>> baselines{baseline}, seed1{base_seed1};  // per refit setting
+    for (size_t j = 1; j < n_refit; ++j) {
+      baselines.push_back(predictions(variant("", 0, j), base_seeds));
+      seed1.push_back(predictions(variant("", 0, j), probe_seed));
+    }
+    // Common random numbers: the effect's change against replicate 1 at the same refit setting, on top of
+    // that setting's replicate mean.
+    auto probe_at = [&](const std::string& e, double s, size_t j) {
+      std::vector<Prediction> p = predictions(variant(e, s, j), probe_seed);
+      for (size_t k = 0; k < p.size(); ++k) p[k].mean = baselines[j][k].mean + (p[k].mean - seed1[j][k].mean);
       return p;
     };
-    std::vector<Response> responses;
+    std::vector<std::vector<Response>> responses;  // [candidate][refit setting]
     std::vector<double> scores;
     for (const std::string& e : top) {
-      Response r;
-      r.effect = e;
-      r.strengths = d.probes.at(e);
-      for (double s : r.strengths) r.pred.push_back(probe_at(e, s));
-      // Refinement (candidates.h, next_knot): runs at the fitted strength, seed 1 (so the knot carries no
-      // seed noise against the baseline), added as knots.
-      for (int round = 0; round < d.refine; ++round) {
-        const double s = next_knot(tab.cells, baseline, r);
-        if (s == 0.0) break;
-        for (Condition& c : tab.conditions) book.want(c, variant(e, s, model), probe_seed);
-        book.run();
-        add_knot(r, s, probe_at(e, s));
+      std::vector<Response> rs(n_refit);
+      for (size_t j = 0; j < n_refit; ++j) {
+        rs[j].effect = e;
+        rs[j].strengths = d.probes.at(e);
+        for (double s : rs[j].strengths) rs[j].pred.push_back(probe_at(e, s, j));
       }
-      responses.push_back(r);
+      // Refinement (candidates.h, next_knot): runs at the fitted strength and refit setting, seed 1 (so the
+      // knot carries no seed noise against the baseline), added as knots.
+      for (int round = 0; round < d.refine; ++round) {
+        const auto [j, s] = next_refit_knot(tab.cells, baselines, rs);
+        if (s == 0.0) break;
+        for (Condition& c : tab.conditions) book.want(c, variant(e, s, j), probe_seed);
+        book.run();
+        add_knot(rs[j], s, probe_at(e, s, j));
+      }
+      responses.push_back(rs);
       for (const auto& [sc, name] : screened)
         if (name == e) scores.push_back(sc);
     }
-    rep.verdict = decide(tab.cells, baseline, responses, scores, d.rule);
-    rep.responses = responses;
-    // 5. Shrink: the chosen effect at its fitted strength (3 significant digits), fresh seeds.
+    rep.verdict = decide(tab.cells, baselines, responses, scores, d.rule);
+    for (size_t i = 0; i < top.size(); ++i)  // each at the refit setting fitted with it
+      for (const Candidate& c : rep.verdict.ranking)
+        if (top[i] == c.effect) rep.responses.push_back(responses[i][c.refit]);
+    if (n_refit > 1) {
+      rep.null_refit_pred = baselines[rep.verdict.null_refit];
+      rep.null_refit_gaps = where(tab.cells, rep.null_refit_pred, d.rule.q);
+    }
+    // 5. Shrink: the chosen effect at its fitted strength (3 significant digits) and refit setting, fresh
+    // seeds.
     if (rep.verdict.kind == "effect") {
-      const double s = std::stod(fmt::format("{:.3g}", rep.verdict.ranking.front().fit.strength));
+      const Candidate& best = rep.verdict.ranking.front();
+      const double s = std::stod(fmt::format("{:.3g}", best.fit.strength));
       rep.chosen_strength = s;
-      for (Condition& c : tab.conditions) book.want(c, variant(rep.verdict.effect, s, model), fresh_seeds);
+      const Variant chosen = variant(rep.verdict.effect, s, best.refit);
+      for (Condition& c : tab.conditions) book.want(c, chosen, fresh_seeds);
       book.run();
-      rep.after = predictions(variant(rep.verdict.effect, s, model), fresh_seeds);
+      rep.after = predictions(chosen, fresh_seeds);
       rep.gaps_after = where(tab.cells, rep.after, d.rule.q);
     }
   }

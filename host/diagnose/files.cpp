@@ -13,8 +13,6 @@ namespace fs = std::filesystem;
 
 namespace wetdem::diagnose {
 
-namespace {
-
 std::string value_toml(const toml::node& n) {
   if (const auto* s = n.as_string()) return toml_text_of_written(s->get());
   if (const auto* i = n.as_integer()) return std::to_string(i->get());
@@ -22,6 +20,8 @@ std::string value_toml(const toml::node& n) {
   if (const auto* b = n.as_boolean()) return b->get() ? "true" : "false";
   throw DiagnoseError("a value must be a string, a number or a boolean");
 }
+
+namespace {
 
 std::string rel_path(const std::string& file, const std::string& p) {
   const fs::path q(p);
@@ -79,7 +79,7 @@ DiagnosisSpec parse_diagnosis_file(const std::string& path_in) {
   const toml::table root = load(path);
   reject_unknown(root, path,
                  {"name", "case", "observations", "effects", "replicates", "screen_top", "refine", "set",
-                  "probes", "verdict", "refit"});
+                  "probes", "verdict", "refit", "refit_values"});
   DiagnosisSpec d;
   d.path = path;
   d.name = root["name"].value_or(fs::path(path).stem().string());
@@ -90,11 +90,6 @@ DiagnosisSpec parse_diagnosis_file(const std::string& path_in) {
     throw DiagnoseError(fmt::format("{}: case: no such file {}", path, d.case_path));
   if (!d.observations.empty() && !fs::exists(d.observations))
     throw DiagnoseError(fmt::format("{}: observations: no such file {}", path, d.observations));
-  if (root.contains("refit"))
-    throw DiagnoseError(
-        fmt::format("{}: refit: re-fitting model parameters with each effect is not supported by this "
-                    "version; remove the key",
-                    path));
   if (const auto* e = root["effects"].as_array()) {
     for (const auto& x : *e) {
       if (!x.is_string()) throw DiagnoseError(fmt::format("{}: effects: names must be strings", path));
@@ -157,6 +152,13 @@ DiagnosisSpec parse_diagnosis_file(const std::string& path_in) {
     if (!(d.rule.q > 0 && d.rule.q < 1)) throw DiagnoseError(fmt::format("{}: verdict.fdr: in (0, 1)", path));
     if (!(d.rule.ratio > 0 && d.rule.ratio <= 1))
       throw DiagnoseError(fmt::format("{}: verdict.ratio: in (0, 1]", path));
+  }
+  if (root.contains("refit") || root.contains("refit_values")) {
+    std::map<std::string, std::string> effect_keys;  // key -> the candidate that sets it
+    for (const std::string& e : d.effects)
+      for (const std::string& o : effect_spec(e).overrides(d.probes.at(e).front(), ModelFacts{}))
+        effect_keys.emplace(o.substr(0, o.find('=')), e);
+    d.refit = parse_refit(root, path, d.case_path, d.set, effect_keys);
   }
   return d;
 }

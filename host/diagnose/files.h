@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "diagnose/candidates.h"
+#include "diagnose/refit.h"
 
 namespace wetdem::diagnose {
 
@@ -30,6 +31,7 @@ struct DiagnosisSpec {
   size_t screen_top = 3;  // candidates fitted after the screen
   int refine = 2;         // per fitted candidate: runs added at its fitted strength, then refitted (0-5)
   VerdictRule rule;
+  std::vector<RefitKey> refit;  // `refit` + [refit_values] (refit.h); empty: nothing re-fitted
 };
 DiagnosisSpec parse_diagnosis_file(const std::string& path);
 
@@ -45,6 +47,9 @@ struct TwinSpec {
   uint64_t noise_seed = 1;
 };
 TwinSpec parse_twin_file(const std::string& path);
+
+// A TOML value (string, number, boolean) as the text of a --set override; throws DiagnoseError otherwise.
+std::string value_toml(const toml::node& n);
 
 // A TOML value as it would be written in a case file after `key=`.
 std::string toml_text_of_written(const std::string& written);

@@ -27,7 +27,36 @@ size_t significant(const std::vector<CellGap>& g) {
   return n;
 }
 
+bool has_refit(const Report& r) {
+  return !r.spec->refit.empty() && r.settings.size() > 1;
+}
+
+// What the null model with refit leaves (only with refit and a fitted null): a sentence for the paragraph.
+std::string null_refit_sentence(const Report& r) {
+  if (!has_refit(r) || r.null_refit_gaps.empty()) return "";
+  return fmt::format(
+      " Without any added effect, the model with {} scores a held-out χ² of {:.1f} and leaves {} of {} cells "
+      "significant.",
+      refit_phrase(r, r.verdict.null_refit), r.verdict.null_loco, significant(r.null_refit_gaps),
+      r.cells.size());
+}
+
 }  // namespace
+
+std::string refit_phrase(const Report& r, size_t j) {
+  if (!has_refit(r)) return "";
+  std::string keys;
+  for (const RefitKey& k : r.spec->refit) keys += (keys.empty() ? "" : ", ") + k.key;
+  if (j == 0) return keys + " kept as calibrated";
+  std::string to;
+  for (const std::string& o : r.settings.at(j).overrides) {
+    const size_t eq = o.find('=');
+    std::string v = o.substr(eq + 1);
+    if (v.size() >= 2 && v.front() == '"') v = v.substr(1, v.size() - 2);
+    to += (to.empty() ? "" : " and ") + o.substr(0, eq) + " re-fitted to " + v;
+  }
+  return to;
+}
 
 std::string verdict_paragraph(const Report& r) {
   const size_t n = r.cells.size(), ns = significant(r.gaps);
@@ -47,16 +76,32 @@ std::string verdict_paragraph(const Report& r) {
     const double before = chi2_of(r.gaps), after = chi2_of(r.gaps_after);
     return fmt::format(
         "**Gap explained by `{}`.** The model departs from the observations at {} of {} cells ({}). Of the "
-        "candidates, `{}` ({}) explains it best: with {} = {:.3g} (interval {:.3g}-{:.3g}) it predicts the "
+        "candidates, `{}` ({}) explains it best: with {} = {:.3g} (interval {:.3g}-{:.3g}){} it predicts the "
         "conditions it was not fitted to {:.0f} % better than the model without it (held-out shrink), and "
-        "fresh runs at that strength bring χ² from {:.1f} to {:.1f} over the {} cells, {} still significant. "
+        "fresh runs at that strength bring χ² from {:.1f} to {:.1f} over the {} cells, {} still "
+        "significant.{} "
         "Add `{}` to the model (or measure it directly) before trusting predictions at new conditions.",
         c.effect, ns, n, where, c.effect, e.fingerprint, e.strength, r.chosen_strength, c.fit.lo, c.fit.hi,
-        100 * r.verdict.held_out_shrink, before, after, n, significant(r.gaps_after), c.effect);
+        has_refit(r) ? " and " + refit_phrase(r, c.refit) : "", 100 * r.verdict.held_out_shrink, before,
+        after, n, significant(r.gaps_after), null_refit_sentence(r), c.effect);
   }
   // Unexplained: either the best candidate helps but not by the rule's margin (a lead worth more data), or
   // none helps (the cause lies outside the candidates).
   const double ratio = r.spec->rule.ratio;
+  // With refit, the model without any effect may close the gap at a re-fitted setting (decide: "refit").
+  if (r.verdict.kind == "refit") {
+    const std::string best =
+        r.verdict.ranking.empty()
+            ? ""
+            : fmt::format(
+                  " The best candidate, `{}`, scores {:.1f} held out, but no cell is left for it to explain.",
+                  r.verdict.ranking.front().effect, r.verdict.ranking.front().loco);
+    return fmt::format(
+        "**Gap closed by re-fitting, no effect needed.** The model as calibrated departs from the "
+        "observations at "
+        "{} of {} cells ({}).{}{} Re-calibrate the model with these values rather than add an effect.",
+        ns, n, where, null_refit_sentence(r), best);
+  }
   if (!r.verdict.ranking.empty() && r.verdict.held_out_shrink >= 0.5 * (1.0 - ratio)) {
     const Candidate& c = r.verdict.ranking.front();
     return fmt::format(
@@ -67,9 +112,9 @@ std::string verdict_paragraph(const Report& r) {
         "of the {:.0f} % the rule asks: the data point to it but do not single it out. To decide, measure "
         "more "
         "conditions where its fingerprint is strongest, or repeat the measurements to shrink their error "
-        "bars.",
+        "bars.{}",
         c.effect, ns, n, where, c.effect, effect_spec(c.effect).fingerprint, 100 * r.verdict.held_out_shrink,
-        effect_spec(c.effect).strength, c.fit.strength, 100 * (1.0 - ratio));
+        effect_spec(c.effect).strength, c.fit.strength, 100 * (1.0 - ratio), null_refit_sentence(r));
   }
   std::string best = r.verdict.ranking.empty()
                          ? "none was fitted"
@@ -79,8 +124,8 @@ std::string verdict_paragraph(const Report& r) {
       "**Gap not explained.** The model departs from the observations at {} of {} cells ({}), but none of "
       "the candidate effects explains it by the rule's margin ({}). The cause is likely outside the "
       "candidates "
-      "(another mechanism, a measurement bias, or a model parameter to re-calibrate).",
-      ns, n, where, best);
+      "(another mechanism, a measurement bias, or a model parameter to re-calibrate).{}",
+      ns, n, where, best, null_refit_sentence(r));
 }
 
 nlohmann::json write_report(const std::string& dir, const Report& r, bool figures) {
@@ -106,6 +151,11 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
               {"p", r.gaps[k].p},
               {"significant", bool(r.gaps[k].significant)}};
     for (const auto& [key, v] : r.cells[k].condition) c["condition_si"][key] = v;
+    if (!r.null_refit_gaps.empty())
+      c["null_refit"] = {{"model", r.null_refit_pred[k].mean},
+                         {"model_se", r.null_refit_pred[k].se},
+                         {"z", r.null_refit_gaps[k].z},
+                         {"significant", bool(r.null_refit_gaps[k].significant)}};
     if (!r.after.empty())
       c["after"] = {{"model", r.after[k].mean},
                     {"model_se", r.after[k].se},
@@ -114,7 +164,22 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
     j["cells"].push_back(c);
   }
   for (const auto& [s, e] : r.screened) j["screen"].push_back({{"effect", e}, {"score", s}});
-  for (const Candidate& c : r.verdict.ranking)
+  const bool refit = has_refit(r);
+  auto setting_json = [&](size_t s) {
+    return json{{"setting", s}, {"label", r.settings.at(s).label}, {"values", r.settings.at(s).si}};
+  };
+  if (refit) {
+    json keys = json::array();
+    for (const RefitKey& k : r.spec->refit) {
+      json vals = json::array();
+      for (const RefitValue& v : k.values) vals.push_back({{"written", v.written}, {"si", v.si}});
+      keys.push_back({{"key", k.key}, {"calibrated_si", k.calibrated_si}, {"values", vals}});
+    }
+    json settings = json::array();
+    for (size_t s = 0; s < r.settings.size(); ++s) settings.push_back(setting_json(s));
+    j["refit"] = {{"keys", keys}, {"settings", settings}};
+  }
+  for (const Candidate& c : r.verdict.ranking) {
     j["ranking"].push_back({{"effect", c.effect},
                             {"screen", c.screen},
                             {"loco_chi2", c.loco},
@@ -123,8 +188,19 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
                             {"strength_interval", {c.fit.lo, c.fit.hi}},
                             {"strength_at_edge", c.fit.at_edge},
                             {"strength_meaning", effect_spec(c.effect).strength}});
-  for (const Response& resp : r.responses) {
+    if (refit) j["ranking"].back()["refit"] = setting_json(c.refit);
+  }
+  if (refit && !r.null_refit_gaps.empty()) {
+    j["null_refit"] = setting_json(r.verdict.null_refit);
+    j["null_refit"]["chi2"] = chi2_of(r.null_refit_gaps);
+    j["null_refit"]["significant_cells"] = significant(r.null_refit_gaps);
+  }
+  for (size_t i = 0; i < r.responses.size(); ++i) {
+    const Response& resp = r.responses[i];
     json x = {{"effect", resp.effect}, {"strengths", resp.strengths}};
+    if (refit)
+      for (const Candidate& c : r.verdict.ranking)
+        if (c.effect == resp.effect) x["refit"] = setting_json(c.refit);
     for (const auto& p : resp.pred) {
       json row;
       for (const Prediction& q : p) row.push_back({q.mean, q.se});
@@ -138,6 +214,7 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
   j["dof"] = r.cells.size();
   if (!r.after.empty()) {
     j["chosen_strength"] = r.chosen_strength;
+    if (refit) j["chosen_refit"] = setting_json(r.verdict.ranking.front().refit);
     j["chi2_after"] = chi2_of(r.gaps_after);
     j["shrink"] = 1.0 - chi2_of(r.gaps_after) / std::max(1e-300, chi2_of(r.gaps));
     json rem = json::array();
@@ -179,14 +256,27 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
       md += fmt::format(" {:.4g} ± {:.2g} | {:+.2f} |", r.after[k].mean, r.after[k].se, r.gaps_after[k].z);
     md += "\n";
   }
-  md +=
-      "\n## Candidates\n\n| effect | screen score | held-out χ² (LOCO) | fitted strength | interval "
-      "|\n|---|---|---|---|---|\n";
-  md += fmt::format("| (none: the model as calibrated) | | {:.2f} | | |\n", r.verdict.null_loco);
-  for (const Candidate& c : r.verdict.ranking)
-    md += fmt::format("| {} | {:.2f} | {:.2f} | {:.3g} {} | {:.3g}-{:.3g}{} |\n", c.effect, c.screen, c.loco,
+  md += "\n## Candidates\n\n| effect | screen score | held-out χ² (LOCO) | fitted strength | interval |";
+  md += refit ? " re-fitted (all cells) |\n|---|---|---|---|---|---|\n" : "\n|---|---|---|---|---|\n";
+  if (refit)
+    md += fmt::format("| (none: the model without an added effect) | | {:.2f} | | | {} |\n",
+                      r.verdict.null_loco, r.settings.at(r.verdict.null_refit).label);
+  else
+    md += fmt::format("| (none: the model as calibrated) | | {:.2f} | | |\n", r.verdict.null_loco);
+  for (const Candidate& c : r.verdict.ranking) {
+    md += fmt::format("| {} | {:.2f} | {:.2f} | {:.3g} {} | {:.3g}-{:.3g}{} |", c.effect, c.screen, c.loco,
                       c.fit.strength, effect_spec(c.effect).strength, c.fit.lo, c.fit.hi,
                       c.fit.at_edge ? " (at the probed range's edge)" : "");
+    md += refit ? fmt::format(" {} |\n", r.settings.at(c.refit).label) : "\n";
+  }
+  if (refit) {
+    std::string keys;
+    for (const RefitKey& k : r.spec->refit) keys += (keys.empty() ? "" : ", ") + k.key;
+    md += fmt::format(
+        "\nRe-fitted with every candidate and with the null ({} settings of {}); the held-out χ² re-fits "
+        "them in every fold.\n",
+        r.settings.size(), keys);
+  }
   md += "\nScreen scores of every candidate: ";
   for (const auto& [s, e] : r.screened) md += fmt::format("{} {:.2f}; ", e, s);
   md += fmt::format(

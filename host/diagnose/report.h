@@ -21,7 +21,10 @@ struct Report {
   std::vector<CellGap> gaps;
   std::vector<std::string> where;
   std::vector<std::pair<double, std::string>> screened;  // (score, effect), best first
-  std::vector<Response> responses;                       // the fitted candidates
+  std::vector<Response> responses;                       // the fitted candidates (at their refit setting)
+  std::vector<RefitSetting> settings;                    // refit settings (one, as calibrated, without refit)
+  std::vector<Prediction> null_refit_pred;  // with refit: the model without effect at the null's setting
+  std::vector<CellGap> null_refit_gaps;
   Verdict verdict;
   double chosen_strength = 0.0;
   std::vector<Prediction> after;  // the chosen effect, fresh seeds (empty unless verdict is "effect")
@@ -36,5 +39,9 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
 
 // The plain-language paragraph of report.md.
 std::string verdict_paragraph(const Report& r);
+
+// "liquid.v_max re-fitted to 0.5 %" ("liquid.v_max kept as calibrated") for refit setting j; "" without
+// refit.
+std::string refit_phrase(const Report& r, size_t j);
 
 }  // namespace wetdem::diagnose

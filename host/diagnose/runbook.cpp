@@ -14,7 +14,8 @@ namespace fs = std::filesystem;
 namespace wetdem::diagnose {
 
 std::string Variant::label() const {
-  return effect.empty() ? "baseline" : fmt::format("{}@{:.6g}", effect, strength);
+  const std::string l = effect.empty() ? "baseline" : fmt::format("{}@{:.6g}", effect, strength);
+  return refit.empty() ? l : l + " [" + refit + "]";
 }
 
 RunBook::RunBook(std::string store_dir, std::string spec_path, std::string name, std::string case_path,
@@ -35,7 +36,8 @@ study::StudySpec RunBook::spec() const {
   return s;
 }
 
-void RunBook::want(Condition& c, const Variant& v, const std::vector<uint64_t>& seeds) {
+study::StudySpec RunBook::spec_of(const Condition& c, const Variant& v,
+                                  const std::vector<uint64_t>& seeds) const {
   study::StudySpec s = spec();
   s.seeds = seeds;
   std::vector<study::AxisValue> values = c.values;
@@ -44,7 +46,15 @@ void RunBook::want(Condition& c, const Variant& v, const std::vector<uint64_t>& 
     values.push_back({o.substr(0, eq), o.substr(eq + 1), o.substr(eq + 1), std::nan("")});
   }
   s.points = {values};
-  std::vector<study::PlannedRun> planned = study::expand(s);
+  return s;
+}
+
+void RunBook::check(const Condition& c, const Variant& v) const {
+  study::expand(spec_of(c, v, {1}));
+}
+
+void RunBook::want(Condition& c, const Variant& v, const std::vector<uint64_t>& seeds) {
+  std::vector<study::PlannedRun> planned = study::expand(spec_of(c, v, seeds));
   for (study::PlannedRun& r : planned) {
     if (c.si.empty())
       for (size_t i = 0; i < c.values.size(); ++i) {

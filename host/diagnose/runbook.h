@@ -20,11 +20,12 @@ struct Condition {
   std::map<std::string, double> si;      // key -> SI value
 };
 
-// A model variant: the baseline (no effect) or one effect at one strength.
+// A model variant: the baseline (no effect) or one effect at one strength, at a refit setting (refit.h).
 struct Variant {
   std::string effect;  // "" = baseline
   double strength = 0.0;
-  std::vector<std::string> overrides;  // "key=toml"
+  std::string refit;                   // the refit setting's label; "" = as calibrated
+  std::vector<std::string> overrides;  // "key=toml": the refit setting's, then the effect's
   std::string label() const;
 };
 
@@ -34,6 +35,8 @@ class RunBook {
           std::vector<std::string> set, study::ExecOptions exec);
   // Resolves and validates the runs (nothing runs); throws study::StudyError naming the point and key.
   void want(Condition& c, const Variant& v, const std::vector<uint64_t>& seeds);
+  // Resolves and validates the run of v at c as want does, without wanting it.
+  void check(const Condition& c, const Variant& v) const;
   // Runs every wanted run that is not complete; throws std::runtime_error when any failed.
   void run();
   // Replicate mean and SE of `observable` (a summary.json key) over the seeds (SE: sd/√n for n >= 2, else the
@@ -54,6 +57,8 @@ class RunBook {
   // The summary of the run of v at c with this seed (wanted before; throws std::logic_error otherwise).
   const nlohmann::json& summary_of(const Condition& c, const Variant& v, uint64_t seed) const;
   study::StudySpec spec() const;  // the store's study: this book's file, name, case and [set]
+  // The study of the runs of v at c with these seeds (one point: the condition, then v's overrides).
+  study::StudySpec spec_of(const Condition& c, const Variant& v, const std::vector<uint64_t>& seeds) const;
   std::string dir_, spec_path_, name_, case_path_;
   std::vector<std::string> set_;
   study::ExecOptions exec_;
