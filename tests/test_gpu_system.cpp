@@ -184,4 +184,35 @@ TEST_F(GpuSystem, SplitRebuildsAreBitwiseTheGatedChain) {
   }
 }
 
+TEST_F(GpuSystem, RestoredSnapshotStepsBitwiseAsTheContinuedRun) {
+  // The System-level half of a resumed run (DrumRun.ResumeReachesTheBitwiseSameFinalState adds the run
+  // phases): a snapshot taken mid-run, restored into a new System, must step to bitwise the state of the run
+  // that went on, through rebuilds and bridge events. (On the H100 the drum-level resume was not bitwise,
+  // README "On a GPU"; this test separates the System from the run phases there.)
+  SimParams prm = twin_drum_params(0.012, 0.012, 0.5e-3, false);
+  prm.liq_pp.enabled = true;
+  prm.liq_pp.gamma = 0.1;
+  prm.liq_pp.theta = 0.5;
+  prm.liq_pp.v_max = 1 << 28;
+  prm.liquid_unit_m3 = 1e-20;
+  SystemState s = random_drum_packing(prm, 600, 0.5e-3, 0.8e-3, 13, 0.2);
+  for (auto& f : s.p.film) f = 1 << 27;
+  System first(gpu(), prm, s.p.size());
+  first.upload(s);
+  first.step(150);
+  const std::vector<uint8_t> snap = first.snapshot();
+  const uint64_t r0 = first.counters().rebuilds;
+  first.step(250);
+  EXPECT_GT(first.counters().rebuilds, r0 + 2);
+  const SystemState a = first.download();
+
+  System second(gpu(), prm, s.p.size());
+  second.restore(snap);
+  second.step(250);
+  const SystemState b = second.download();
+  EXPECT_TRUE(bitwise_equal(a, b)) << "a restored snapshot stepped differently from the run that went on";
+  EXPECT_EQ(a.total_liquid(), s.total_liquid());
+  EXPECT_EQ(b.total_liquid(), s.total_liquid());
+}
+
 }  // namespace wetdem::test
