@@ -1,8 +1,6 @@
 #include "wetdem/version.h"
 
-#ifndef WETDEM_GIT
-#define WETDEM_GIT "unknown"
-#endif
+#include "wetdem_git.h"  // generated at every build: #define WETDEM_GIT "<git describe>"
 
 namespace wetdem {
 
