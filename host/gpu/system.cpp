@@ -298,8 +298,12 @@ void System::Impl::record_step(VkCommandBuffer cb, bool split) {
 uint32_t System::Impl::plan_split_batch(uint64_t count) const {
   const double left = 1.5 * interval_est - double(since_rebuild);
   const double want = left >= 1.0 ? std::ceil(left) : std::max(1.0, std::floor(interval_est / 4.0));
-  const double cap = double(std::max<uint32_t>(1, opt.steps_per_submit));
-  return uint32_t(std::min<double>({want, cap, double(count)}));
+  // Lengths on a ~1.5x ladder (1, 2, 3, 4, 6, 8, 12, ...), rounded up: few distinct command buffers to
+  // record.
+  uint32_t k = 1;
+  while (double(k) < want) k = k < 4 ? k + 1 : (k % 3 == 0 ? k / 3 * 4 : k / 2 * 3);
+  k = std::min<uint32_t>(k, std::max<uint32_t>(1, opt.steps_per_submit));
+  return uint32_t(std::min<uint64_t>(k, count));
 }
 
 VkCommandBuffer System::Impl::allocate_cb() {
@@ -371,6 +375,12 @@ void System::Impl::step(uint64_t count) {
     const bool split = opt.split_rebuilds && interval_est >= opt.split_min_interval;
     uint32_t k = split ? plan_split_batch(count)
                        : uint32_t(std::min<uint64_t>(count, std::max<uint32_t>(1, opt.steps_per_submit)));
+    // Bounded caches: batch lengths vary with the remaining count and the plan; re-recording is cheap.
+    for (auto* m : {&cached, &plain})
+      if (m->size() > 32 && !m->count(k)) {
+        for (auto& [len, old] : *m) vkFreeCommandBuffers(ctx.device(), ctx.pool(), 1, &old);
+        m->clear();
+      }
     VkCommandBuffer& cb = split ? plain[k] : cached[k];
     if (!cb)
       cb = record([&](VkCommandBuffer r) {
