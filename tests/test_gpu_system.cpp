@@ -14,6 +14,17 @@ class GpuSystem : public GpuTest {};
 
 namespace {
 
+// The wet drum of the determinism tests: pair bridges on, films set by each test.
+SimParams wet_drum_params() {
+  SimParams prm = twin_drum_params(0.012, 0.012, 0.5e-3, false);
+  prm.liq_pp.enabled = true;
+  prm.liq_pp.gamma = 0.1;
+  prm.liq_pp.theta = 0.5;
+  prm.liq_pp.v_max = 1 << 28;
+  prm.liquid_unit_m3 = 1e-20;
+  return prm;
+}
+
 // Pairs whose surface gap is below S_c,max + skin, by brute force in double precision.
 std::vector<std::pair<uint32_t, uint32_t>> brute_force_pairs(const SystemState& s, const SimParams& prm,
                                                              double slack, size_t& borderline) {
@@ -102,12 +113,7 @@ TEST_F(GpuSystem, SlidingPairKeepsItsSpringAcrossForcedRebuildAndReorder) {
 }
 
 TEST_F(GpuSystem, SameRunTwiceIsBitwiseIdentical) {
-  SimParams prm = twin_drum_params(0.012, 0.012, 0.5e-3, false);
-  prm.liq_pp.enabled = true;
-  prm.liq_pp.gamma = 0.1;
-  prm.liq_pp.theta = 0.5;
-  prm.liq_pp.v_max = 1 << 28;
-  prm.liquid_unit_m3 = 1e-20;
+  SimParams prm = wet_drum_params();
   SystemState s = random_drum_packing(prm, 1200, 0.5e-3, 0.8e-3, 5, 0.2);
   for (auto& f : s.p.film) f = 1 << 27;
   auto run = [&] {
@@ -147,12 +153,7 @@ TEST_F(GpuSystem, SplitRebuildsAreBitwiseTheGatedChain) {
   // The rebuild chain submitted on its own when a step halts for it must give bitwise the state of the chain
   // recorded, gated, into every step: wet pairs, rebuilds, a list that overflows and grows, and batches of
   // any length (one step at a time, or many).
-  SimParams prm = twin_drum_params(0.012, 0.012, 0.5e-3, false);
-  prm.liq_pp.enabled = true;
-  prm.liq_pp.gamma = 0.1;
-  prm.liq_pp.theta = 0.5;
-  prm.liq_pp.v_max = 1 << 28;
-  prm.liquid_unit_m3 = 1e-20;
+  SimParams prm = wet_drum_params();
   prm.skin = 0.6e-3;  // rebuilds ~8 steps apart
   SystemState s = random_drum_packing(prm, 500, 0.5e-3, 0.8e-3, 11, 0.02);
   for (auto& f : s.p.film) f = 1 << 27;
@@ -189,12 +190,7 @@ TEST_F(GpuSystem, RestoredSnapshotStepsBitwiseAsTheContinuedRun) {
   // phases): a snapshot taken mid-run, restored into a new System, must step to bitwise the state of the run
   // that went on, through rebuilds and bridge events. (On the H100 the drum-level resume was not bitwise,
   // README "On a GPU"; this test separates the System from the run phases there.)
-  SimParams prm = twin_drum_params(0.012, 0.012, 0.5e-3, false);
-  prm.liq_pp.enabled = true;
-  prm.liq_pp.gamma = 0.1;
-  prm.liq_pp.theta = 0.5;
-  prm.liq_pp.v_max = 1 << 28;
-  prm.liquid_unit_m3 = 1e-20;
+  SimParams prm = wet_drum_params();
   SystemState s = random_drum_packing(prm, 600, 0.5e-3, 0.8e-3, 13, 0.2);
   for (auto& f : s.p.film) f = 1 << 27;
   System first(gpu(), prm, s.p.size());

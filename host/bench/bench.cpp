@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <nlohmann/json.hpp>
 
 #include "app/drum/scenarios.h"
@@ -186,15 +187,20 @@ nlohmann::json bench_case(vk::Context& ctx, const app::Case& c, const std::strin
 
   // The same steps with the rebuild chain recorded, gated, into every step (SystemOptions::split_rebuilds
   // off): the speed-up of split rebuilds measured in this run, on this device.
+  // A System in the timed run's state after its warm-up, with other options (the replays below).
+  auto replay = [&](SystemOptions so) {
+    so.steps_per_submit = prep.c.run.steps_per_submit;
+    auto sys = std::make_unique<System>(ctx, rotating_prm, n, so);
+    sys->restore(st.ck.system);
+    sys->step(warmup);
+    return sys;
+  };
   {
     SystemOptions so;
-    so.steps_per_submit = prep.c.run.steps_per_submit;
     so.split_rebuilds = false;
-    System gated(ctx, rotating_prm, n, so);
-    gated.restore(st.ck.system);
-    gated.step(warmup);
+    auto gated = replay(so);
     const auto t0 = std::chrono::steady_clock::now();
-    gated.step(o.steps);
+    gated->step(o.steps);
     const double gated_pss = double(n) * double(o.steps) / seconds_since(t0);
     j["gated_rebuilds"] = {{"particle_steps_per_s", gated_pss}, {"split_speedup", pss / gated_pss}};
   }
@@ -202,14 +208,11 @@ nlohmann::json bench_case(vk::Context& ctx, const app::Case& c, const std::strin
   // Per pass: the same steps from the same state with a timestamp before every pass.
   {
     SystemOptions so;
-    so.steps_per_submit = prep.c.run.steps_per_submit;
     so.profile_passes = true;
-    System prof(ctx, rotating_prm, n, so);
-    prof.restore(st.ck.system);
-    prof.step(warmup);
-    prof.reset_pass_timings();
-    prof.step(o.steps);
-    auto passes = prof.pass_timings();
+    auto prof = replay(so);
+    prof->reset_pass_timings();
+    prof->step(o.steps);
+    auto passes = prof->pass_timings();
     double total = 0;
     for (auto& p : passes) total += p.seconds;
     std::sort(passes.begin(), passes.end(), [](auto& a, auto& b) { return a.seconds > b.seconds; });
