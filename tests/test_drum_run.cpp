@@ -3,6 +3,7 @@
 // fast drum, so a run is a few thousand steps.
 #ifdef WETDEM_HAVE_APP
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -12,8 +13,10 @@
 #include <sstream>
 
 #include "app/run/run.h"
+#include "app/run/session.h"
 #include "support/gpu.h"
 #include "support/small_case.h"
+#include "support/state_diff.h"
 
 namespace wetdem::test {
 namespace {
@@ -134,6 +137,54 @@ TEST_F(DrumRun, FailingRunLeavesNoSummaryButFailedTxt) {
   ss << in.rdbuf();
   EXPECT_NE(ss.str().find("injected failure"), std::string::npos);
   fs::remove_all(base);
+}
+
+TEST_F(DrumRun, ResumedSessionStepsInLockstepWithTheUninterruptedOne) {
+  // The run phases without files: a session resumed from a checkpoint taken while settling and the session
+  // that went on are advanced stop by stop (across the settle -> rotate switch) and must be bitwise equal at
+  // every stop. When they are not, the first stop and field that differ say where (sample, switch, restore).
+  const app::Prepared prep = app::prepare_run(app::parse_case_string(kSmall));
+  auto quiet = [](const std::string&) {};
+  app::DrumSession a(gpu(), prep, quiet);
+  const app::Schedule& sch = a.schedule();
+  ASSERT_GT(sch.n_settle, 500u);
+  while (a.step() < 500) a.advance(sch.next_stop(a.step()));
+  // As --resume does it: the case re-read from its resolved echo, the checkpoint through its files.
+  const std::string dir = temp_dir("lockstep");
+  app::save_checkpoint(dir, a.checkpoint({}));
+  const app::Prepared again = app::prepare_run(app::parse_case_string(app::case_to_toml(prep.c)));
+  EXPECT_EQ(app::case_to_json(again.c), app::case_to_json(prep.c));
+  app::DrumSession b(gpu(), again, app::load_checkpoint(dir), quiet);
+  ASSERT_EQ(b.step(), a.step());
+  EXPECT_EQ(first_difference(a.state(), b.state()), "") << "right after the restore at step " << a.step();
+  // A second resume while rotating (the restored System is then the turning drum's).
+  std::unique_ptr<app::DrumSession> c;
+  std::string hist;
+  while (!a.done()) {
+    const uint64_t to = sch.next_stop(a.step());
+    a.advance(to);
+    b.advance(to);
+    if (c) c->advance(to);
+    ASSERT_EQ(first_difference(a.state(), b.state()), "")
+        << "first difference by step " << to << " (settled at " << sch.n_settle << ")";
+    if (c) {
+      auto k = [](app::DrumSession& x) {
+        const SystemCounters q = x.system().counters();
+        return fmt::format("rebuilds {} split {} regrows {} capacity {} entries {}", q.rebuilds,
+                           q.split_rebuilds, q.regrows, q.entry_capacity, q.entries);
+      };
+      ASSERT_EQ(first_difference(a.state(), c->state()), "")
+          << "second resume: first difference by step " << to << " (settled at " << sch.n_settle
+          << "); uninterrupted: " << k(a) << "; resumed: " << k(*c) << "; history: " << hist;
+      hist += fmt::format(" {}:[{}|{}]", to, k(a), k(*c));
+    }
+    if (!c && to >= sch.n_settle + 300) {
+      app::save_checkpoint(dir, b.checkpoint({}));
+      c = std::make_unique<app::DrumSession>(gpu(), again, app::load_checkpoint(dir), quiet);
+    }
+  }
+  ASSERT_TRUE(c);
+  fs::remove_all(dir);
 }
 
 TEST_F(DrumRun, ResumeReachesTheBitwiseSameFinalState) {

@@ -46,6 +46,8 @@ void System::Impl::drop_cache() {
 }
 
 void System::Impl::setup(double r_max, double r_min) {
+  setup_r_max = r_max;
+  setup_r_min = r_min;
   // The list must hold every pair that can touch at the next force evaluation, so a skin of zero is
   // not usable: 0 selects 0.1 r_min (a rebuild every few steps at drum speeds).
   if (prm.skin <= 0.0) prm.skin = 0.1 * r_min;
@@ -447,6 +449,15 @@ std::vector<uint8_t> System::snapshot() {
 }
 void System::restore(const std::vector<uint8_t>& blob) {
   impl_->restore(blob);
+}
+void System::fill_scratch(uint32_t word) {
+  gpu::BufferSet& b = *impl_->B;
+  const uint32_t cur = impl_->read_ctl()[ctlw::kParity];
+  for (uint32_t f = 0; f < gpu::kNumParticleFields; ++f) b.pset[1 - cur][f].fill(word);
+  for (uint32_t f = 0; f < gpu::kNumEntryFields; ++f) b.eset[1 - cur][f].fill(word);
+  for (vk::Buffer* x : {&b.cell_key, &b.sort_val, &b.cell_start, &b.cell_end, &b.cnt_scan, &b.pair_f,
+                        &b.pair_t, &b.ev, &b.p_share, &b.p_gain, &b.p_full, &b.p_offer, &b.own_scan})
+    x->fill(word);
 }
 void System::force_rebuild() {
   uint32_t one = 1;

@@ -72,7 +72,8 @@ struct System::Impl {
   SimParams prm;
   SystemOptions opt;
   uint32_t n;
-  double h = 0.0, inv_h = 0.0;  // tick size (m)
+  double h = 0.0, inv_h = 0.0;                  // tick size (m)
+  double setup_r_max = 0.0, setup_r_min = 0.0;  // setup()'s inputs, kept for snapshots
   gpu::GpuParams gp{};
   uint32_t cells = 0, key_bits = 1;
   std::unique_ptr<BufferSet> B;

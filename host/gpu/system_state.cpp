@@ -289,12 +289,18 @@ std::vector<std::pair<uint32_t, uint32_t>> System::Impl::neighbour_pairs() {
 }
 
 namespace {
-constexpr uint64_t kSnapMagic = 0x3230504E53444D57ull;  // "WMDSNP02": with pore, evaporated, capacity
+// "WMDSNP03": 02 (pore, evaporated, capacity) + the radii the cell grid was sized from.
+constexpr uint64_t kSnapMagic = 0x3330504E53444D57ull;
+constexpr uint64_t kSnapMagicOld = 0x3230504E53444D57ull;
 struct SnapHeader {
   uint64_t magic;
   uint32_t n, parity, entries, pad;
   double time0;
   uint64_t step0, steps;
+  // setup()'s inputs, exactly: the grid origin and cell size follow from them, and a grid shifted by one tick
+  // bins a particle within a tick of a cell face differently, a rare event that a resumed run then diverges
+  // at (seen on the H100 a thousand steps after a resume, when the grid came from the float32 radii).
+  double setup_r_max, setup_r_min;
 };
 void put(std::vector<uint8_t>& out, const void* p, size_t bytes) {
   const uint8_t* b = static_cast<const uint8_t*>(p);
@@ -306,7 +312,8 @@ void put(std::vector<uint8_t>& out, const void* p, size_t bytes) {
 // The other set is scratch that the next rebuild overwrites, so this is all the state a step reads.
 std::vector<uint8_t> System::Impl::snapshot() {
   auto c = B->ctl.download_as<uint32_t>(ctlw::kWords);
-  SnapHeader hd{kSnapMagic, n, c[ctlw::kParity], c[ctlw::kEntries], 0, time0, step0, steps};
+  SnapHeader hd{kSnapMagic, n,     c[ctlw::kParity], c[ctlw::kEntries], 0, time0,
+                step0,      steps, setup_r_max,      setup_r_min};
   std::vector<uint8_t> out;
   put(out, &hd, sizeof(hd));
   put(out, c.data(), c.size() * 4);
@@ -327,6 +334,8 @@ void System::Impl::restore(const std::vector<uint8_t>& blob) {
   SnapHeader hd;
   if (blob.size() < sizeof(hd)) throw std::invalid_argument("restore: snapshot too short");
   std::memcpy(&hd, blob.data(), sizeof(hd));
+  if (hd.magic == kSnapMagicOld)
+    throw std::invalid_argument("restore: a snapshot of an older wetdem (WMDSNP02); start the run afresh");
   if (hd.magic != kSnapMagic) throw std::invalid_argument("restore: not a wetdem snapshot");
   if (hd.n != n)
     throw std::invalid_argument(fmt::format("restore: snapshot has {} particles, system {}", hd.n, n));
@@ -340,17 +349,7 @@ void System::Impl::restore(const std::vector<uint8_t>& blob) {
   at += c.size() * 4;
   const uint8_t* ref = at;
   at += size_t(n) * 16;
-  // Radii (props.x of the current set) fix the cell grid, exactly as the original upload did.
-  const uint8_t* props = at;
-  for (uint32_t f = 0; f < gpu::kProps; ++f) props += size_t(n) * gpu::kParticleFieldBytes[f];
-  double r_max = 0.0, r_min = 1e300;
-  for (uint32_t k = 0; k < n; ++k) {
-    float r;
-    std::memcpy(&r, props + size_t(k) * 16, 4);
-    r_max = std::max(r_max, double(r));
-    r_min = std::min(r_min, double(r));
-  }
-  setup(r_max, r_min);
+  setup(hd.setup_r_max, hd.setup_r_min);
   const uint32_t s = hd.parity;
   B->grow_entries(s, std::max<uint32_t>(c[ctlw::kCapacity0 + s], hd.entries));
   B->grow_entries(1 - s, std::max<uint32_t>(c[ctlw::kCapacity0 + 1 - s], 1));

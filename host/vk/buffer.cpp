@@ -100,7 +100,11 @@ void Buffer::download(void* data, VkDeviceSize bytes, VkDeviceSize offset) const
 }
 
 void Buffer::zero() {
-  ctx_->submit_now([&](VkCommandBuffer cb) { vkCmdFillBuffer(cb, buf_, 0, VK_WHOLE_SIZE, 0); });
+  fill(0u);
+}
+
+void Buffer::fill(uint32_t word) {
+  ctx_->submit_now([&](VkCommandBuffer cb) { vkCmdFillBuffer(cb, buf_, 0, VK_WHOLE_SIZE, word); });
 }
 
 Staging::Staging(Context& ctx, VkDeviceSize bytes) : ctx_(&ctx) {

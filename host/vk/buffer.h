@@ -38,6 +38,7 @@ class Buffer {
     return v;
   }
   void zero();
+  void fill(uint32_t word);  // every 4-byte word of the buffer
 
  private:
   void release();

@@ -83,6 +83,10 @@ class System {
 
   // Rebuilds the neighbour list at the end of the next step whatever the displacements (tests, restarts).
   void force_rebuild();
+  // Tests: fills every buffer that is not in snapshot() (the set being built, pair results, liquid and
+  // rebuild scratch) with `word`. A step must write such a buffer before it reads it, so this may not change
+  // a result: a restored System starts with them zeroed, a running one holds the last step's values.
+  void fill_scratch(uint32_t word);
   // The current neighbour list as (lower id, higher id) pairs, sorted: for tests against brute force.
   std::vector<std::pair<uint32_t, uint32_t>> neighbour_pairs();
 
