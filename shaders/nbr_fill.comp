@@ -1,6 +1,11 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Rebuild 6g: write every particle's neighbours into its CSR segment of the new list, same order as 6e.
+// Rebuild 6g: write every particle's neighbours into its CSR segment of the new list, then order the segment
+// by the partners' stable ids. The per-particle gathers sum a segment in its order, so this canonical order
+// makes a step's floating-point sums independent of when the list was built, of the cell grid and of the
+// particle order: any rebuild schedule that keeps the list complete gives bitwise the same run (a pair the
+// list holds beyond its interaction range adds exact zeros). Resumes, split or gated rebuilds, another skin
+// and ensembles stepped on a common schedule rely on it (ARCHITECTURE.md "Determinism").
 #include "neighbours.glsl"
 layout(local_size_x = 256) in;
 void main() {
@@ -13,4 +18,16 @@ void main() {
   Uints nbr = Uints(eaddr(s, EF_NBR)), self = Uints(eaddr(s, EF_SELF));
   uint e = off;
   FOR_EACH_NEIGHBOUR(i, s, P, nbr.v[e] = j; self.v[e] = i; e++)
+  // Insertion sort by stable id (pos.w; unique): segments hold ~5-30 entries, once per rebuild.
+  IVec4s pos = IVec4s(paddr(s, PF_POS));
+  for (uint a = off + 1u; a < e; ++a) {
+    uint x = nbr.v[a];
+    int kx = pos.v[x].w;
+    uint b = a;
+    while (b > off && pos.v[nbr.v[b - 1u]].w > kx) {
+      nbr.v[b] = nbr.v[b - 1u];
+      --b;
+    }
+    nbr.v[b] = x;
+  }
 }
