@@ -8,8 +8,9 @@ void main() {
   Params P = PRM();
   if (i >= P.num_particles || halted()) return;
   bool esc;
-  ivec3 c = cell_of(IVec4s(paddr(parity(), PF_POS)).v[i].xyz, P, esc);
+  ivec4 p = IVec4s(paddr(parity(), PF_POS)).v[i];
+  ivec3 c = cell_of(p.xyz, P, esc);
   if (esc) atomicAdd(CTL().v[CTL_ESCAPED], 1u);
-  Uints(T().cell_key).v[i] = cell_index(c, P);
+  Uints(T().cell_key).v[i] = cell_index(c, P) + run_of_id(p.w) * P.cells_per_run;
   Uints(T().sort_val).v[i] = i;
 }

@@ -11,6 +11,7 @@ void main() {
   Params P = PRM();
   if (i >= P.num_particles || halted()) return;
   uint s = parity();
+  P = PRM_OF(i, s);
   Uints nbr_off = Uints(paddr(s, PF_NOFFSET)), nbr_cnt = Uints(paddr(s, PF_NCOUNT));
   Vec4s pf = Vec4s(T().pair_f), pt = Vec4s(T().pair_t);
   vec3 F = vec3(0.0), Tq = vec3(0.0);

@@ -8,6 +8,7 @@ void main() {
   Params P = PRM();
   if (i >= P.num_particles || halted()) return;
   uint s = parity();
+  P = PRM_OF(i, s);
   IVec4s pos = IVec4s(paddr(s, PF_POS));
   Vec4s vel = Vec4s(paddr(s, PF_VEL)), omg = Vec4s(paddr(s, PF_OMG)), props = Vec4s(paddr(s, PF_PROPS));
   Vec4s force = Vec4s(paddr(s, PF_FORCE)), torque = Vec4s(paddr(s, PF_TORQUE));

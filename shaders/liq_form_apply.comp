@@ -10,7 +10,7 @@ void main() {
   if (k >= CTL().v[CTL_OWNERS]) return;
   uint e = Uints(T().owners).v[k];
   uint s = parity();
-  Params P = PRM();
+  Params P = PRM_OF(Uints(eaddr(s, EF_SELF)).v[e], s);
   Uints flags = Uints(eaddr(s, EF_FLAGS));
   uint fl = flags.v[e];
   int64_t ta = 0, tb = 0;

@@ -8,6 +8,7 @@ void main() {
   Params P = PRM();
   if (i >= P.num_particles || halted()) return;
   uint s = parity();
+  P = PRM_OF(i, s);
   Uints off = Uints(paddr(s, PF_NOFFSET)), cnt = Uints(paddr(s, PF_NCOUNT));
   Int64s ev = Int64s(T().ev);
   int64_t taken = 0;

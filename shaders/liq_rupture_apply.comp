@@ -10,7 +10,7 @@ void main() {
   if (k >= CTL().v[CTL_OWNERS]) return;
   uint e = Uints(T().owners).v[k];
   uint s = parity();
-  Params P = PRM();
+  Params P = PRM_OF(Uints(eaddr(s, EF_SELF)).v[e], s);
   Int64s liq = Int64s(eaddr(s, EF_LIQ));
   Uints flags = Uints(eaddr(s, EF_FLAGS));
   Int64s ev = Int64s(T().ev);

@@ -11,6 +11,7 @@ void main() {
   Params P = PRM();
   if (i >= P.num_particles || halted()) return;
   uint s = parity();
+  P = PRM_OF(i, s);
   Uints off = Uints(paddr(s, PF_NOFFSET)), cnt = Uints(paddr(s, PF_NCOUNT));
   Uints mirror = Uints(eaddr(s, EF_MIRROR)), flags = Uints(eaddr(s, EF_FLAGS));
   Int64s liq = Int64s(eaddr(s, EF_LIQ));

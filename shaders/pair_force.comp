@@ -13,7 +13,7 @@ void main() {
   if (k >= CTL().v[CTL_OWNERS]) return;
   uint e = Uints(T().owners).v[k];
   uint s = parity();
-  Params P = PRM();
+  Params P = PRM_OF(Uints(eaddr(s, EF_SELF)).v[e], s);
   uint i = Uints(eaddr(s, EF_SELF)).v[e], j = Uints(eaddr(s, EF_NBR)).v[e];
   IVec4s pos = IVec4s(paddr(s, PF_POS));
   Vec4s vel = Vec4s(paddr(s, PF_VEL)), omg = Vec4s(paddr(s, PF_OMG)), props = Vec4s(paddr(s, PF_PROPS));

@@ -6,11 +6,12 @@
 
 namespace wetdem::gpu {
 
-BufferSet::BufferSet(vk::Context& c, uint32_t num_particles, uint32_t num_cells)
+BufferSet::BufferSet(vk::Context& c, uint32_t num_particles, uint32_t num_cells, uint32_t runs)
     : ctx(c), n(num_particles), cells(num_cells) {
   const uint64_t N = std::max<uint32_t>(n, 1);
   ctl = vk::Buffer(ctx, ctl::kWords * 4);
-  params = vk::Buffer(ctx, sizeof(GpuParams));
+  params = vk::Buffer(ctx, uint64_t(std::max<uint32_t>(runs, 1)) * sizeof(GpuParams));
+  run_of = vk::Buffer(ctx, N * 4);
   table_buf = vk::Buffer(ctx, sizeof(GpuTable));
   for (int s = 0; s < 2; ++s)
     for (uint32_t f = 0; f < kNumParticleFields; ++f)
@@ -70,6 +71,7 @@ GpuTable BufferSet::table() const {
   t.p_offer = p_offer.address();
   t.own_scan = own_scan.address();
   t.owners = owners.address();
+  t.run_of = run_of.address();
   return t;
 }
 

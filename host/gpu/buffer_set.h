@@ -48,10 +48,12 @@ struct GpuTable {
   uint64_t pair_f, pair_t, ev, partner;
   uint64_t p_share, p_gain, p_full, p_offer;
   uint64_t own_scan, owners;
+  uint64_t run_of;
 };
 
 struct BufferSet {
-  BufferSet(vk::Context& ctx, uint32_t num_particles, uint32_t num_cells);
+  // `runs` parameter blocks (ensembles: one per run, README "Ensembles").
+  BufferSet(vk::Context& ctx, uint32_t num_particles, uint32_t num_cells, uint32_t runs = 1);
 
   // Reallocates pair set `set` (contents lost) and the per-entry scratch for at least `entries` entries.
   void grow_entries(uint32_t set, uint32_t entries);
@@ -72,6 +74,7 @@ struct BufferSet {
   // The owner list: the entries that evaluate their pair (mirror[e] == e), in list order, so that the passes
   // over pairs run one invocation per pair. One buffer: a rebuild writes it after the old list's last use.
   vk::Buffer own_scan, owners;
+  vk::Buffer run_of;  // the run of each stable id (ensembles)
 
  private:
   void grow_scratch(uint32_t entries);

@@ -66,9 +66,14 @@ struct GpuParams {
   uint32_t evap_q64[2];
   uint32_t absorb_mode;
   uint32_t evap_on;
+  uint32_t runs;           // ensembles: runs in this system (1: a single run)
+  uint32_t run_stride;     // bytes between the parameter blocks of consecutive runs (sizeof(GpuParams))
+  uint32_t cells_per_run;  // each run has its own block of cells
+  uint32_t pad_runs;
 };
 static_assert(sizeof(GpuParams) ==
-              32 * 4 + 48 * 4 + 8 + 4 * 4 + 12 * 2 + 8 * 2 + 8 + 16 + 12 + 12 + 8 + 16 * 4 + 24);
+              32 * 4 + 48 * 4 + 8 + 4 * 4 + 12 * 2 + 8 * 2 + 8 + 16 + 12 + 12 + 8 + 16 * 4 + 24 + 16);
+static_assert(sizeof(GpuParams) % 16 == 0, "parameter blocks of an ensemble are packed back to back");
 
 // Control block (uint32 words); see shaders/common/ctl.glsl.
 namespace ctl {

@@ -13,10 +13,26 @@ namespace wetdem {
 using gpu::groups_for;
 using gpu::Push;
 
-System::Impl::Impl(vk::Context& c, const SimParams& p, size_t num, SystemOptions o)
-    : ctx(c), prm(p), opt(o), n(uint32_t(num)), prof(c) {
+namespace {
+size_t total(const std::vector<size_t>& sizes) {
+  size_t t = 0;
+  for (size_t k : sizes) {
+    if (k == 0) throw std::invalid_argument("System: every run needs at least one particle");
+    t += k;
+  }
+  return t;
+}
+}  // namespace
+
+System::Impl::Impl(vk::Context& c, const std::vector<SimParams>& runs, const std::vector<size_t>& sizes,
+                   SystemOptions o)
+    : ctx(c), prm(runs.at(0)), run_prm(runs), opt(o), n(uint32_t(total(sizes))), prof(c) {
+  if (runs.size() != sizes.size()) throw std::invalid_argument("System: one particle count per run");
+  const size_t num = total(sizes);
   if (num == 0 || num >= (1u << 31))
     throw std::invalid_argument("System: particle count must be in [1, 2^31)");
+  run_off.assign(1, 0u);
+  for (size_t k : sizes) run_off.push_back(run_off.back() + uint32_t(k));
   const char* names[] = {
       "kick_drift",     "pair_force",       "gather_kick",   "liq_rupture_share", "liq_rupture_apply",
       "liq_form_offer", "liq_form_apply",   "liq_form_take", "rebuild_decide",    "cell_key",
@@ -45,20 +61,124 @@ void System::Impl::drop_cache() {
   chain_cb = VK_NULL_HANDLE;
 }
 
+namespace {
+
+// The physics of one run (what an ensemble's runs may differ in): contact laws, liquid, candidate effects,
+// drum speed, gravity, liquid sinks. setup() adds what every run shares.
+gpu::GpuParams physics_block(const SimParams& q) {
+  auto contact = [](const ContactParams& c) {
+    gpu::GpuContact g{};
+    g.E_star = float(c.E_star);
+    g.G_star = float(c.G_star);
+    g.phi_n = float(damping_factor(c.restitution));
+    g.mu_s = float(c.mu_s);
+    g.mu_r = float(c.mu_r);
+    g.phi_t = float(c.phi_t);
+    g.eta_r = float(c.eta_r);
+    return g;
+  };
+  auto liquid = [](const LiquidParams& l, double range, double unit_m3) {
+    gpu::GpuLiquid g{};
+    const double pi = 3.14159265358979323846;
+    g.v_min = l.v_min;
+    g.v_max = l.v_max;
+    g.f0_per_Rh = float(2.0 * pi * l.gamma * std::cos(l.theta));
+    g.rupture_coef = float(1.0 + 0.5 * l.theta_r());  // hysteresis: rupture at the receding angle
+    g.unit_m3 = float(unit_m3);
+    g.range = float(range);
+    g.enabled = l.enabled ? 1u : 0u;
+    g.dc_q16 = uint32_t(std::lround(std::clamp(l.d_c, 0.0, 1.0) * 65536.0));
+    return g;
+  };
+  auto effects = [](const ContactParams& c, const LiquidParams& l) {
+    gpu::GpuEffects g{};
+    const double pi = 3.14159265358979323846;
+    g.visc_eta = float(l.viscosity);
+    g.visc_smin = float(l.lubrication_cutoff);
+    g.f0r_per_Rh = float(2.0 * pi * l.gamma * std::cos(l.theta_r()));
+    g.adhesion = float(1.5 * pi * c.surface_energy);
+    return g;
+  };
+  gpu::GpuParams g{};
+  g.pp = contact(q.pp);
+  g.fx[0] = effects(q.pp, q.liq_pp);
+  for (uint32_t w = 0; w < kNumWalls; ++w) g.fx[1 + w] = effects(q.pw[w], q.liq_pw[w]);
+  g.lpp = liquid(q.liq_pp, q.bridge_range_pp(), q.liquid_unit_m3);
+  for (uint32_t w = 0; w < kNumWalls; ++w) {
+    g.pw[w] = contact(q.pw[w]);
+    g.lpw[w] = liquid(q.liq_pw[w], q.bridge_range_pw(w), q.liquid_unit_m3);
+  }
+  g.plate_rotates[0] = q.drum.plate_lo.rotates ? 1u : 0u;
+  g.plate_rotates[1] = q.drum.plate_hi.rotates ? 1u : 0u;
+  bool wet = q.liq_pp.enabled;
+  for (auto& l : q.liq_pw) wet = wet || l.enabled;
+  // The sinks live in the liquid passes (4c): they run every step when either is on, bridges or not.
+  const LiquidSinkParams& sk = q.sinks;
+  if (sk.absorbs()) {
+    g.absorb_mode = std::isinf(sk.absorption_rate) ? 2u : 1u;
+    const uint64_t a = loss_fraction_q64(sk.absorption_rate * q.dt);
+    g.absorb_q64[0] = uint32_t(a);
+    g.absorb_q64[1] = uint32_t(a >> 32);
+  }
+  if (sk.evaporates()) {
+    g.evap_on = 1u;
+    const uint64_t e = loss_fraction_q64(q.dt / sk.evaporation_time);
+    g.evap_q64[0] = uint32_t(e);
+    g.evap_q64[1] = uint32_t(e >> 32);
+  }
+  g.liquid_on = (wet || g.absorb_mode != 0u || g.evap_on != 0u) ? 1u : 0u;
+  g.omega = float(q.drum.omega);
+  for (int a = 0; a < 3; ++a) g.gravity[a] = float(q.gravity[a]);
+  return g;
+}
+
+}  // namespace
+
+uint32_t System::Impl::run_of(uint32_t id) const {
+  return uint32_t(std::upper_bound(run_off.begin(), run_off.end(), id) - run_off.begin()) - 1u;
+}
+
 void System::Impl::setup(double r_max, double r_min) {
   setup_r_max = r_max;
   setup_r_min = r_min;
   // The list must hold every pair that can touch at the next force evaluation, so a skin of zero is
   // not usable: 0 selects 0.1 r_min (a rebuild every few steps at drum speeds).
-  if (prm.skin <= 0.0) prm.skin = 0.1 * r_min;
+  for (size_t r = 0; r < run_prm.size(); ++r) {
+    SimParams& q = run_prm[r];
+    if (q.skin <= 0.0) q.skin = 0.1 * r_min;
+    const DrumParams& d = q.drum;
+    if (!(d.radius > 0) || !(d.length > 0))
+      throw std::invalid_argument("drum: radius and length must be > 0");
+    if (!(q.dt > 0)) throw std::invalid_argument("dt must be > 0");
+    for (const LiquidParams* l : {&q.liq_pp, &q.liq_pw[0], &q.liq_pw[1], &q.liq_pw[2]})
+      if (l->viscosity > 0 && !(l->lubrication_cutoff > 0))
+        throw std::invalid_argument(
+            "liquid: viscosity > 0 needs lubrication_cutoff > 0 (S = max(gap, S_min))");
+    // Runs stepped together share the clock, the position ticks (set by the drum's size) and the cell grid.
+    const SimParams& z = run_prm[0];
+    auto same = [&](bool eq, const char* key) {
+      if (!eq)
+        throw std::invalid_argument(fmt::format(
+            "ensemble: run {} has another {} than run 0; runs stepped together must share it", r, key));
+    };
+    same(q.dt == z.dt, "dt");
+    same(d.radius == z.drum.radius, "drum.radius");
+    same(d.length == z.drum.length, "drum.length");
+    same(d.periodic_z == z.drum.periodic_z, "drum periodicity");
+    same(d.plate_lo.present == z.drum.plate_lo.present && d.plate_hi.present == z.drum.plate_hi.present,
+         "set of end plates");
+  }
+  prm = run_prm[0];
+  // One list and one rebuild schedule for all runs: the thinnest skin decides the rebuilds, the widest
+  // bridge range the list. Segments are in a canonical order (nbr_fill.comp), so a run's result does not
+  // depend on either: extra pairs add exact zeros, extra rebuilds change nothing.
+  double skin = prm.skin, range_pp = prm.bridge_range_pp();
+  for (const SimParams& q : run_prm) {
+    skin = std::min(skin, q.skin);
+    range_pp = std::max(range_pp, q.bridge_range_pp());
+  }
   const DrumParams& d = prm.drum;
-  if (!(d.radius > 0) || !(d.length > 0)) throw std::invalid_argument("drum: radius and length must be > 0");
-  if (!(prm.dt > 0)) throw std::invalid_argument("dt must be > 0");
-  for (const LiquidParams* l : {&prm.liq_pp, &prm.liq_pw[0], &prm.liq_pw[1], &prm.liq_pw[2]})
-    if (l->viscosity > 0 && !(l->lubrication_cutoff > 0))
-      throw std::invalid_argument("liquid: viscosity > 0 needs lubrication_cutoff > 0 (S = max(gap, S_min))");
-  const double range_pp = prm.bridge_range_pp();
-  const double cutoff_extra = range_pp + prm.skin;
+  const double cutoff_extra = range_pp + skin;
   const double cell = 2.0 * r_max + cutoff_extra;
   // The tick depends on the drum alone (not on the particles), so quantised states stay quantised.
   const double half_extent = std::max(d.radius, 0.5 * d.length) * 1.5;
@@ -93,112 +213,128 @@ void System::Impl::setup(double r_max, double r_min) {
     origin[2] = int32_t(std::floor(lo * inv_h));
     dims[2] = int32_t(std::ceil((d.length + 2.0 * margin) * inv_h / double(cell_ticks)));
   }
+  const uint64_t n_run = run_off[1] - run_off[0];  // the grid choice of one run (the largest one's below)
+  uint64_t largest = n_run;
+  for (size_t r = 1; r + 1 < run_off.size(); ++r)
+    largest = std::max<uint64_t>(largest, run_off[r + 1] - run_off[r]);
   uint64_t ncells = uint64_t(dims[0]) * dims[1] * dims[2];
   uint32_t hash_mask = 0;
   // A domain much larger than the particles (a test box, a sparse gas) would need a huge dense grid:
   // hash the cells into a power-of-two table instead (cell order then no longer follows space).
-  if (ncells > std::max<uint64_t>(8ull * n, 1u << 16)) {
+  if (ncells > std::max<uint64_t>(8ull * largest, 1u << 16)) {
     uint64_t buckets = 1024;
-    while (buckets < 2ull * n) buckets *= 2;
+    while (buckets < 2ull * largest) buckets *= 2;
     hash_mask = uint32_t(buckets - 1);
     ncells = buckets;
     origin[0] = origin[1] = -(1 << 30);
     if (!d.periodic_z) origin[2] = -(1 << 30);
   }
-  cells = uint32_t(ncells);
+  const uint64_t all_cells = ncells * run_prm.size();
+  if (all_cells >= (1ull << 32)) throw std::invalid_argument("ensemble: too many cells for 32-bit cell keys");
+  cells = uint32_t(all_cells);
   key_bits = 1;
-  while ((1ull << key_bits) < ncells) ++key_bits;
+  while ((1ull << key_bits) < all_cells) ++key_bits;
 
-  auto contact = [](const ContactParams& c) {
-    gpu::GpuContact g{};
-    g.E_star = float(c.E_star);
-    g.G_star = float(c.G_star);
-    g.phi_n = float(damping_factor(c.restitution));
-    g.mu_s = float(c.mu_s);
-    g.mu_r = float(c.mu_r);
-    g.phi_t = float(c.phi_t);
-    g.eta_r = float(c.eta_r);
-    return g;
-  };
-  auto liquid = [&](const LiquidParams& l, double range) {
-    gpu::GpuLiquid g{};
-    const double pi = 3.14159265358979323846;
-    g.v_min = l.v_min;
-    g.v_max = l.v_max;
-    g.f0_per_Rh = float(2.0 * pi * l.gamma * std::cos(l.theta));
-    g.rupture_coef = float(1.0 + 0.5 * l.theta_r());  // hysteresis: rupture at the receding angle
-    g.unit_m3 = float(prm.liquid_unit_m3);
-    g.range = float(range);
-    g.enabled = l.enabled ? 1u : 0u;
-    g.dc_q16 = uint32_t(std::lround(std::clamp(l.d_c, 0.0, 1.0) * 65536.0));
-    return g;
-  };
-  auto effects = [](const ContactParams& c, const LiquidParams& l) {
-    gpu::GpuEffects g{};
-    const double pi = 3.14159265358979323846;
-    g.visc_eta = float(l.viscosity);
-    g.visc_smin = float(l.lubrication_cutoff);
-    g.f0r_per_Rh = float(2.0 * pi * l.gamma * std::cos(l.theta_r()));
-    g.adhesion = float(1.5 * pi * c.surface_energy);
-    return g;
-  };
-  gp = {};
-  gp.pp = contact(prm.pp);
-  gp.fx[0] = effects(prm.pp, prm.liq_pp);
-  for (uint32_t w = 0; w < kNumWalls; ++w) gp.fx[1 + w] = effects(prm.pw[w], prm.liq_pw[w]);
-  gp.lpp = liquid(prm.liq_pp, range_pp);
-  for (uint32_t w = 0; w < kNumWalls; ++w) {
-    gp.pw[w] = contact(prm.pw[w]);
-    gp.lpw[w] = liquid(prm.liq_pw[w], prm.bridge_range_pw(w));
-  }
+  // What every run shares.
+  shared = {};
   const int64_t r_ticks = std::llround(d.radius * inv_h);
-  gp.drum_r_ticks = int32_t(r_ticks);
-  gp.drum_r_frac = float(d.radius * inv_h - double(r_ticks));
-  gp.drum_r2_ticks = r_ticks * r_ticks;
-  gp.plate_z_ticks = int32_t(std::llround(0.5 * d.length * inv_h));
-  gp.period_ticks = int32_t(period);
-  gp.cell_ticks = int32_t(cell_ticks);
+  shared.drum_r_ticks = int32_t(r_ticks);
+  shared.drum_r_frac = float(d.radius * inv_h - double(r_ticks));
+  shared.drum_r2_ticks = r_ticks * r_ticks;
+  shared.plate_z_ticks = int32_t(std::llround(0.5 * d.length * inv_h));
+  shared.period_ticks = int32_t(period);
+  shared.cell_ticks = int32_t(cell_ticks);
   for (int a = 0; a < 3; ++a) {
-    gp.grid_origin[a] = origin[a];
-    gp.grid_dims[a] = dims[a];
+    shared.grid_origin[a] = origin[a];
+    shared.grid_dims[a] = dims[a];
   }
-  gp.plate_present[0] = d.plate_lo.present ? 1u : 0u;
-  gp.plate_present[1] = d.plate_hi.present ? 1u : 0u;
-  gp.plate_rotates[0] = d.plate_lo.rotates ? 1u : 0u;
-  gp.plate_rotates[1] = d.plate_hi.rotates ? 1u : 0u;
-  gp.num_particles = n;
-  bool liquid_on = prm.liq_pp.enabled;
-  for (auto& l : prm.liq_pw) liquid_on = liquid_on || l.enabled;
-  // The sinks live in the liquid passes (4c): they run every step when either is on, bridges or not.
-  const LiquidSinkParams& sk = prm.sinks;
-  if (sk.absorbs()) {
-    gp.absorb_mode = std::isinf(sk.absorption_rate) ? 2u : 1u;
-    const uint64_t a = loss_fraction_q64(sk.absorption_rate * prm.dt);
-    gp.absorb_q64[0] = uint32_t(a);
-    gp.absorb_q64[1] = uint32_t(a >> 32);
-  }
-  if (sk.evaporates()) {
-    gp.evap_on = 1u;
-    const uint64_t e = loss_fraction_q64(prm.dt / sk.evaporation_time);
-    gp.evap_q64[0] = uint32_t(e);
-    gp.evap_q64[1] = uint32_t(e >> 32);
-  }
-  liquid_on = liquid_on || gp.absorb_mode != 0u || gp.evap_on != 0u;
-  gp.liquid_on = liquid_on ? 1u : 0u;
-  gp.dt = float(prm.dt);
-  gp.h = float(h);
-  gp.inv_h = float(inv_h);
-  gp.omega = float(d.omega);
-  for (int a = 0; a < 3; ++a) gp.gravity[a] = float(prm.gravity[a]);
-  gp.skin = float(prm.skin);
-  gp.cutoff_extra = float(cutoff_extra);
-  gp.drum_r = float(d.radius);
-  gp.hash_mask = hash_mask;
+  shared.plate_present[0] = d.plate_lo.present ? 1u : 0u;
+  shared.plate_present[1] = d.plate_hi.present ? 1u : 0u;
+  shared.num_particles = n;
+  shared.dt = float(prm.dt);
+  shared.h = float(h);
+  shared.inv_h = float(inv_h);
+  shared.skin = float(skin);
+  shared.cutoff_extra = float(cutoff_extra);
+  shared.drum_r = float(d.radius);
+  shared.hash_mask = hash_mask;
+  shared.runs = uint32_t(run_prm.size());
+  shared.run_stride = uint32_t(sizeof(gpu::GpuParams));
+  shared.cells_per_run = uint32_t(ncells);
+  shared_skin = skin;
+  shared_range = range_pp;
+  build_params();
 
   drop_cache();
-  B = std::make_unique<BufferSet>(ctx, n, cells);
-  B->params.upload(&gp, sizeof(gp));
+  B = std::make_unique<BufferSet>(ctx, n, cells, uint32_t(run_prm.size()));
+  B->params.upload(gps.data(), gps.size() * sizeof(gpu::GpuParams));
+  if (run_prm.size() > 1) {
+    std::vector<uint32_t> run(n);
+    for (uint32_t id = 0; id < n; ++id) run[id] = run_of(id);
+    B->run_of.upload(run);
+  }
   gate.set(B->ctl.handle(), opt.profile_passes ? &prof : nullptr);
+}
+
+void System::Impl::build_params() {
+  gps.clear();
+  uint32_t liquid_on = 0u;
+  for (const SimParams& q : run_prm) {
+    gpu::GpuParams g = physics_block(q);
+    liquid_on |= g.liquid_on;
+    g.drum_r2_ticks = shared.drum_r2_ticks;
+    g.drum_r_ticks = shared.drum_r_ticks;
+    g.plate_z_ticks = shared.plate_z_ticks;
+    g.period_ticks = shared.period_ticks;
+    g.cell_ticks = shared.cell_ticks;
+    for (int a = 0; a < 3; ++a) {
+      g.grid_origin[a] = shared.grid_origin[a];
+      g.grid_dims[a] = shared.grid_dims[a];
+    }
+    g.plate_present[0] = shared.plate_present[0];
+    g.plate_present[1] = shared.plate_present[1];
+    g.num_particles = shared.num_particles;
+    g.dt = shared.dt;
+    g.h = shared.h;
+    g.inv_h = shared.inv_h;
+    g.skin = shared.skin;
+    g.cutoff_extra = shared.cutoff_extra;
+    g.drum_r = shared.drum_r;
+    g.drum_r_frac = shared.drum_r_frac;
+    g.hash_mask = shared.hash_mask;
+    g.runs = shared.runs;
+    g.run_stride = shared.run_stride;
+    g.cells_per_run = shared.cells_per_run;
+    gps.push_back(g);
+  }
+  // The liquid passes run when any run needs them (for a dry run they change nothing).
+  for (gpu::GpuParams& g : gps) g.liquid_on = liquid_on;
+  gp = gps[0];
+}
+
+void System::Impl::set_run_params(size_t r, const SimParams& p) {
+  if (r >= run_prm.size()) throw std::invalid_argument(fmt::format("set_run_params: no run {}", r));
+  SimParams q = p;
+  if (q.skin <= 0.0) q.skin = run_prm[r].skin;
+  const SimParams& z = run_prm[r];
+  auto same = [&](bool eq, const char* key) {
+    if (!eq)
+      throw std::invalid_argument(
+          fmt::format("set_run_params: run {}: {} cannot change in a System", r, key));
+  };
+  same(q.dt == z.dt, "dt");
+  same(q.drum.radius == z.drum.radius && q.drum.length == z.drum.length, "the drum's size");
+  same(q.drum.periodic_z == z.drum.periodic_z, "the drum's periodicity");
+  same(q.drum.plate_lo.present == z.drum.plate_lo.present &&
+           q.drum.plate_hi.present == z.drum.plate_hi.present,
+       "the set of end plates");
+  same(q.skin >= shared_skin, "the skin (thinner than the rebuild schedule's)");
+  same(q.bridge_range_pp() <= shared_range, "the bridge range (wider than the list's)");
+  run_prm[r] = q;
+  if (r == 0) prm = q;
+  build_params();
+  drop_cache();  // the liquid passes may now run or not
+  B->params.upload(gps.data(), gps.size() * sizeof(gpu::GpuParams));
 }
 
 void System::Impl::run(VkCommandBuffer cb, const char* name, uint32_t groups) {
@@ -433,7 +569,36 @@ void System::Impl::step(uint64_t count) {
 }
 
 System::System(vk::Context& ctx, const SimParams& prm, size_t num_particles, SystemOptions opt)
-    : impl_(std::make_unique<Impl>(ctx, prm, num_particles, opt)) {}
+    : impl_(std::make_unique<Impl>(ctx, std::vector<SimParams>{prm}, std::vector<size_t>{num_particles},
+                                   opt)) {}
+System::System(vk::Context& ctx, const std::vector<SimParams>& runs, const std::vector<size_t>& sizes,
+               SystemOptions opt)
+    : impl_(std::make_unique<Impl>(ctx, runs, sizes, opt)) {}
+void System::upload_runs(const std::vector<SystemState>& states) {
+  if (states.size() != impl_->run_prm.size())
+    throw std::invalid_argument(
+        fmt::format("upload_runs: {} states for {} runs", states.size(), impl_->run_prm.size()));
+  for (size_t r = 0; r < states.size(); ++r)
+    if (states[r].p.size() != impl_->run_off[r + 1] - impl_->run_off[r])
+      throw std::invalid_argument(fmt::format("upload_runs: run {} has {} particles, the system holds {}", r,
+                                              states[r].p.size(), impl_->run_off[r + 1] - impl_->run_off[r]));
+  impl_->upload(concat_states(states));
+}
+std::vector<SystemState> System::download_runs() {
+  std::vector<size_t> sizes;
+  for (size_t r = 0; r + 1 < impl_->run_off.size(); ++r)
+    sizes.push_back(impl_->run_off[r + 1] - impl_->run_off[r]);
+  return split_state(impl_->download(), sizes);
+}
+size_t System::runs() const {
+  return impl_->run_prm.size();
+}
+const SimParams& System::run_params(size_t r) const {
+  return impl_->run_prm.at(r);
+}
+void System::set_run_params(size_t r, const SimParams& prm) {
+  impl_->set_run_params(r, prm);
+}
 System::~System() = default;
 void System::upload(const SystemState& s) {
   impl_->upload(s);

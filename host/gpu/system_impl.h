@@ -69,12 +69,18 @@ class GatedDispatcher final : public Dispatcher {
 
 struct System::Impl {
   vk::Context& ctx;
-  SimParams prm;
+  SimParams prm;                   // run 0's (the only run's) parameters, skin resolved
+  std::vector<SimParams> run_prm;  // ensembles: each run's parameters (README "Ensembles"); [0] is prm
+  std::vector<uint32_t> run_off;   // first stable id of each run, and n at the end
   SystemOptions opt;
   uint32_t n;
   double h = 0.0, inv_h = 0.0;                  // tick size (m)
   double setup_r_max = 0.0, setup_r_min = 0.0;  // setup()'s inputs, kept for snapshots
-  gpu::GpuParams gp{};
+  gpu::GpuParams gp{};                          // run 0's block (fields every run shares are the same in all)
+  std::vector<gpu::GpuParams> gps;              // one block per run
+  gpu::GpuParams shared{};                      // the fields every run shares (setup), copied into each block
+  double shared_skin = 0.0, shared_range = 0.0;  // the rebuild schedule's skin, the list's bridge range
+  void build_params();
   uint32_t cells = 0, key_bits = 1;
   std::unique_ptr<BufferSet> B;
   std::map<std::string, std::unique_ptr<vk::Kernel>> kernels;
@@ -95,7 +101,9 @@ struct System::Impl {
   SystemCounters ctr;
   bool uploaded = false;
 
-  Impl(vk::Context& c, const SimParams& p, size_t num, SystemOptions o);
+  Impl(vk::Context& c, const std::vector<SimParams>& runs, const std::vector<size_t>& sizes, SystemOptions o);
+  uint32_t run_of(uint32_t id) const;  // the run of a stable id
+  void set_run_params(size_t r, const SimParams& p);
   ~Impl();
   void drop_cache();
   // ---- parameters and grid -------------------------------------------------------------------------

@@ -92,7 +92,8 @@ void System::Impl::upload(const SystemState& s) {
   for (uint32_t k = 0; k < n; ++k) {
     if (k < s.p.pore.size()) pore[k] = s.p.pore[k];
     if (k < s.p.evaporated.size()) evap[k] = s.p.evaporated[k];
-    pcap[k] = pore_capacity_units(prm.sinks.pore_capacity, s.p.radius[k], prm.liquid_unit_m3);
+    const SimParams& q = run_prm[run_of(k)];
+    pcap[k] = pore_capacity_units(q.sinks.pore_capacity, s.p.radius[k], q.liquid_unit_m3);
   }
   P0[gpu::kPore].upload(pore);
   P0[gpu::kEvap].upload(evap);
@@ -169,9 +170,9 @@ void System::Impl::upload(const SystemState& s) {
     // bridges now, as MercuryDPM's initialiseSolve does, rather than after a separation and a new touch.
     const uint32_t gN = groups_for(n);
     // The liquid sinks act per step (over dt), not at upload: switched off for these events.
-    gpu::GpuParams at_rest = gp;
-    at_rest.absorb_mode = at_rest.evap_on = 0u;
-    B->params.upload(&at_rest, sizeof(at_rest));
+    std::vector<gpu::GpuParams> at_rest = gps;
+    for (gpu::GpuParams& g : at_rest) g.absorb_mode = g.evap_on = 0u;
+    B->params.upload(at_rest.data(), at_rest.size() * sizeof(gpu::GpuParams));
     VkCommandBuffer lb = record([&](VkCommandBuffer r) {
       run(r, "liq_upload_flags", gN);
       run(r, "liq_rupture_share", gN);
@@ -182,7 +183,7 @@ void System::Impl::upload(const SystemState& s) {
     });
     submit(lb);
     vkFreeCommandBuffers(ctx.device(), ctx.pool(), 1, &lb);
-    B->params.upload(&gp, sizeof(gp));
+    B->params.upload(gps.data(), gps.size() * sizeof(gpu::GpuParams));
     check_health(read_ctl());
   }
   ctr.rebuilds = 0;

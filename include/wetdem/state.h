@@ -70,6 +70,11 @@ struct SystemState {
   void canonicalize();
 };
 
+// Ensembles (README "Ensembles"): several runs' states as one, run r's particle k getting the stable id
+// (first id of run r) + k, and back. Times and steps are run 0's (runs stepped together share them).
+SystemState concat_states(const std::vector<SystemState>& runs);
+std::vector<SystemState> split_state(const SystemState& all, const std::vector<size_t>& sizes);
+
 // Builds a particle of solid density rho (kg/m^3): mass and inertia (solid sphere, 2/5 m r^2).
 void set_sphere(ParticleArrays& p, size_t k, glm::dvec3 x, double radius, double density);
 

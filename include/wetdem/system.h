@@ -64,6 +64,13 @@ struct DeviceMemory {
 class System {
  public:
   System(vk::Context& ctx, const SimParams& prm, size_t num_particles, SystemOptions opt = {});
+  // An ensemble (README "Ensembles"): independent runs stepped together in the same dispatches, run r with
+  // sizes[r] particles and its own parameters (contact, liquid, effects, drum speed, sinks). They share the
+  // clock (dt), the drum's size, periodicity and plates (the position ticks and the cell grid), and one
+  // rebuild schedule; each run's cells are its own, so runs never touch, and each run is bitwise the same
+  // run done alone (segment order, nbr_fill.comp). Throws std::invalid_argument naming what differs.
+  System(vk::Context& ctx, const std::vector<SimParams>& runs, const std::vector<size_t>& sizes,
+         SystemOptions opt = {});
   ~System();
   System(const System&) = delete;
   System& operator=(const System&) = delete;
@@ -76,6 +83,15 @@ class System {
   // checkpoints: restore(snapshot()) on the same device continues bitwise as if never interrupted.
   std::vector<uint8_t> snapshot();
   void restore(const std::vector<uint8_t>& blob);
+
+  // Ensembles: one state per run in, one per run out (each in its own stable ids from 0).
+  void upload_runs(const std::vector<SystemState>& states);
+  std::vector<SystemState> download_runs();
+  size_t runs() const;
+  const SimParams& run_params(size_t r) const;
+  // Replaces run r's physics between steps (e.g. the drum starts turning): everything the runs share (dt,
+  // drum size, plates, the grid) must stay, else std::invalid_argument. With one run, r = 0.
+  void set_run_params(size_t r, const SimParams& prm);
 
   // Advances n steps; records them in as few submits as steps_per_submit allows. Grows buffers on overflow
   // and redoes the affected steps, so nothing is dropped.

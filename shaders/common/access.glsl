@@ -46,6 +46,7 @@ layout(buffer_reference, std430, buffer_reference_align = 8) readonly buffer Tab
   uint64_t pair_f, pair_t, ev, partner;
   uint64_t p_share, p_gain, p_full, p_offer;
   uint64_t own_scan, owners;  // owner entries per particle (scanned) and the owner list of the current set
+  uint64_t run_of;            // ensembles: the run of each stable id (uint); unused with one run
 };
 
 layout(push_constant) uniform Push {
@@ -62,9 +63,16 @@ layout(push_constant) uniform Push {
 
 Table T() { return Table(pc.table); }
 Uints CTL() { return Uints(T().ctl); }
-Params PRM() { return Params(T().params); }
-bool halted() { return CTL().v[CTL_HALT] != 0u; }
-uint parity() { return CTL().v[CTL_PARITY]; }
+// Run 0's parameters: the fields every run shares (counts, grid, ticks, dt, skin) are the same in each copy.
 uint64_t paddr(uint set, uint field) { return T().pset[set * PF_COUNT + field]; }
 uint64_t eaddr(uint set, uint field) { return T().eset[set * EF_COUNT + field]; }
+Params PRM() { return Params(T().params); }
+// Ensembles (several independent runs in one system, README "Ensembles"): the parameters of run r, and the
+// run of a particle from its stable id. Physics reads them; with one run both are run 0's, with no load.
+Params PRMR(uint r) { return Params(T().params + uint64_t(r) * uint64_t(PRM().run_stride)); }
+uint run_of_id(int id) { return PRM().runs > 1u ? Uints(T().run_of).v[id] : 0u; }
+// The parameters of sorted particle i of set s.
+Params PRM_OF(uint i, uint s) { return PRMR(run_of_id(IVec4s(paddr(s, PF_POS)).v[i].w)); }
+bool halted() { return CTL().v[CTL_HALT] != 0u; }
+uint parity() { return CTL().v[CTL_PARITY]; }
 #endif

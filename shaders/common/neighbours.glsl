@@ -6,13 +6,16 @@
 #define WETDEM_NEIGHBOURS_GLSL
 #include "geom.glsl"
 
-// Calls VISIT(j) for every neighbour j of sorted particle i in the set s.
+// Calls VISIT(j) for every neighbour j of sorted particle i in the set s. In an ensemble each run has its own
+// block of cells (cell_key.comp), so only the particle's own run is searched; its block is read off its sorted
+// key (reading the run table here instead made llvmpipe's compiled loop crash).
 #define FOR_EACH_NEIGHBOUR(i, s, P, VISIT)                                                        \
   {                                                                                               \
     IVec4s pos_ = IVec4s(paddr(s, PF_POS));                                                       \
     Vec4s props_ = Vec4s(paddr(s, PF_PROPS));                                                     \
     Uints cs_ = Uints(T().cell_start), ce_ = Uints(T().cell_end);                                 \
     ivec3 pi_ = pos_.v[i].xyz;                                                                    \
+    uint block_ = (Uints(T().cell_key).v[i] / P.cells_per_run) * P.cells_per_run;                 \
     Vec4s fr_ = Vec4s(paddr(s, PF_FRAC));                                                         \
     vec3 fi_ = fr_.v[i].xyz;                                                                      \
     float ri_ = props_.v[i].x;                                                                    \
@@ -29,7 +32,7 @@
           if (P.period_ticks > 0) c_.z = (c_.z + dims_.z) % dims_.z;                              \
           if (P.hash_mask == 0u &&                                                                \
               (any(lessThan(c_, ivec3(0))) || any(greaterThanEqual(c_, dims_)))) continue;        \
-          uint k_ = cell_index(c_, P);                                                            \
+          uint k_ = cell_index(c_, P) + block_;                                                   \
           /* hashed grid: two neighbour cells may share a bucket; visit each bucket once */       \
           bool dup_ = false;                                                                      \
           for (uint q_ = 0u; q_ < nseen_; ++q_) dup_ = dup_ || seen_[q_] == k_;                   \

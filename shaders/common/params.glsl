@@ -44,5 +44,9 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Pa
   uint evap_q64[2];
   uint absorb_mode;  // 0 off, 1 rate, 2 instantaneous
   uint evap_on;
+  uint runs;           // ensembles: runs in this system (1: a single run)
+  uint run_stride;     // bytes between the parameter blocks of consecutive runs
+  uint cells_per_run;  // each run has its own block of cells: runs never see each other
+  uint pad_runs;
 };
 #endif

@@ -58,11 +58,9 @@ void DrumSession::advance(uint64_t to) {
   sys_->step(to - step_);
   step_ = to;
   if (step_ == sch_.n_settle && sch_.n_settle > 0) {
-    // Rotation starts: a system with the turning drum takes the settled state (downloaded and uploaded whole,
-    // so this is exact, and done identically in a resumed run, whose checkpoint is written after it).
-    SystemState st = sys_->download();
-    make_system(true);
-    sys_->upload(st);
+    // Rotation starts: the drum's speed is set in place (the state stays on the device untouched; done
+    // identically in a resumed run, whose checkpoint is written after it, and in an ensemble).
+    sys_->set_run_params(0, phase_params(prep_.prm, true));
     log_(fmt::format("settled at t = {:.4g} s: drum starts turning at {:.4g} rad/s", time(),
                      prep_.prm.drum.omega));
   }
