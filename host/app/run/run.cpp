@@ -16,6 +16,7 @@
 #include "app/drum/psd.h"
 #include "app/output/checkpoint.h"
 #include "app/output/progress.h"
+#include "app/run/driver.h"
 #include "app/run/log.h"
 #include "app/run/outputs.h"
 #include "app/run/resources.h"
@@ -31,83 +32,14 @@ namespace {
 
 volatile std::sig_atomic_t g_interrupt = 0;
 
-std::string local_time(const char* fmt_str) {
-  const std::time_t t = std::time(nullptr);
-  std::tm tm{};
-  localtime_r(&t, &tm);
-  char buf[64];
-  std::strftime(buf, sizeof buf, fmt_str, &tm);
-  return buf;
-}
-
-// The run folder: a new one (refusing one that holds a run), or the folder of a run to resume.
-fs::path open_run_folder(const RunOptions& opt, const Case& c) {
-  if (!opt.resume_dir.empty()) {
-    const fs::path dir = opt.resume_dir;
-    if (fs::exists(dir / "summary.json"))
-      throw CaseError("", "--resume " + dir.string() + ": the run is complete");
-    return dir;
-  }
-  const fs::path dir =
-      opt.out_dir.empty()
-          ? fs::path("runs") / ((c.name.empty() ? fs::path(c.source).stem().string() : c.name) + "-" +
-                                local_time("%Y%m%d-%H%M%S"))
-          : fs::path(opt.out_dir);
-  for (const char* f : {"summary.json", "case.toml", "checkpoint"})
-    if (fs::exists(dir / f))
-      throw CaseError("", "--out " + dir.string() + " already holds a run (use --resume or another --out)");
-  fs::create_directories(dir);
-  write_file_atomic((dir / "case.toml").string(),
-                    "# resolved case (SI), written by wetdem run\n" + case_to_toml(c));
-  return dir;
-}
-
-void log_setup(RunLog& log, const Prepared& prep, const Schedule& sch, bool resume) {
-  const Case& c = prep.c;
-  const Derived& d = prep.derived;
-  log(fmt::format("wetdem {} | {} | {} | case {}", code_version(), local_time("%Y-%m-%d %H:%M:%S"),
-                  resume ? "resume" : "run", c.source));
-  for (const std::string& note : c.notes) log("note: " + note);
-  for (const std::string& note : d.notes) log("note: " + note);
-  log("psd: " + prep.psd_description);
-  const PsdQuantiles q = sample_quantiles(prep.diameters, PsdBasis::kVolume);
-  log(fmt::format(
-      "inserted: {} particles, volume-basis D10/D25/D50/D75/D90 = {:.1f}/{:.1f}/{:.1f}/{:.1f}/{:.1f} µm "
-      "(scaled, l = {})",
-      prep.state.p.size(), q.d10 * 1e6, q.d25 * 1e6, q.d50 * 1e6, q.d75 * 1e6, q.d90 * 1e6, c.scaling));
-  log(fmt::format(
-      "material: density {} kg/m³ (particle density: an assumption, the paper gives bulk densities), "
-      "nu = {:.4g}, reduced E* = {:.4g} Pa, G* = {:.4g} Pa",
-      c.material.density, d.nu, d.E_star, d.G_star));
-  log(fmt::format(
-      "time step: dt = {:.4g} s ({} x Rayleigh time {:.4g} s of r_min = {:.4g} m){}; skin {:.4g} m{}", d.dt,
-      c.run.dt ? d.dt / d.t_rayleigh : c.run.dt_rayleigh_fraction, d.t_rayleigh, d.r_min,
-      c.run.dt ? " (run.dt)" : "", d.skin, c.run.skin ? "" : " (0.3 r_min)"));
-  if (c.liquid.on())
-    log(fmt::format(
-        "liquid: gamma x l = {:.4g} N/m, unit = V-bar_S 2^-40 = {:.4g} m³, V_min = {} units, V_max = {} "
-        "units, films {}",
-        d.gamma_scaled, d.liquid_unit_m3, d.v_min_units, d.v_max_units,
-        c.liquid.films == FilmMode::MeanVolume ? "phi_L x V-bar_S" : "phi_L x own volume"));
-  log(fmt::format(
-      "schedule: {} settle + {} rotating steps, sample every {}, snapshot every {}, checkpoint every {}",
-      sch.n_settle, sch.total - sch.n_settle, sch.sample, sch.snapshot, sch.checkpoint));
-}
-
-void log_result(RunLog& log, const nlohmann::json& s, const fs::path& dir) {
-  log(aor_log_line(s));  // with tau_int, n_eff and the stationarity verdict (issue 12)
-  auto num = [](const nlohmann::json& v) {
-    return v.is_number() ? fmt::format("{:.4g}", v.get<double>()) : "-";
-  };
-  log(fmt::format("f_wet = {}, bridges {}, contacts {} (window means); {:.3g} particle-steps/s; summary: {}",
-                  num(s["f_wet_mean"]), num(s["bridges_mean"]), num(s["contacts_mean"]),
-                  s["particle_steps_per_s"].get<double>(), (dir / "summary.json").string()));
-}
-
 }  // namespace
 
 void request_interrupt() {
   g_interrupt = 1;
+}
+
+bool interrupt_requested() {
+  return g_interrupt != 0;
 }
 
 RunResult run_case(const RunOptions& opt) {
@@ -222,31 +154,12 @@ RunResult run_case(const RunOptions& opt) {
     SystemState fin = run->system().download();
     if (out.has_frames() && (sch.snapshot == 0 || !sch.due(run->step(), sch.snapshot)))
       out.frame(run->state());
-    RunTotals t;
-    t.particles = n;
-    t.steps = run->step();
-    t.dt = d.dt;
-    t.liquid_start = run->liquid_start();
-    t.liquid_end = fin.total_liquid();
-    t.liquid_budget_end = fin.liquid_budget();
-    t.liquid_unit_m3 = prep.prm.liquid_unit_m3;
     const double wall = wall_now();
-    t.particle_steps_per_s = wall > 0 ? double(n) * double(run->step() - first_step) / wall : 0.0;
-    t.wall_s = wall_before + wall;
-    t.device = run->system().device_name();
-    t.inserted_diameters = prep.diameters;
-    t.final_state_hash = state_hash(fin);
-    t.counters = run->system().counters();
-    t.resumed_from_step = resume ? first_step : 0;
-    result.summary = make_summary(c, d, run->samples(), t);
-    if (t.liquid_start != t.liquid_end)
-      log(fmt::format("WARNING: liquid not conserved: {} units at the start, {} at the end", t.liquid_start,
-                      t.liquid_end));
-    write_file_atomic((dir / "summary.json").string(), result.summary.dump(2) + "\n");
-    // A complete run cannot be resumed: its checkpoint (device buffers, large) is dropped.
-    fs::remove_all(dir / "checkpoint");
-    fs::remove_all(dir / "checkpoint.old");
-    log_result(log, result.summary, dir);
+    const RunTotals t =
+        run_totals(prep, fin, run->liquid_start(), run->step(),
+                   wall > 0 ? double(n) * double(run->step() - first_step) / wall : 0.0, wall_before + wall,
+                   run->system().device_name(), run->system().counters(), resume ? first_step : 0);
+    result.summary = write_summary(dir, prep, run->samples(), t, {}, log);
     result.completed = true;
     result.final_state = std::move(fin);
     return result;

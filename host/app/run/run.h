@@ -67,6 +67,7 @@ Prepared prepare_run(const Case& c);
 // Asks a running run_case to stop at its next step boundary (async-signal-safe: for SIGINT/SIGTERM handlers).
 // The run fails with "interrupted" (FAILED.txt, no summary.json); its last checkpoint stays for --resume.
 void request_interrupt();
+bool interrupt_requested();  // ... and whether one was asked for (run_batch polls it too)
 
 // Resolves a case like `wetdem run` does (file + overrides, or a run folder's case.toml for --resume).
 Case resolve_case(const RunOptions& opt);

@@ -1,5 +1,7 @@
 #include "app/run/session.h"
 
+#include "app/run/sample.h"
+
 #include <fmt/format.h>
 
 #include <cmath>
@@ -12,15 +14,11 @@
 
 namespace wetdem::app {
 
-namespace {
-
 SimParams phase_params(const SimParams& prm, bool rotating) {
   SimParams p = prm;
   if (!rotating) p.drum.omega = 0.0;  // settle with the drum at rest
   return p;
 }
-
-}  // namespace
 
 DrumSession::DrumSession(vk::Context& ctx, const Prepared& prep, LogFn log)
     : ctx_(ctx), prep_(prep), log_(std::move(log)), sch_(Schedule::of(prep.c, prep.derived.dt)) {
@@ -74,40 +72,14 @@ SystemState DrumSession::state() {
 }
 
 const Sample& DrumSession::sample() {
-  const SystemState st = sys_->download();
-  const Observables o = compute_observables(st, sys_->params());
-  // physics.md §6: warn (once) when dt is too large for the stiffest bridge present.
-  if (!dt_warned_)
-    if (auto w = capillary_timestep_warning_present(sys_->params(), st)) {
-      log_("WARNING: " + *w);
-      dt_warned_ = true;
-    }
-  const SystemCounters k = sys_->counters();
-  if (!std::isfinite(o.kinetic_energy))
-    throw std::runtime_error(
-        fmt::format("kinetic energy is not finite at step {}: the run blew up (dt too large?)", step_));
-  if (k.lost_bridges > 0)
-    throw std::runtime_error(
-        fmt::format("{} liquid bridges were lost with pairs leaving the neighbour list", k.lost_bridges));
-  if (k.escaped > 0)
-    throw std::runtime_error(fmt::format("{} particles escaped the drum by step {}", k.escaped, step_));
-  const AorSample a = dynamic_aor(std::vector<glm::dvec3>{o.com}, {}, prep_.prm.drum.radius);
-  Sample x;
+  SampleContext x;
+  x.prep = &prep_;
+  x.prm = &sys_->params();
   x.step = step_;
   x.time = time();
-  x.aor_signed_deg = a.signed_deg;
-  x.com_x = o.com.x;
-  x.com_y = o.com.y;
-  x.flagged = a.flagged;
-  x.contacts = o.contacts;
-  x.bridges = o.bridges;
-  x.f_wet = o.f_wet;
-  x.kinetic_energy = o.kinetic_energy;
-  x.camera = observe::observe_camera(st, prep_.prm, liquid_start_);      // diagnosis.md §2
-  x.liquid_films = o.liquid_films, x.liquid_bridges = o.liquid_bridges;  // liquid accounting
-  x.liquid_pores = o.liquid_pores, x.liquid_evaporated = o.liquid_evaporated;
-  x.liquid_unit_m3 = prep_.prm.liquid_unit_m3;
-  samples_.push_back(x);
+  x.liquid_start = liquid_start_;
+  x.counters = sys_->counters();
+  samples_.push_back(take_sample(sys_->download(), x, dt_warned_, log_));
   return samples_.back();
 }
 

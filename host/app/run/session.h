@@ -18,6 +18,9 @@
 
 namespace wetdem::app {
 
+// The run's parameters in its phase: settling with the drum at rest, or turning.
+SimParams phase_params(const SimParams& prm, bool rotating);
+
 class DrumSession {
  public:
   using LogFn = std::function<void(const std::string&)>;
