@@ -67,6 +67,7 @@ std::string default_cache() {
 struct Options {
   uint64_t steps = 1000, warmup = 0;
   bool warmup_given = false;
+  std::vector<size_t> ensembles;  // also time ensembles of this many copies of the steady drum
   double bandwidth_gbs = 0;
   bench::SteadyOptions steady;
 };
@@ -205,6 +206,34 @@ nlohmann::json bench_case(vk::Context& ctx, const app::Case& c, const std::strin
     j["gated_rebuilds"] = {{"particle_steps_per_s", gated_pss}, {"split_speedup", pss / gated_pss}};
   }
 
+  // Ensembles (README "Ensembles"): k runs of this drum from its steady state, stepped together in one
+  // System; run r's sliding friction is scaled by 1 + 1e-3 r so that the runs part ways. Aggregate
+  // particle-steps/s, and its ratio to the one run timed above (same device, same run).
+  if (!o.ensembles.empty()) {
+    app::DrumSession s(ctx, prep, st.ck, [](const std::string&) {});
+    const SystemState start = s.system().download();
+    j["ensembles"] = nlohmann::json::array();
+    for (size_t k : o.ensembles) {
+      std::vector<SimParams> prms(k, rotating_prm);
+      for (size_t r = 0; r < k; ++r) prms[r].pp.mu_s *= 1.0 + 1e-3 * double(r);
+      SystemOptions so;
+      so.steps_per_submit = prep.c.run.steps_per_submit;
+      System ens(ctx, prms, std::vector<size_t>(k, n), so);
+      ens.upload_runs(std::vector<SystemState>(k, start));
+      ens.step(warmup);
+      const auto t0 = std::chrono::steady_clock::now();
+      ens.step(o.steps);
+      const double agg = double(k) * double(n) * double(o.steps) / seconds_since(t0);
+      j["ensembles"].push_back({{"runs", k},
+                                {"particles", k * n},
+                                {"particle_steps_per_s", agg},
+                                {"speedup_over_one_run", agg / pss},
+                                {"rebuilds", ens.counters().rebuilds}});
+      log(fmt::format("ensemble of {} x {}: {:.3g} particle-steps/s ({:.2f}x one run)", k, n, agg,
+                      agg / pss));
+    }
+  }
+
   // Per pass: the same steps from the same state with a timestamp before every pass.
   {
     SystemOptions so;
@@ -256,6 +285,12 @@ void print_table(const nlohmann::json& runs) {
             : std::string("-"),
         passes_text(j, 3));
   }
+  for (const auto& j : runs)
+    if (j.contains("ensembles"))
+      for (const auto& e : j["ensembles"])
+        fmt::print("ensemble {} {} x {}: {:.3g} particle-steps/s aggregate, {:.2f}x one run\n",
+                   j["case"].get<std::string>(), j["variant"].get<std::string>(), e["runs"].get<size_t>(),
+                   e["particle_steps_per_s"].get<double>(), e["speedup_over_one_run"].get<double>());
   fmt::print("split rebuilds against the gated chain in every step (same steps, same device):");
   for (const auto& j : runs)
     fmt::print(" {} {} {:.2f}x;", j["case"].get<std::string>(), j["variant"].get<std::string>(),
@@ -291,6 +326,9 @@ int main(int argc, char** argv) {
   app.add_option("--bandwidth", o.bandwidth_gbs, "device memory bandwidth in GB/s (default: by device name)");
   app.add_option("--device", device, "device: index, name substring, cpu or gpu");
   app.add_option("--json", json_path, "write the results as JSON");
+  app.add_option("--ensemble", o.ensembles,
+                 "also time ensembles of these many copies of each drum in one System, e.g. 8,32")
+      ->delimiter(',');
   app.add_option("--soak", soak_steps,
                  "instead: liquid-conservation soak of this many steps (physics.md §7.8)");
   CLI11_PARSE(app, argc, argv);

@@ -57,6 +57,10 @@ class Impl : public Commands {
     run_->add_option("--out", dir_, "study directory (default studies/<name>)");
     run_->add_option("--jobs", jobs_, "runs at a time (default 1: one per GPU; lavapipe uses every core)");
     run_->add_option("--device", device_, "device for every run (index, name substring, gpu, cpu)");
+    run_->add_option("--batch", batch_,
+                     "hand up to K runs to one process, stepped together as ensembles (README Ensembles; "
+                     "default 1)")
+        ->check(CLI::PositiveNumber);
     run_->add_flag("--retry-failed", retry_, "rerun runs that failed (FAILED.txt) before");
     run_->add_flag("--no-collect", no_collect_, "do not collect when the runs are done");
     run_->add_flag("--calibrate", calibrate_after_,
@@ -67,6 +71,15 @@ class Impl : public Commands {
     one_->add_option("--index", index_, "run index (0-based, as in index.json)")->required();
     one_->add_option("--device", device_, "device");
     one_->add_flag("--quiet", quiet_, "no progress on stdout");
+
+    batch_cmd_ =
+        study_->add_subcommand("run-batch", "run some runs of a planned study as ensembles, in this process");
+    batch_cmd_->add_option("dir", dir_, "study directory")->required();
+    batch_cmd_->add_option("--index", indices_, "run indices, comma-separated (0-based, as in index.json)")
+        ->required()
+        ->delimiter(',');
+    batch_cmd_->add_option("--device", device_, "device");
+    batch_cmd_->add_flag("--quiet", quiet_, "no progress on stdout");
 
     slurm_ = study_->add_subcommand("slurm", "write a Slurm job array for the missing runs");
     slurm_->add_option("study", file_, "study file (TOML)")->required();
@@ -100,6 +113,7 @@ class Impl : public Commands {
       if (plan_->parsed()) return plan();
       if (run_->parsed()) return run();
       if (one_->parsed()) return run_one_cmd();
+      if (batch_cmd_->parsed()) return run_batch_cmd();
       if (slurm_->parsed()) return slurm();
       if (collect_->parsed()) return collect_cmd();
       if (cal_->parsed()) return calibrate_cmd();
@@ -187,6 +201,7 @@ class Impl : public Commands {
     for (int sig : {SIGINT, SIGTERM}) std::signal(sig, on_signal);
     ExecOptions eo;
     eo.jobs = jobs_;
+    eo.batch = batch_;
     eo.device = device_;
     eo.retry_failed = retry_;
     eo.exe = self_exe();
@@ -217,6 +232,18 @@ class Impl : public Commands {
       }
     }
     return r.failed + r.skipped_failed ? 1 : 0;
+  }
+
+  int run_batch_cmd() {
+    for (int sig : {SIGINT, SIGTERM}) std::signal(sig, on_signal);
+    const std::vector<OneResult> r = run_batch_of(dir_, indices_, device_, quiet_);
+    int failed = 0;
+    for (size_t q = 0; q < r.size(); ++q)
+      if (!r[q].skipped && !r[q].completed) {
+        std::fprintf(stderr, "wetdem: run %zu: %s\n", indices_[q], r[q].error.c_str());
+        ++failed;
+      }
+    return failed ? 1 : 0;
   }
 
   int run_one_cmd() {
@@ -285,12 +312,13 @@ class Impl : public Commands {
     return 0;
   }
 
-  CLI::App *study_ = nullptr, *plan_ = nullptr, *run_ = nullptr, *one_ = nullptr, *slurm_ = nullptr,
-           *collect_ = nullptr, *cal_ = nullptr;
+  CLI::App *study_ = nullptr, *plan_ = nullptr, *run_ = nullptr, *one_ = nullptr, *batch_cmd_ = nullptr,
+           *slurm_ = nullptr, *collect_ = nullptr, *cal_ = nullptr;
   std::string file_, dir_, device_;
   double throughput_ = 0;
   int jobs_ = 1;
-  size_t index_ = 0, refine_ = 0;
+  size_t index_ = 0, refine_ = 0, batch_ = 1;
+  std::vector<size_t> indices_;
   bool retry_ = false, no_collect_ = false, calibrate_after_ = false, quiet_ = false, submit_ = false,
        no_figures_ = false;
   SlurmOptions so_;

@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
@@ -12,7 +13,12 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <thread>
+
+#include "app/run/ensemble.h"
+#include "vk/context.h"
+#include "wetdem/version.h"
 
 namespace wetdem::study {
 
@@ -39,7 +45,11 @@ double summary_wall(const fs::path& run_dir) {
   std::ifstream f(run_dir / "summary.json");
   if (!f) return 0;
   try {
-    return nlohmann::json::parse(f).value("wall_time_s", 0.0);
+    const nlohmann::json j = nlohmann::json::parse(f);
+    // A run of an ensemble reports the ensemble's wall time: its share is that over the runs stepped
+    // together.
+    const double runs = j.contains("ensemble") ? j["ensemble"].value("runs", 1.0) : 1.0;
+    return j.value("wall_time_s", 0.0) / std::max(1.0, runs);
   } catch (const std::exception&) {
     return 0;
   }
@@ -105,6 +115,79 @@ OneResult run_one(const std::string& dir, size_t index, const std::string& devic
     r.error = ex.what();
   }
   return r;
+}
+
+std::vector<OneResult> run_batch_of(
+    const std::string& dir, const std::vector<size_t>& indices, const std::string& device, bool quiet,
+    const std::function<void(const IndexEntry&, app::RunOptions&)>& configure) {
+  const StudyIndex ix = read_index(dir);
+  std::vector<OneResult> res(indices.size());
+  // Fresh runs, grouped by what they must share to be stepped together (their prepared dt, drum, schedule).
+  std::map<std::string, std::vector<size_t>> groups;  // key -> positions in `indices`
+  std::vector<app::RunOptions> opts(indices.size());
+  for (size_t q = 0; q < indices.size(); ++q) {
+    const size_t index = indices[q];
+    if (index >= ix.runs.size())
+      throw StudyError(fmt::format("{}: no run {} (the study has {} runs)", dir, index, ix.runs.size()));
+    const IndexEntry& e = ix.runs[index];
+    const fs::path run_dir = fs::path(dir) / e.run_dir;
+    const RunState st = run_state(run_dir.string());
+    if (st == RunState::Complete) {
+      res[q].skipped = true;
+      continue;
+    }
+    if (fs::exists(run_dir / "checkpoint") || fs::exists(run_dir / "checkpoint.old")) {
+      res[q] = run_one(dir, index, device, quiet, configure);  // resumes alone
+      continue;
+    }
+    const std::string case_file = (fs::path(dir) / e.case_file).string();
+    const app::Case c = app::parse_case_file(case_file);
+    if (run_hash(c, e.seed) != e.hash)
+      throw StudyError(fmt::format("{}: run {} was planned by wetdem {} (hash {}); this is {}: plan again",
+                                   dir, index, ix.code_version, e.hash, code_version()));
+    if (fs::exists(run_dir)) fs::remove_all(run_dir);
+    app::RunOptions& ro = opts[q];
+    ro.device = device;
+    ro.quiet = true;
+    ro.progress_tty = 0;
+    ro.case_path = case_file;
+    ro.out_dir = run_dir.string();
+    if (configure) configure(e, ro);
+    std::string key;
+    try {
+      const app::Prepared p = app::prepare_run(c);
+      const app::Schedule s = app::Schedule::of(c, p.derived.dt);
+      const DrumParams& d = p.prm.drum;
+      key = fmt::format("{:a} {:a} {:a} {} {} {} {} {} {} {}", p.derived.dt, d.radius, d.length, d.periodic_z,
+                        d.plate_lo.present, d.plate_hi.present, s.n_settle, s.total, s.sample, s.snapshot);
+    } catch (const std::exception& ex) {
+      res[q].error = ex.what();
+      continue;
+    }
+    groups[key].push_back(q);
+  }
+  std::unique_ptr<vk::Context> own;
+  for (const auto& [key, members] : groups) {
+    std::vector<app::RunOptions> batch;
+    for (size_t q : members) batch.push_back(opts[q]);
+    vk::Context* ctx = batch[0].context;
+    if (!ctx) {
+      if (!own) {
+        vk::ContextOptions co;
+        co.device = device;
+        co.quiet = true;
+        own = std::make_unique<vk::Context>(co);
+      }
+      ctx = own.get();
+    }
+    try {
+      const std::vector<app::RunResult> rr = app::run_batch(batch, *ctx);
+      for (size_t m = 0; m < members.size(); ++m) res[members[m]].completed = rr[m].completed;
+    } catch (const std::exception& ex) {
+      for (size_t q : members) res[q].error = ex.what();
+    }
+  }
+  return res;
 }
 
 ExecReport run_study(const std::string& dir, const ExecOptions& opt) {
@@ -175,25 +258,30 @@ ExecReport run_study(const std::string& dir, const ExecOptions& opt) {
   };
   progress(false);
 
+  const size_t batch = std::max<size_t>(1, opt.batch);
   if (opt.exe.empty()) {
     while (!queue.empty() && !g_stop) {
-      const IndexEntry& e = ix.runs[queue.front()];
-      queue.pop_front();
-      ++rep.started, running = 1;
+      std::vector<size_t> take;
+      while (!queue.empty() && take.size() < batch) take.push_back(queue.front()), queue.pop_front();
+      rep.started += take.size(), running = take.size();
       progress(false);
       const auto ts = Clock::now();
-      OneResult r;
+      std::vector<OneResult> r(take.size());
       try {
-        r = run_one(dir, e.index, opt.device, true, opt.configure);
+        if (batch > 1)
+          r = run_batch_of(dir, take, opt.device, true, opt.configure);
+        else
+          r[0] = run_one(dir, take[0], opt.device, true, opt.configure);
       } catch (const std::exception& ex) {
-        r.error = ex.what();
+        for (OneResult& x : r) x.error = ex.what();
       }
       running = 0;
-      account(e, r.completed, r.error, seconds_since(ts));
+      const double wall = seconds_since(ts) / double(take.size());
+      for (size_t q = 0; q < take.size(); ++q) account(ix.runs[take[q]], r[q].completed, r[q].error, wall);
       progress(false);
     }
   } else {
-    std::map<pid_t, std::pair<size_t, Clock::time_point>> live;
+    std::map<pid_t, std::pair<std::vector<size_t>, Clock::time_point>> live;
     bool signalled = false;
     while (!queue.empty() || !live.empty()) {
       if (g_stop) {
@@ -205,11 +293,16 @@ ExecReport run_study(const std::string& dir, const ExecOptions& opt) {
         signalled = true;
       }
       while (!g_stop && !queue.empty() && live.size() < size_t(std::max(1, opt.jobs))) {
-        const IndexEntry& e = ix.runs[queue.front()];
-        queue.pop_front();
-        const std::string log = (fs::path(dir) / "logs" / fmt::format("run-{}.log", e.index)).string();
-        const std::string idx = std::to_string(e.index);
-        std::vector<std::string> args = {opt.exe, "study", "run-one", dir, "--index", idx, "--quiet"};
+        std::vector<size_t> take;
+        while (!queue.empty() && take.size() < batch) take.push_back(queue.front()), queue.pop_front();
+        std::string idx;
+        for (size_t q : take) idx += (idx.empty() ? "" : ",") + std::to_string(q);
+        // One process per run (run-one), or per batch of runs stepped together (run-batch).
+        const std::string log =
+            (fs::path(dir) / "logs" / fmt::format("{}-{}.log", batch > 1 ? "batch" : "run", take[0]))
+                .string();
+        std::vector<std::string> args = {
+            opt.exe, "study", batch > 1 ? "run-batch" : "run-one", dir, "--index", idx, "--quiet"};
         if (!opt.device.empty()) args.insert(args.end(), {"--device", opt.device});
         std::fflush(stdout);
         const pid_t pid = ::fork();
@@ -223,9 +316,10 @@ ExecReport run_study(const std::string& dir, const ExecOptions& opt) {
           ::execv(opt.exe.c_str(), argv.data());
           ::_exit(127);
         }
-        live[pid] = {e.index, Clock::now()};
-        ++rep.started;
-        running = live.size();
+        live[pid] = {take, Clock::now()};
+        rep.started += take.size();
+        running = 0;
+        for (const auto& [p, v] : live) running += v.first.size();
         progress(false);
       }
       if (queue.empty() && live.empty()) break;
@@ -237,20 +331,24 @@ ExecReport run_study(const std::string& dir, const ExecOptions& opt) {
       }
       const auto it = live.find(pid);
       if (it == live.end()) continue;
-      const IndexEntry& e = ix.runs[it->second.first];
-      const double wall = seconds_since(it->second.second);
+      const std::vector<size_t> done_runs = it->second.first;
+      const double wall = seconds_since(it->second.second) / double(done_runs.size());
       live.erase(it);
-      running = live.size();
-      const bool ok = fs::exists(fs::path(dir) / e.run_dir / "summary.json");
-      std::string why;
-      if (!ok) {
-        why = (WIFSIGNALED(status) ? fmt::format("killed by signal {}", WTERMSIG(status))
-                                   : fmt::format("exit {}", WEXITSTATUS(status))) +
-              fmt::format(" (see logs/run-{}.log)", e.index);
-        const std::string l = first_line(fs::path(dir) / e.run_dir / "FAILED.txt");
-        if (!l.empty()) why = l;
+      running = 0;
+      for (const auto& [p, v] : live) running += v.first.size();
+      for (size_t q : done_runs) {
+        const IndexEntry& e = ix.runs[q];
+        const bool ok = fs::exists(fs::path(dir) / e.run_dir / "summary.json");
+        std::string why;
+        if (!ok) {
+          why = (WIFSIGNALED(status) ? fmt::format("killed by signal {}", WTERMSIG(status))
+                                     : fmt::format("exit {}", WEXITSTATUS(status))) +
+                fmt::format(" (see logs/{}-{}.log)", batch > 1 ? "batch" : "run", done_runs[0]);
+          const std::string l = first_line(fs::path(dir) / e.run_dir / "FAILED.txt");
+          if (!l.empty()) why = l;
+        }
+        account(e, ok, why, wall);
       }
-      account(e, ok, why, wall);
       progress(false);
     }
   }

@@ -25,8 +25,17 @@ struct OneResult {
 OneResult run_one(const std::string& dir, size_t index, const std::string& device, bool quiet,
                   const std::function<void(const IndexEntry&, app::RunOptions&)>& configure = {});
 
+// Runs `indices` of the study in DIR in this process as ensembles (README "Ensembles"): complete runs are
+// skipped, runs with a checkpoint resume alone (run_one); the fresh ones are grouped by what an ensemble's
+// runs must share (dt, drum, schedule) and each group is stepped together in one System (app::run_batch),
+// each run bitwise what it computes alone. One result per index, in order.
+std::vector<OneResult> run_batch_of(
+    const std::string& dir, const std::vector<size_t>& indices, const std::string& device, bool quiet,
+    const std::function<void(const IndexEntry&, app::RunOptions&)>& configure = {});
+
 struct ExecOptions {
   int jobs = 1;
+  size_t batch = 1;  // > 1: hand up to this many runs at a time to one process as ensembles (run_batch_of)
   std::string device;
   bool retry_failed = false;  // rerun runs whose FAILED.txt gives a reason other than an interruption
   bool quiet = false;         // no progress line
