@@ -15,3 +15,15 @@ for f in sys.argv[1:]:
 print('| case | variant | particles | timed steps | p-steps/s | rotation before timing (of steady start) | rebuild | contacts | bridges | entr/p | B/p | B/p-st | roofl. | largest passes |')
 print('|---|---|---|---|---|---|---|---|---|---|---|---|---|---|')
 print('\n'.join(rows))
+# Ensembles (wetdem_bench --ensemble): aggregate particle-steps/s of k copies of a drum in one System.
+ens=[]
+for f in sys.argv[1:]:
+  d=json.load(open(f))
+  for r in d['runs']:
+    for e in r.get('ensembles',[]):
+      ens.append('| %s | %s | %s | %.3g | %d | %.3g | %.2f× |'%(d.get('device_name','?'), r['case'], f"{r['particles']:,}",
+                 r['particle_steps_per_s'], e['runs'], e['particle_steps_per_s'], e['speedup_over_one_run']))
+if ens:
+  print('\n| device | drum | particles per run | one run (p-steps/s) | runs | ensemble (aggregate p-steps/s) | over one run |')
+  print('|---|---|---|---|---|---|---|')
+  print('\n'.join(ens))

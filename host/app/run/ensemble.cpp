@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <stdexcept>
@@ -10,8 +11,10 @@
 #include "app/run/driver.h"
 #include "app/run/log.h"
 #include "app/run/outputs.h"
+#include "app/run/resources.h"
 #include "app/run/sample.h"
 #include "app/run/session.h"
+#include "vk/context.h"
 #include "wetdem/timestep.h"
 
 namespace fs = std::filesystem;
@@ -120,11 +123,24 @@ std::vector<RunResult> run_batch(const std::vector<RunOptions>& opts, vk::Contex
   std::vector<Case> cases;
   std::vector<std::unique_ptr<Prepared>> preps;
   std::vector<const Prepared*> view;
+  ResourceEstimate need;  // the batch's runs live in one System: their memory adds up
   for (const RunOptions& o : opts) {
     if (!o.resume_dir.empty() || o.stop_after_steps)
       throw CaseError("", "a batch runs fresh runs only (no --resume, no stop_after_steps)");
     cases.push_back(resolve_case(o));
-    preps.push_back(std::make_unique<Prepared>(prepare_run(cases.back())));
+    const ResourceEstimate e = estimate_resources(cases.back());
+    need.particles += e.particles;
+    need.device_bytes += e.device_bytes;
+    need.host_bytes += e.host_bytes;
+    need.steps = std::max(need.steps, e.steps);
+    need.particle_steps += e.particle_steps;
+    need.entries_in_list = std::max(need.entries_in_list, e.entries_in_list);
+    need.entries_per_particle = std::max(need.entries_per_particle, e.entries_per_particle);
+    need.driver_key = e.driver_key;
+  }
+  check_resources(need, {device_heap_bytes(ctx), ctx.info().name, host_available_bytes()});
+  for (const Case& c : cases) {
+    preps.push_back(std::make_unique<Prepared>(prepare_run(c)));
     view.push_back(preps.back().get());
   }
   check_batchable(view);
