@@ -314,6 +314,7 @@ void System::Impl::build_params() {
 
 void System::Impl::set_run_params(size_t r, const SimParams& p) {
   if (r >= run_prm.size()) throw std::invalid_argument(fmt::format("set_run_params: no run {}", r));
+  if (!uploaded) throw std::logic_error("System::set_run_params before upload");
   SimParams q = p;
   if (q.skin <= 0.0) q.skin = run_prm[r].skin;
   const SimParams& z = run_prm[r];
