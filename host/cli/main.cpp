@@ -38,20 +38,18 @@ int check(const std::string& path, const std::vector<std::string>& sets) {
   for (const std::string& n : c.notes) std::printf("# note: %s\n", n.c_str());
   // What the run will derive, estimated from the PSD model (the run uses the particles it draws).
   const Psd psd(c.psd);
-  const double v = kPi * 0.25 * c.drum.diameter * c.drum.diameter * c.drum.sim_length();
-  const double n = c.drum.fill * v * c.drum.bed_solid_fraction / psd.mean_volume();
-  const double r_min = 0.5 * psd.d_min();
-  const double tr =
-      rayleigh_time(r_min, c.material.density, c.material.G / c.material.stiffness_reduction, c.material.nu);
-  const double dt = c.run.dt ? *c.run.dt : c.run.dt_rayleigh_fraction * tr;
-  const double steps = std::round((c.run.settle + c.run.duration) / dt);
+  const app::ResourceEstimate e = app::estimate_resources(c);
   std::printf("# psd: %s\n", psd.describe().c_str());
   std::printf(
-      "# about %.0f particles; r_min = %.4g m, Rayleigh time %.4g s, dt = %.4g s, %.0f steps (%.3g "
+      "# about %.0f particles; r_min = %.4g m, Rayleigh time %.4g s, dt = %.4g s (%s), %.0f steps (%.3g "
       "particle-steps)\n",
-      n, r_min, tr, dt, steps, n * steps);
+      e.particles, e.r_min, e.t_rayleigh, e.dt, e.dt_reason.c_str(), e.steps, e.particle_steps);
+  try {
+    app::check_reach(c);
+  } catch (const app::CaseError& err) {
+    std::printf("# ERROR: a run would fail: %s\n", err.what());
+  }
   {  // Issue 12: the resource estimate (host/app/run/resources.h) and whether this host could hold it.
-    const app::ResourceEstimate e = app::estimate_resources(c);
     std::printf("%s",
                 app::describe_resources(e, app::kLavapipeThroughput, app::kLavapipeThroughputSource).c_str());
     try {

@@ -75,9 +75,10 @@ void log_setup(RunLog& log, const Prepared& prep, const Schedule& sch, bool resu
       "nu = {:.4g}, reduced E* = {:.4g} Pa, G* = {:.4g} Pa",
       c.material.density, d.nu, d.E_star, d.G_star));
   log(fmt::format(
-      "time step: dt = {:.4g} s ({} x Rayleigh time {:.4g} s of r_min = {:.4g} m){}; skin {:.4g} m{}", d.dt,
-      c.run.dt ? d.dt / d.t_rayleigh : c.run.dt_rayleigh_fraction, d.t_rayleigh, d.r_min,
-      c.run.dt ? " (run.dt)" : "", d.skin, c.run.skin ? "" : " (0.3 r_min)"));
+      "time step: dt = {:.4g} s (set by: {}; {:.3g} x Rayleigh time {:.4g} s of r_min = {:.4g} m); skin "
+      "{:.4g} m{}",
+      d.dt, d.dt_reason, d.dt / d.t_rayleigh, d.t_rayleigh, d.r_min, d.skin,
+      c.run.skin ? "" : " (0.3 r_min)"));
   if (c.liquid.on())
     log(fmt::format(
         "liquid: gamma x l = {:.4g} N/m, unit = V-bar_S 2^-40 = {:.4g} m³, V_min = {} units, V_max = {} "

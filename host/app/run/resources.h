@@ -38,6 +38,10 @@ struct ResourceEstimate {
   double entries_per_particle = 0;  // neighbour-list entries allocated per particle (with regrow headroom)
   double device_bytes = 0;
   double host_bytes = 0;
+  double r_min = 0;       // smallest radius of the PSD model (m)
+  double t_rayleigh = 0;  // Rayleigh time of r_min (s)
+  double dt = 0;          // the time step a run will take (s), and what sets it
+  std::string dt_reason;
   double steps = 0;           // settle + duration over dt
   double particle_steps = 0;  // particles × steps
   std::string driver_key;     // the key the message names: what makes n large
@@ -79,6 +83,12 @@ inline constexpr const char* kLavapipeThroughputSource =
     "lavapipe on 2 CPU cores, the demo (README); a GPU is faster";
 
 ResourceEstimate estimate_resources(const Case& c);
+
+// A periodic slice needs every interaction range below half its period (minimum image): the check the run
+// makes after the fill (prepare.cpp), made here from the case alone (the PSD model's largest diameter and
+// mean volume) so that a study, twin or diagnosis refuses such a case before any run. Throws
+// CaseError("drum.slice_thickness", ...).
+void check_reach(const Case& c);
 
 // MemAvailable of /proc/meminfo in bytes, empty where the file or line is missing.
 std::optional<double> host_available_bytes();
