@@ -11,6 +11,7 @@
 
 #include "app/drum/aor.h"
 #include "app/drum/psd.h"
+#include "app/observe/interface.h"
 #include "app/observe/window.h"
 #include "app/output/timeseries_stats.h"
 #include "wetdem/observables.h"
@@ -77,9 +78,12 @@ nlohmann::json samples_to_json(const std::vector<Sample>& v) {
       const double x = s.camera.*f.value;
       cam.push_back(std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr));
     }
+    nlohmann::json iface = nlohmann::json::array();  // null for NaN
+    for (double h : s.interface)
+      iface.push_back(std::isfinite(h) ? nlohmann::json(h) : nlohmann::json(nullptr));
     j.push_back({s.step, s.time, s.aor_signed_deg, s.com_x, s.com_y, s.flagged, s.contacts, s.bridges,
                  s.f_wet, s.kinetic_energy, s.liquid_films, s.liquid_bridges, s.liquid_pores,
-                 s.liquid_evaporated, s.liquid_unit_m3, cam});
+                 s.liquid_evaporated, s.liquid_unit_m3, cam, iface});
   }
   return j;
 }
@@ -113,6 +117,8 @@ std::vector<Sample> samples_from_json(const nlohmann::json& j) {
         ++i;
       }
     }
+    if (e.size() >= 17)  // checkpoints written before the interface profile have none
+      for (const auto& h : e.at(16)) s.interface.push_back(h.is_number() ? h.get<double>() : std::nan(""));
     v.push_back(s);
   }
   return v;
@@ -151,7 +157,7 @@ nlohmann::json number_or_null(double x) {
 // has one (the error bar: fewer than two); the plate and centre slab angles are absent on a periodic slice.
 // The AoR drift over the window, per revolution.
 void add_camera_observables(nlohmann::json& j, const Case& c, const std::vector<Sample>& samples,
-                            double t_from, bool aor_flag) {
+                            double t_from, bool aor_flag, double n_eff) {
   for (const observe::CameraField& f : observe::kCameraFields) {
     if (f.needs_plates && c.drum.periodic_slice) continue;
     std::vector<double> v;
@@ -167,6 +173,16 @@ void add_camera_observables(nlohmann::json& j, const Case& c, const std::vector<
   const observe::Drift d = observe::aor_drift(t, a, c.drum.omega);
   j["aor_drift_deg_per_rev"] = aor_flag ? nlohmann::json(nullptr) : number_or_null(d.slope_deg_per_rev);
   j["aor_drift_deg_per_rev_sem"] = aor_flag ? nlohmann::json(nullptr) : number_or_null(d.se_deg_per_rev);
+  // The cohesive index of rotating-drum testers: the interface's fluctuation over the window
+  // (app/observe/interface.h). Its error as that of a standard deviation from n_eff independent samples,
+  // σ/√(2 n_eff), with the AoR's n_eff: the interface moves with the same avalanches.
+  std::vector<std::vector<double>> profiles;
+  for (const Sample& s : samples)
+    if (s.time >= t_from && !s.interface.empty()) profiles.push_back(s.interface);
+  const double ci = observe::interface_fluctuation(profiles);
+  j["cohesive_index_m"] = aor_flag ? nlohmann::json(nullptr) : number_or_null(ci);
+  j["cohesive_index_m_sem"] =
+      aor_flag || !(n_eff > 0) ? nlohmann::json(nullptr) : number_or_null(ci / std::sqrt(2.0 * n_eff));
 }
 
 }  // namespace
@@ -237,6 +253,10 @@ nlohmann::json make_summary(const Case& c, const Derived& d, const std::vector<S
   j["aor_drift_z"] = number_or_null(as.abs_deg.drift_z);
   j["aor_tau_int_s"] = number_or_null(ws.tau_int_s);
   j["aor_n_eff"] = number_or_null(ws.n_eff);
+  // The error of the standard deviation (the paper's cohesion indicator): σ/√(2 n_eff) for n_eff
+  // independent samples.
+  j["aor_deg_std_sem"] =
+      flag || !(ws.n_eff > 0) ? json(nullptr) : number_or_null(as.abs_deg.stddev / std::sqrt(2.0 * ws.n_eff));
   j["aor_sem_tau"] = flag ? json(nullptr) : number_or_null(ws.sem);
   j["aor_signed_deg_mean"] = flag ? json(nullptr) : number_or_null(as.signed_deg.mean);
   j["aor_window_s"] = {t_from, c.run.settle + c.run.duration};
@@ -256,7 +276,7 @@ nlohmann::json make_summary(const Case& c, const Derived& d, const std::vector<S
       number_or_null(window_mean(samples, t_from, [](const Sample& s) { return double(s.contacts); }));
   j["kinetic_energy_mean_J"] =
       number_or_null(window_mean(samples, t_from, [](const Sample& s) { return s.kinetic_energy; }));
-  add_camera_observables(j, c, samples, t_from, flag);
+  add_camera_observables(j, c, samples, t_from, flag, ws.n_eff);
   j["particles"] = t.particles;
   j["steps"] = t.steps;
   j["dt_s"] = t.dt;

@@ -28,6 +28,9 @@ struct Sample {
   // Liquid accounting (units of liquid_unit_m3): films + bridges + pores + evaporated = liquid put in.
   int64_t liquid_films = 0, liquid_bridges = 0, liquid_pores = 0, liquid_evaporated = 0;
   double liquid_unit_m3 = 0;
+  // The free surface's height (m) in fixed laboratory-frame columns (app/observe/interface.h), for the
+  // window's cohesive index; NaN where a column is not full.
+  std::vector<double> interface;
 };
 
 // path.tmp, flushed and fsync'ed, then renamed over path. Throws std::runtime_error on failure.
