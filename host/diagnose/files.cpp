@@ -77,9 +77,10 @@ std::string toml_text_of_written(const std::string& w) {
 DiagnosisSpec parse_diagnosis_file(const std::string& path_in) {
   const std::string path = fs::absolute(path_in).lexically_normal().string();
   const toml::table root = load(path);
-  reject_unknown(root, path,
-                 {"name", "case", "observations", "effects", "replicates", "screen_top", "refine", "set",
-                  "probes", "verdict", "refit", "refit_values"});
+  reject_unknown(
+      root, path,
+      {"name", "case", "observations", "effects", "replicates", "screen_top", "refine", "extend", "confirm",
+       "max_cost", "next_conditions", "set", "probes", "shapes", "verdict", "refit", "refit_values"});
   DiagnosisSpec d;
   d.path = path;
   d.name = root["name"].value_or(fs::path(path).stem().string());
@@ -122,30 +123,75 @@ DiagnosisSpec parse_diagnosis_file(const std::string& path_in) {
     if (!r || *r < 0 || *r > 5) throw DiagnoseError(fmt::format("{}: refine: an integer in [0, 5]", path));
     d.refine = int(*r);
   }
+  if (root.contains("extend")) {
+    const auto r = root["extend"].value<int64_t>();
+    if (!r || *r < 0 || *r > 6) throw DiagnoseError(fmt::format("{}: extend: an integer in [0, 6]", path));
+    d.extend = int(*r);
+  }
+  if (root.contains("confirm")) {
+    const auto r = root["confirm"].value<int64_t>();
+    if (!r || *r < 0 || *r > 3) throw DiagnoseError(fmt::format("{}: confirm: an integer in [0, 3]", path));
+    d.confirm = int(*r);
+  }
+  if (root.contains("max_cost")) {
+    const auto r = root["max_cost"].value<double>();
+    if (!r || !(*r >= 1)) throw DiagnoseError(fmt::format("{}: max_cost: a number >= 1", path));
+    d.max_cost = *r;
+  }
+  if (root.contains("next_conditions")) {
+    const auto r = root["next_conditions"].value<int64_t>();
+    if (!r || *r < 0 || *r > 20)
+      throw DiagnoseError(fmt::format("{}: next_conditions: an integer in [0, 20]", path));
+    d.next_conditions = size_t(*r);
+  }
   if (const auto* t = root["set"].as_table()) d.set = overrides_of(*t, path, "set");
-  if (const auto* t = root["probes"].as_table()) {
+  // [probes] (strengths) and [shapes] (second parameters): positive, ascending, inside the physical range
+  // (diagnosis.md §3), so that no probe asks for a system that cannot exist.
+  const auto read_list = [&](const char* table, bool shapes) {
+    const auto* t = root[table].as_table();
+    if (!t) {
+      if (root.contains(table))
+        throw DiagnoseError(fmt::format("{}: [{}]: a table of effect = [values]", path, table));
+      return;
+    }
     for (const auto& [k, v] : *t) {
       const std::string name(k.str());
       if (std::find(d.effects.begin(), d.effects.end(), name) == d.effects.end())
-        throw DiagnoseError(fmt::format("{}: [probes] {}: not one of the effects diagnosed", path, name));
+        throw DiagnoseError(fmt::format("{}: [{}] {}: not one of the effects diagnosed", path, table, name));
+      const EffectSpec& spec = effect_spec(name);
+      if (shapes && spec.shape.empty())
+        throw DiagnoseError(fmt::format("{}: [shapes] {}: the effect has no second parameter", path, name));
       const auto* a = v.as_array();
       std::vector<double> s;
       if (a)
         for (const auto& x : *a)
           if (auto f = x.value<double>()) s.push_back(*f);
       if (!a || s.size() != a->size() || s.empty())
-        throw DiagnoseError(fmt::format("{}: [probes] {}: an array of positive numbers", path, name));
+        throw DiagnoseError(fmt::format("{}: [{}] {}: an array of positive numbers", path, table, name));
       for (size_t i = 0; i < s.size(); ++i)
         if (!(s[i] > 0) || (i && !(s[i] > s[i - 1])))
           throw DiagnoseError(
-              fmt::format("{}: [probes] {}: strengths must be positive and ascending", path, name));
-      d.probes[name] = s;
+              fmt::format("{}: [{}] {}: values must be positive and ascending", path, table, name));
+      const double lo = shapes ? spec.shape_lo : spec.phys_lo, hi = shapes ? spec.shape_hi : spec.phys_hi;
+      for (double x : s)
+        if (x < lo * (1 - 1e-9) || x > hi * (1 + 1e-9))
+          throw DiagnoseError(
+              fmt::format("{}: [{}] {}: {:g} is outside the physical range {:g}-{:g} of {} (diagnosis.md §3)",
+                          path, table, name, x, lo, hi, shapes ? spec.shape : spec.strength));
+      (shapes ? d.shapes : d.probes)[name] = s;
     }
-  }
-  for (const std::string& e : d.effects)
+  };
+  read_list("probes", false);
+  read_list("shapes", true);
+  for (const std::string& e : d.effects) {
     if (!d.probes.count(e)) d.probes[e] = effect_spec(e).probes;
+    if (!d.shapes.count(e) && !effect_spec(e).shapes.empty()) d.shapes[e] = effect_spec(e).shapes;
+  }
   if (const auto* t = root["verdict"].as_table()) {
-    reject_unknown(*t, path + ": [verdict]", {"fdr", "ratio", "min_drop"});
+    reject_unknown(*t, path + ": [verdict]", {"fdr", "ratio", "min_drop", "tie_delta"});
+    d.rule.tie_delta = (*t)["tie_delta"].value_or(d.rule.tie_delta);
+    if (!(d.rule.tie_delta >= 0))
+      throw DiagnoseError(fmt::format("{}: verdict.tie_delta: a number >= 0", path));
     d.rule.q = (*t)["fdr"].value_or(d.rule.q);
     d.rule.ratio = (*t)["ratio"].value_or(d.rule.ratio);
     d.rule.min_drop = (*t)["min_drop"].value_or(d.rule.min_drop);

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "app/run/resources.h"
 #include "study/store.h"
 
 namespace fs = std::filesystem;
@@ -14,7 +15,8 @@ namespace fs = std::filesystem;
 namespace wetdem::diagnose {
 
 std::string Variant::label() const {
-  const std::string l = effect.empty() ? "baseline" : fmt::format("{}@{:.6g}", effect, strength);
+  std::string l = effect.empty() ? "baseline" : fmt::format("{}@{:.6g}", effect, strength);
+  if (!std::isnan(shape)) l += fmt::format("~{:.6g}", shape);
   return refit.empty() ? l : l + " [" + refit + "]";
 }
 
@@ -74,7 +76,7 @@ void RunBook::want(Condition& c, const Variant& v, const std::vector<uint64_t>& 
   }
 }
 
-void RunBook::run() {
+size_t RunBook::run() {
   study::StudySpec s = spec();
   s.points = points_;
   study::write_plan(dir_, s, runs_);
@@ -82,12 +84,50 @@ void RunBook::run() {
   wall_s_ += rep.wall_s;
   computed_ += rep.completed;
   if (rep.interrupted) throw std::runtime_error("interrupted; run the same command again to continue");
-  if (rep.failed || rep.stopped || rep.skipped_failed) {
+  for (const study::PlannedRun& r : runs_) {
     std::string why;
-    for (const std::string& f : rep.failures) why += "\n  " + f;
-    throw std::runtime_error(fmt::format("{} run(s) of the diagnosis did not complete (store {}):{}",
-                                         rep.failed + rep.stopped + rep.skipped_failed, dir_, why));
+    const fs::path dir = fs::path(dir_) / "runs" / r.hash;
+    const study::RunState st = study::run_state(dir.string(), &why);
+    if (st == study::RunState::Complete) continue;
+    if (st == study::RunState::Failed)
+      failed_[r.hash] = why.empty() ? "failed" : why;
+    else
+      failed_[r.hash] = std::string("did not complete (") + study::state_name(st) + ")";
   }
+  return failed_.size();
+}
+
+std::string RunBook::failure(const Condition& c, const Variant& v, uint64_t seed) const {
+  const auto it = key_to_hash_.find(c.label + "|" + v.label() + "|" + std::to_string(seed));
+  if (it == key_to_hash_.end()) return "";
+  const auto f = failed_.find(it->second);
+  return f == failed_.end() ? "" : f->second;
+}
+
+std::string RunBook::failure(const std::vector<Condition>& cs, const Variant& v,
+                             const std::vector<uint64_t>& seeds) const {
+  for (const Condition& c : cs)
+    for (uint64_t seed : seeds)
+      if (std::string why = failure(c, v, seed); !why.empty())
+        return fmt::format("{} at {} (seed {}): {}", v.label(), c.label, seed, why);
+  return "";
+}
+
+bool RunBook::has_summaries(const std::vector<Condition>& cs, const Variant& v,
+                            const std::vector<uint64_t>& seeds) const {
+  for (const Condition& c : cs)
+    for (uint64_t seed : seeds) {
+      const auto it = key_to_hash_.find(c.label + "|" + v.label() + "|" + std::to_string(seed));
+      if (it == key_to_hash_.end()) return false;
+      if (summaries_.count(it->second)) continue;
+      if (!fs::exists(fs::path(dir_) / "runs" / it->second / "summary.json")) return false;
+    }
+  return true;
+}
+
+double RunBook::steps(const Condition& c, const Variant& v) const {
+  const std::vector<study::PlannedRun> r = study::expand(spec_of(c, v, {1}));
+  return app::estimate_resources(r.front().resolved).steps;
 }
 
 const nlohmann::json& RunBook::summary(const std::string& hash) const {
