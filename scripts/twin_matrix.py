@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Validation matrix of the sim-to-real diagnosis (diagnosis.md §5; README "Sim-to-real diagnosis").
+"""Validation matrix of the sim-to-real diagnosis (diagnosis.md §5; docs/diagnosis.md).
 
 For every candidate effect at a weak and a strong strength, plus null twins, it writes a twin file, runs
 `wetdem twin` (truth seeds of its own) and `wetdem diagnose` against the twin's observations, all through one

@@ -95,7 +95,7 @@ struct Candidate {
   size_t refit = 0;  // the refit setting fitted with it on all cells (0 without refit)
 };
 
-// The verdict rule (README, "Sim-to-real diagnosis"):
+// The verdict rule (docs/diagnosis.md):
 //  no_gap      no cell significant at FDR q (Benjamini-Hochberg);
 //  effect      else, the candidate with the lowest LOCO score when it beats the null by a clear margin:
 //              LOCO_best <= ratio x LOCO_null and LOCO_null - LOCO_best >= min_drop;

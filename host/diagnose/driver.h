@@ -1,5 +1,5 @@
-// `wetdem diagnose D.toml --out DIR` and `wetdem twin T.toml --out DIR` (diagnosis.md §4-5; README,
-// "Sim-to-real diagnosis"). Every simulation goes through the study run store (runbook.h).
+// `wetdem diagnose D.toml --out DIR` and `wetdem twin T.toml --out DIR` (diagnosis.md §4-5;
+// docs/diagnosis.md). Every simulation goes through the study run store (runbook.h).
 #pragma once
 
 #include <nlohmann/json.hpp>

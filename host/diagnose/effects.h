@@ -1,6 +1,7 @@
 // The candidate effects the diagnosis can switch on (diagnosis.md §3), each as one positive "strength" on a
 // log axis whose limit 0 is the model without the effect, and the case overrides that realise a strength.
-// The case keys and laws are the model's own (README, "Candidate effects"); this table only maps strengths.
+// The case keys and laws are the model's own (docs/model.md, "Candidate effects"); this table only maps
+// strengths.
 #pragma once
 
 #include <string>

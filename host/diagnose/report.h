@@ -1,5 +1,5 @@
-// What a diagnosis writes: diagnosis.json (schema in the README), report.md with a plain-language verdict,
-// tables and figures (scripts/plot_diagnosis.py, Debian's matplotlib).
+// What a diagnosis writes: diagnosis.json (schema in docs/diagnosis.md), report.md with a plain-language
+// verdict, tables and figures (scripts/plot_diagnosis.py, Debian's matplotlib).
 #pragma once
 
 #include <nlohmann/json.hpp>

@@ -181,8 +181,9 @@ SimParams make_sim_params(const Case& c, const std::vector<double>& radii, Deriv
     }
   }
   if (l.on() && l.viscosity > 0) {
-    // Explicit stability of the lubrication damper (README "Candidate effects"): dt < 2 m*/(12 c) at S_min
-    // for the two smallest particles with a bridge of V_max, or the smallest against a wall with bridges.
+    // Explicit stability of the lubrication damper (docs/model.md "Candidate effects"): dt < 2 m*/(12 c) at
+    // S_min for the two smallest particles with a bridge of V_max, or the smallest against a wall with
+    // bridges.
     const double m_min = m.density * sphere_volume(d.r_min), vmax = l.v_max * d.mean_solid_volume;
     d.dt_viscous_limit =
         viscous_dt_limit(0.5 * m_min, 0.5 * d.r_min, l.viscosity, d.lubrication_cutoff, vmax);
