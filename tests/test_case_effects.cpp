@@ -1,5 +1,5 @@
-// Case keys of the candidate force effects (README "Candidate effects"): units, validation naming the key,
-// defaults, the resolved echo, and what reaches SimParams (w scaled by l, S_min default, theta_r).
+// Case keys of the candidate force effects (docs/model.md "Candidate effects"): units, validation naming the
+// key, defaults, the resolved echo, and what reaches SimParams (w scaled by l, S_min default, theta_r).
 #ifdef WETDEM_HAVE_APP
 
 #include <gtest/gtest.h>

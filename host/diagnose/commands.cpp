@@ -22,11 +22,16 @@ class Impl : public study::Commands {
     diag_ = cli.add_subcommand("diagnose",
                                "sim-to-real diagnosis: where the model misses, which effect explains it");
     diag_->add_option("file", file_, "diagnosis file (TOML)")->required();
+    diag_->footer(
+        "Example: wetdem diagnose assets/diagnosis/micro/diagnose.toml --observations "
+        "diag/twin/observations.csv --out diag/spread --store diag/store");
     diag_->add_option("--observations", observations_, "observation table (CSV) instead of the file's");
     add_common(diag_);
     twin_ =
         cli.add_subcommand("twin", "synthetic observations from a model with a withheld effect (validation)");
     twin_->add_option("file", file_, "twin file (TOML)")->required();
+    twin_->footer(
+        "Example: wetdem twin assets/diagnosis/micro/twin_spread.toml --out diag/twin --store diag/store");
     add_common(twin_);
   }
   bool selected() const override { return diag_->parsed() || twin_->parsed(); }

@@ -1,4 +1,4 @@
-// The diagnosis file (D.toml) and the twin file (T.toml): README, "Sim-to-real diagnosis". Both are validated
+// The diagnosis file (D.toml) and the twin file (T.toml): docs/diagnosis.md. Both are validated
 // whole before anything runs; errors name the file and the key.
 #pragma once
 

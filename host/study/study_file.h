@@ -1,4 +1,4 @@
-// A study file (TOML, ../shared spec "studies.md", README "Studies and calibration"): a base case, overrides
+// A study file (TOML, ../shared spec "studies.md", docs/studies.md): a base case, overrides
 // for every run ([set]), a Cartesian grid ([axes]) and/or explicit [[points]], replicates or seeds, and
 // optional [observations]. Expanded into runs, each identified by the hash of its resolved case + seed + code
 // version.

@@ -1,5 +1,5 @@
 // A case file: everything that defines one drum run, parsed from TOML and validated before any work.
-// Key reference: README "Case files"; the shipped cases are in assets/. Quantities are SI once parsed
+// Key reference: docs/case-keys.md; the shipped cases are in assets/. Quantities are SI once parsed
 // (angles in radians, fractions as numbers in [0, 1]).
 #pragma once
 
@@ -53,7 +53,7 @@ struct LiquidSpec {
   double v_max = 0;      // fraction of V-bar_S
   double d_c = 1.0;
   FilmMode films = FilmMode::PerParticleVolume;
-  // Candidate effects (README "Candidate effects"; diagnosis.md §3), off by default:
+  // Candidate effects (docs/model.md "Candidate effects"; diagnosis.md §3), off by default:
   double viscosity = 0;                      // eta, Pa s: lubrication of bridged pairs (0 = off)
   std::optional<double> lubrication_cutoff;  // S_min, m; default 1 % of the mean particle radius
   std::optional<double> theta_receding;      // theta_r, rad; absent = theta (no hysteresis)

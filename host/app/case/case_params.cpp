@@ -193,7 +193,7 @@ SimParams make_sim_params(const Case& c, const std::vector<double>& radii, Deriv
     }
   }
   if (l.on() && l.viscosity > 0) {
-    // Explicit stability of the lubrication damper (README "Candidate effects"): dt < 2 m*/(12 c) at S_min
+    // Explicit stability of the lubrication damper (docs/model.md "Candidate effects"): dt < 2 m*/(12 c) at S_min
     // for the two smallest particles with a bridge of V_max, or the smallest against a wall with bridges.
     d.dt_viscous_limit = case_viscous_dt_limit(c, d.r_min, d.mean_solid_volume);
     // The damper's limit bounds the time step as the Rayleigh fraction does: a default dt above it is

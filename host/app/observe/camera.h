@@ -2,7 +2,7 @@
 // surface angle, plate and centre slab AoR, surface downhill speed, flowing-layer depth, agglomerate size and
 // D / agglomerate, free liquid, clumps on the surface. NaN marks a value that does not exist for this sample
 // (bed flagged, no slab angle, no liquid put in); the plate and centre angles never exist on a periodic
-// slice. Definitions: surface.h, slabs.h, clusters.h and the README ("Camera observables").
+// slice. Definitions: surface.h, slabs.h, clusters.h and docs/outputs.md ("Camera observables").
 #pragma once
 
 #include <cstdint>

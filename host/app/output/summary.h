@@ -72,4 +72,10 @@ nlohmann::json make_summary(const Case& c, const Derived& d, const std::vector<S
 // window is not stationary or its error bar not reliable, that verdict with its reason.
 std::string aor_log_line(const nlohmann::json& summary);
 
+// The run's result as a user reads it at the end of the log (issue 21): the dynamic AoR with its error and
+// stationarity verdict, f_wet with its error and verdict, the AoR drift when the window can carry it (else
+// why not), the bridge network labelled as spanning the bed when it does, and every other window quantity
+// that may not be quoted. Figures and paths are added by the driver.
+std::vector<std::string> result_lines(const nlohmann::json& summary);
+
 }  // namespace wetdem::app
