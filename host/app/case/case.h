@@ -147,10 +147,10 @@ struct Derived {
   // Candidate effects, as they enter SimParams.
   double lubrication_cutoff = 0;     // S_min (m): given, or 1 % of the mean radius
   double surface_energy_scaled = 0;  // l w (J/m^2)
-  double dt_viscous_limit = 0;  // 2 m*/(12 c) at S_min, smallest particles, V_max bridge (0: viscous off)
+  double dt_viscous_limit = 0;  // 2 m*/(4 c) at S_min, smallest particles, V_max bridge (0: viscous off)
   std::vector<std::string> notes;
 };
-// The explicit stability limit 2 m*/(12 c) of the lubrication damper (candidate effect `viscous`) for the
+// The explicit stability limit 2 m*/(4 c) of the lubrication damper (candidate effect `viscous`) for the
 // smallest particle radius r_min and the mean solid volume (S_min: the case's, else 1 % of the mean radius;
 // a bridge of V_max; against a wall too when wall bridges are on). 0 when viscosity is off.
 double case_viscous_dt_limit(const Case& c, double r_min, double mean_solid_volume);
