@@ -17,7 +17,8 @@ namespace {
 
 double chi2_of(const std::vector<CellGap>& g) {
   double s = 0;
-  for (const CellGap& x : g) s += x.z * x.z;
+  for (const CellGap& x : g)
+    if (std::isfinite(x.z)) s += x.z * x.z;
   return s;
 }
 
