@@ -109,11 +109,11 @@ double viscous_damping_coefficient(double eta, double s_min, double R_star, doub
 
 double viscous_dt_limit(double m_star, double R_star, double eta, double s_min, double volume_m3) {
   // One damper on m*: v <- v (1 - c dt/m*) is stable for c dt/m* < 2. A particle damped by Z bridged
-  // neighbours moving against it sees Z such dampers, which divides the limit by Z; Z = 12 (the kissing number)
-  // is the rigorous bound, but only neighbours squeezed to S_min damp that hard at once. Measured on the micro
-  // drum (10 % liquid, 30 rpm, 0.5 s of rotation, lavapipe, 24 Nov 2026): at eta = 0.1 Pa s the bed runs
-  // stably at 2x, 4x and 8x the Z = 12 step; it blew up at 11x (50 mPa s at dt = 3.8e-4 s). Z = 4 (3x the
-  // Z = 12 step) keeps a factor 2.7 below the largest stable step measured.
+  // neighbours moving against it sees Z such dampers, which divides the limit by Z; Z = 12 (the kissing
+  // number) is the rigorous bound, but only neighbours squeezed to S_min damp that hard at once. Measured on
+  // the micro drum (10 % liquid, 30 rpm, 0.5 s of rotation, lavapipe, 24 Nov 2026): at eta = 0.1 Pa s the bed
+  // runs stably at 2x, 4x and 8x the Z = 12 step; it blew up at 11x (50 mPa s at dt = 3.8e-4 s). Z = 4 (3x
+  // the Z = 12 step) keeps a factor 2.7 below the largest stable step measured.
   constexpr double kZ = 4.0;
   return 2.0 * m_star / (kZ * viscous_damping_coefficient(eta, s_min, R_star, volume_m3));
 }

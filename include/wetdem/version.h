@@ -1,6 +1,6 @@
 // The code version written into outputs ("<project version>+<git describe>"), and the run version that enters
-// run hashes ("<project version>+run-<content hash of the run's sources>", cmake/git_describe.cmake). Defined in
-// one source file (host/core/version.cpp) so that a new commit recompiles that file, not the whole tree.
+// run hashes ("<project version>+run-<content hash of the run's sources>", cmake/git_describe.cmake). Defined
+// in one source file (host/core/version.cpp) so that a new commit recompiles that file, not the whole tree.
 #pragma once
 
 #include <string>

@@ -147,7 +147,7 @@ struct Derived {
   // Candidate effects, as they enter SimParams.
   double lubrication_cutoff = 0;     // S_min (m): given, or 1 % of the mean radius
   double surface_energy_scaled = 0;  // l w (J/m^2)
-  double dt_viscous_limit = 0;  // 2 m*/(4 c) at S_min, smallest particles, V_max bridge (0: viscous off)
+  double dt_viscous_limit = 0;       // 2 m*/(4 c) at S_min, smallest particles, V_max bridge (0: viscous off)
   std::vector<std::string> notes;
 };
 // The explicit stability limit 2 m*/(4 c) of the lubrication damper (candidate effect `viscous`) for the

@@ -193,8 +193,9 @@ SimParams make_sim_params(const Case& c, const std::vector<double>& radii, Deriv
     }
   }
   if (l.on() && l.viscosity > 0) {
-    // Explicit stability of the lubrication damper (docs/model.md "Candidate effects"): dt < 2 m*/(4 c) at S_min
-    // for the two smallest particles with a bridge of V_max, or the smallest against a wall with bridges.
+    // Explicit stability of the lubrication damper (docs/model.md "Candidate effects"): dt < 2 m*/(4 c) at
+    // S_min for the two smallest particles with a bridge of V_max, or the smallest against a wall with
+    // bridges.
     d.dt_viscous_limit = case_viscous_dt_limit(c, d.r_min, d.mean_solid_volume);
     // The damper's limit bounds the time step as the Rayleigh fraction does: a default dt above it is
     // lowered to it (so every strength of the candidate runs, at a cost in steps); an explicit run.dt above
