@@ -21,6 +21,7 @@ CameraSample observe_camera(const SystemState& s, const SimParams& prm, int64_t 
     c.aor_surface_deg = sf.com_angle_deg >= 0 ? sf.angle_deg : -sf.angle_deg;
     c.surface_velocity_mps = sf.downhill_speed_mps;
     c.flowing_layer_depth_m = sf.flowing_layer_depth_m;
+    c.surface_agglomerate_size = surface_cluster_size(s, sf.layer);
   }
   const SlabAor sl = slab_aor(s, prm.drum);
   if (sl.present) {

@@ -7,6 +7,7 @@
 
 #include "app/drum/aor.h"
 #include "app/observe/camera.h"
+#include "app/observe/interface.h"
 #include "wetdem/observables.h"
 #include "wetdem/timestep.h"
 
@@ -43,7 +44,8 @@ Sample take_sample(const SystemState& st, const SampleContext& x, bool& dt_warne
   s.bridges = o.bridges;
   s.f_wet = o.f_wet;
   s.kinetic_energy = o.kinetic_energy;
-  s.camera = observe::observe_camera(st, prep.prm, x.liquid_start);      // diagnosis.md §2
+  s.camera = observe::observe_camera(st, prep.prm, x.liquid_start);  // diagnosis.md §2
+  s.interface = observe::interface_profile(st, prep.prm.drum.radius, prep.prm.drum.length);
   s.liquid_films = o.liquid_films, s.liquid_bridges = o.liquid_bridges;  // liquid accounting
   s.liquid_pores = o.liquid_pores, s.liquid_evaporated = o.liquid_evaporated;
   s.liquid_unit_m3 = prep.prm.liquid_unit_m3;
