@@ -96,6 +96,11 @@ struct RunSpec {
   double dt_rayleigh_fraction = 0.2;
   std::optional<double> skin;  // m; default 0.3 * smallest radius
   uint32_t steps_per_submit = 200;
+  // Starts moved by up to `perturb` (m) along each axis, uniform, drawn with perturb_seed (0 = unmoved):
+  // the spread of a run's outcome over starts that differ by far less than anything measurable
+  // (docs/closed-slice.md).
+  double perturb = 0;
+  uint64_t perturb_seed = 1;
 };
 
 struct OutputSpec {
