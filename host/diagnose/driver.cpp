@@ -49,6 +49,7 @@ std::string label_of(const std::vector<study::AxisValue>& v) {
 study::ExecOptions exec_of(const DiagnoseOptions& o) {
   study::ExecOptions e;
   e.jobs = o.jobs;
+  e.batch = o.batch;
   e.device = o.device;
   e.exe = o.exe;
   e.quiet = o.quiet;

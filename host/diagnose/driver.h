@@ -13,6 +13,7 @@ struct DiagnoseOptions {
   std::string out;    // DIR: diagnosis.json, report.md, figures/
   std::string store;  // run store (a study directory); default DIR/store
   int jobs = 1;
+  size_t batch = 1;  // > 1: up to this many runs stepped together as ensembles (study run --batch)
   std::string device;
   std::string exe;  // the wetdem binary for run processes; empty: in this process (tests)
   bool quiet = false;

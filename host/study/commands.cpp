@@ -63,6 +63,7 @@ class Impl : public Commands {
     plan_->add_option("--budget", budget_,
                       "seconds available: say which batches fit and how long the rest takes");
     plan_->add_option("--json", json_, "write the probe and the estimate to this file");
+    plan_->add_option("--reuse", reuse_, "count runs complete in this study directory (same hash) as done");
 
     run_ = study_->add_subcommand("run", "run what is missing; progress line with ETA");
     run_->add_option("study", file_, "study file (TOML)")->required();
@@ -182,7 +183,7 @@ class Impl : public Commands {
     size_t done = 0;
     for (const PlannedRun& r : runs) {
       const auto [n, steps] = size_of(r.resolved);
-      const RunState st = run_state((fs::path(dir) / "runs" / r.hash).string());
+      const RunState st = state_with_reuse(dir, r.hash);
       std::string vals;
       for (const AxisValue& a : r.values) vals += (vals.empty() ? "" : ", ") + a.key + " = " + a.written;
       std::printf("%5zu %5zu %6llu %-16s %-10s %9.0f %9.0f  %s\n", r.index, r.point,
@@ -209,11 +210,21 @@ class Impl : public Commands {
     return 0;
   }
 
+  // A run's state in DIR, or complete when a --reuse directory holds it complete (study run copies it).
+  RunState state_with_reuse(const std::string& dir, const std::string& hash) const {
+    const RunState st = run_state((fs::path(dir) / "runs" / hash).string());
+    if (st == RunState::Complete) return st;
+    for (const std::string& other : reuse_)
+      if (run_state((fs::path(other) / "runs" / hash).string()) == RunState::Complete)
+        return RunState::Complete;
+    return st;
+  }
+
   // --probe: the device measured on the first batch of the runs still to compute, then the estimate.
   int probe_and_estimate(const StudySpec& s, const std::vector<PlannedRun>& runs, const std::string& dir) {
     std::vector<PlannedRun> todo;
     for (const PlannedRun& r : runs)
-      if (run_state((fs::path(dir) / "runs" / r.hash).string()) != RunState::Complete) todo.push_back(r);
+      if (state_with_reuse(dir, r.hash) != RunState::Complete) todo.push_back(r);
     nlohmann::json j = {
         {"study", s.name}, {"runs", runs.size()}, {"to_compute", todo.size()}, {"batch", batch_}};
     if (todo.empty()) {

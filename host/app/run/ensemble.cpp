@@ -170,7 +170,12 @@ void DrumEnsemble::sample() {
     }
     dt_warned_[r] = warned ? 1 : 0;
   };
-  const size_t threads = std::min<size_t>(runs, std::max(1u, std::thread::hardware_concurrency()));
+  // Threads pay off for large batches (a GPU's: tens of thousands of particles per run); for small ones their
+  // start-up and, on a loaded machine, their scheduling cost more than the work.
+  size_t particles = 0;
+  for (const Prepared* p : runs_) particles += p->state.p.size();
+  const size_t threads =
+      particles < 20000 ? 1 : std::min<size_t>(runs, std::max(1u, std::thread::hardware_concurrency()));
   if (threads <= 1) {
     for (size_t r = 0; r < runs; ++r) work(r);
   } else {
