@@ -92,6 +92,11 @@ def table_md(header, rows):
 
 
 # ---------------------------------------------------------------------------------------------- figures
+def wrap(note, width=95):
+    import textwrap
+    return "\n".join(textwrap.wrap(note, width)) if note else ""
+
+
 def plt_setup():
     import matplotlib
     matplotlib.use("Agg")
@@ -99,23 +104,27 @@ def plt_setup():
     return plt
 
 
-def aor_curves(ax, runs, line_key, title, note, label_fmt="V_max = %g %%"):
-    """AoR mean ± sd against φ_L per value of line_key; the dry run (content 0) is drawn on every curve."""
-    dry = [r for r in runs if r["summary"] and key_of(val(r, "liquid.content")) == 0]
+def aor_curves(ax, runs, line_key, title, note, label_fmt="V_max = %g %%", shared_dry=True):
+    """AoR mean ± sd against φ_L per value of line_key; the dry run (content 0) is drawn on every curve
+    (shared_dry), or each curve has its own (the l = 3 / l = 5 comparison)."""
+    dry = [r for r in runs if r["summary"] and key_of(val(r, "liquid.content")) == 0] if shared_dry else []
     lines = {}
     for r in runs:
-        if not r["summary"] or key_of(val(r, "liquid.content")) == 0:
+        if not r["summary"] or (shared_dry and key_of(val(r, "liquid.content")) == 0):
             continue
         lines.setdefault(key_of(val(r, line_key)), []).append(r)
-    for lv in sorted(lines):
+    keys = sorted(lines)
+    for k, lv in enumerate(keys):
         pts = sorted(dry + lines[lv], key=lambda r: val(r, "liquid.content"))
-        xs = [pct(val(r, "liquid.content")) for r in pts if num(r["summary"], "aor_deg_mean") is not None]
+        dodge = 0.1 * (k - 0.5 * (len(keys) - 1))  # curves side by side (in % of φ_L), so the error bars show
+        xs = [pct(val(r, "liquid.content")) + dodge for r in pts if num(r["summary"], "aor_deg_mean") is not None]
         ys = [num(r["summary"], "aor_deg_mean") for r in pts if num(r["summary"], "aor_deg_mean") is not None]
         es = [num(r["summary"], "aor_deg_std") or 0 for r in pts if num(r["summary"], "aor_deg_mean") is not None]
         ax.errorbar(xs, ys, yerr=es, marker="o", capsize=3, label=label_fmt % (100 * lv))
-    ax.set_xlabel("liquid content φ_L (vol %)")
+    ax.set_xlabel("liquid content φ_L (vol %%)%s" % (" (curves offset by ±0.1 % to show their bars)"
+                                                     if len(keys) > 1 else ""))
     ax.set_ylabel("dynamic angle of repose (deg)")
-    ax.set_title(title + ("\n" + note if note else ""), fontsize=8.5)
+    ax.set_title(title + ("\n" + wrap(note, 85) if note else ""), fontsize=8.5)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
 
@@ -158,7 +167,7 @@ def fwet_figure(plt, ext, path, note):
     ax.set_xlabel("liquid content φ_L (vol %)")
     ax.set_ylabel("fraction of wet contacts f_wet")
     ax.set_title("PP2 l = 5, V_min = 10 %%: f_wet against liquid content (paper Fig. 8)%s" %
-                 ("\n" + note if note else ""), fontsize=8.5)
+                 ("\n" + wrap(note, 85) if note else ""), fontsize=8.5)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
@@ -207,7 +216,7 @@ def beds_figure(plt, pp2, path, note):
                              (name, fmt(num(r["summary"], "agglomerate_size_mean"), 1),
                               fmt(num(r["summary"], "drum_to_agglomerate_ratio"), 1)))
     fig.suptitle("PP2 l = 5, last frame seen along the drum axis (the end plate's view)" +
-                 ("\n" + note if note else ""), fontsize=9)
+                 ("\n" + wrap(note, 110) if note else ""), fontsize=9)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
@@ -471,9 +480,8 @@ def main(argv):
         l5 = [dict(r, values=dict(r["values"], scale=5)) for r in st["pp2_l5"]
               if key_of(val(r, "liquid.content")) == 0 or key_of(val(r, "liquid.v_max")) == key_of(0.01)]
         aor_curves(ax, both + l5, "scale", "PP2 at the calibrated set (V_min 10 %, V_max 1 %): l = 3 and l = 5",
-                   note, label_fmt="l = %g")
-        ax.legend([h for h in ax.get_legend_handles_labels()[0]],
-                  ["l = %g" % v for v in sorted({3, 5})], fontsize=7)
+                   note, label_fmt="l = %g", shared_dry=False)
+        ax.legend(ax.get_legend_handles_labels()[0], ["l = 3", "l = 5"], fontsize=7)
         fig.tight_layout()
         fig.savefig(os.path.join(figs, "pp2_l3_aor.png"), dpi=120)
         plt.close(fig)
@@ -502,7 +510,7 @@ def main(argv):
             aor_curves(ax, sub, "liquid.v_max", "PP1 l = 5, V_min = %g %%" % (100 * vm), "")
             tables.append("V_min = %g %%:\n\n%s" % (100 * vm, aor_table(sub, "liquid.v_max", "V_max")))
         if note:
-            fig.suptitle(note, fontsize=8.5)
+            fig.suptitle(wrap(note, 120), fontsize=8.5)
         fig.tight_layout()
         fig.savefig(os.path.join(figs, "pp1_l5_aor.png"), dpi=110)
         plt.close(fig)

@@ -1,8 +1,8 @@
 // `wetdem study plan --probe` (issue 19): a short measurement of this device on the study's own first batch,
 // and the estimate of the whole study from it. The runs of the first batch are prepared (filled) and stepped
 // together as one ensemble (README "Ensembles") for a few hundred steps of their settling phase, and sampled
-// a few times as a run samples. The settling bed is rebuilt more often than a bed in steady rotation, so the
-// rate errs low (the estimate errs long).
+// a few times as a run samples. A freshly filled bed is not a turning one (its contacts and rebuild rate
+// differ), so the estimate is a guide: docs/paper.md compares it with the stages it estimated.
 #pragma once
 
 #include <cstdint>
