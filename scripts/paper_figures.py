@@ -121,8 +121,8 @@ def aor_curves(ax, runs, line_key, title, note, label_fmt="V_max = %g %%", share
         ys = [num(r["summary"], "aor_deg_mean") for r in pts if num(r["summary"], "aor_deg_mean") is not None]
         es = [num(r["summary"], "aor_deg_std") or 0 for r in pts if num(r["summary"], "aor_deg_mean") is not None]
         ax.errorbar(xs, ys, yerr=es, marker="o", capsize=3, label=label_fmt % (100 * lv))
-    ax.set_xlabel("liquid content φ_L (vol %%)%s" % (" (curves offset by ±0.1 % to show their bars)"
-                                                     if len(keys) > 1 else ""))
+    ax.set_xlabel("liquid content φ_L (vol %%)%s" % (" (curves offset by up to ±%g %% to show their bars)" %
+                                                     (0.05 * (len(keys) - 1)) if len(keys) > 1 else ""))
     ax.set_ylabel("dynamic angle of repose (deg)")
     ax.set_title(title + ("\n" + wrap(note, 85) if note else ""), fontsize=8.5)
     ax.grid(alpha=0.3)
@@ -206,12 +206,12 @@ def beds_figure(plt, pp2, path, note):
     frames = [bed_picture.read_glb(last_frame(r)) for r in (dry, wet)]
     R = 0.5 * dry["summary"]["case"]["drum"]["diameter_m"]
     fig, axes = plt.subplots(2, 2, figsize=(9.0, 8.2))
-    for col, (r, fr, name) in enumerate(zip((dry, wet), frames, ("dry", "φ_L = 10 %, V_max = 1 %"))):
+    for col, (r, fr, name) in enumerate(zip((dry, wet), frames, ("dry", "10 %, V_max 1 %"))):
         t = fr["extras"].get("time", float("nan"))
         bed_picture.draw_bed(axes[0][col], fr, R, "liquid", title="%s, t = %.3g s: liquid" % (name, t),
                              liquid_max=0.1)
         bed_picture.draw_bed(axes[1][col], fr, R, "agglomerate",
-                             title="%s: agglomerates, one colour each, grey: no bridge\n(window mean %s particles, "
+                             title="%s: agglomerates, one colour each\n(grey: no bridge; window mean %s particles, "
                                    "D/d_eq %s)" %
                              (name, fmt(num(r["summary"], "agglomerate_size_mean"), 1),
                               fmt(num(r["summary"], "drum_to_agglomerate_ratio"), 1)))
