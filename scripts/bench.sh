@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
-# The benchmark of README "Benchmark" in one command. Steady states are cached (~/.cache/wetdem/bench, or
+# The benchmark of docs/benchmark.md in one command. Steady states are cached (~/.cache/wetdem/bench, or
 # --cache DIR), so a second call times only.
 #   scripts/bench.sh                 GPU machine: every shipped case, wet and dry, prepared through each case's own
 #                                    settle and run.steady_state_start (full steady rotation); bench.json
-#   scripts/bench.sh --lavapipe      the README's lavapipe table: demo slice and closed demo drum (wet and dry, own
+#   scripts/bench.sh --lavapipe      the lavapipe table of docs/benchmark.md: demo slice and closed demo drum (wet and dry, own
 #                                    preparation) and PP2 l = 5 wet (short preparation: 0.03 s settle, 0.01 s
 #                                    rotation, 200 timed steps); docs/bench/lavapipe-*.json
-#   Both also time ensembles (README "Ensembles") of the micro drum and the closed demo drum: 8 and 32 copies
+#   Both also time ensembles (docs/ensembles.md) of the micro drum and the closed demo drum: 8 and 32 copies
 #   (and 128 on a GPU) stepped together in one System.
 # Further arguments go to wetdem_bench (--device, --cache, --bandwidth, ...).
 set -euo pipefail

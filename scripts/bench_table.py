@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The README Benchmark table (markdown) from wetdem_bench --json files: scripts/bench_table.py A.json [B.json ...]"""
+"""The docs/benchmark.md tables (markdown) from wetdem_bench --json files: scripts/bench_table.py A.json [B.json ...]"""
 import json,sys
 rows=[]
 for f in sys.argv[1:]:

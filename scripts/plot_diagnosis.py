@@ -51,36 +51,55 @@ def main(d):
     fig.savefig(os.path.join(out, "gap_map.png"), dpi=120, bbox_inches="tight")
     plt.close(fig)
 
-    # Observables against the condition (x: the first condition key with more than one value).
+    # Observables against the condition: x is liquid.content when it varies (else the first key that does);
+    # every other key that varies (drum.rpm, ...) makes groups drawn with their own marker and line style.
     keys = sorted({k for c in cells for k in c["condition_si"]})
-    xkey = next((k for k in keys if len({c["condition_si"][k] for c in cells}) > 1), keys[0] if keys else None)
-    fig, axes = plt.subplots(1, len(obs), figsize=(4.2 * len(obs), 3.4), squeeze=False)
+    varying = [k for k in keys if len({c["condition_si"].get(k) for c in cells}) > 1]
+    xkey = "liquid.content" if "liquid.content" in varying else (varying[0] if varying else (keys[0] if keys else None))
+    gkeys = [k for k in varying if k != xkey]
+    group_of = lambda c: tuple(c["condition_si"].get(k) for k in gkeys)  # noqa: E731
+    groups = sorted({group_of(c) for c in cells}, key=lambda g: tuple(x if x is not None else 0 for x in g))
+    styles = [("o", "-"), ("s", "--"), ("^", ":"), ("D", "-.")]
+    fig, axes = plt.subplots(1, len(obs), figsize=(4.2 * len(obs), 3.6), squeeze=False)
     for ax, o in zip(axes[0], obs):
-        cs = sorted([c for c in cells if c["observable"] == o], key=lambda c: c["condition_si"].get(xkey, 0))
-        x = [c["condition_si"].get(xkey, 0) for c in cs]
-        m = [c["model"] for c in cs]
-        s = [2 * c["model_se"] for c in cs]
-        ax.fill_between(x, [a - b for a, b in zip(m, s)], [a + b for a, b in zip(m, s)], color="0.7", alpha=0.6,
-                        label="model, baseline (±2 SE)")
-        ax.plot(x, m, color="0.35")
-        if all("null_refit" in c for c in cs) and j.get("null_refit", {}).get("setting", 0) != 0:
-            mr = [c["null_refit"]["model"] for c in cs]
-            sr = [2 * c["null_refit"]["model_se"] for c in cs]
-            ax.fill_between(x, [a - b for a, b in zip(mr, sr)], [a + b for a, b in zip(mr, sr)], color="tab:green",
-                            alpha=0.25, label=f"no effect, {j['null_refit']['label']} (±2 SE)")
-            ax.plot(x, mr, color="tab:green", ls="--")
-        if after:
-            ma = [c["after"]["model"] for c in cs]
-            sa = [2 * c["after"]["model_se"] for c in cs]
-            ax.fill_between(x, [a - b for a, b in zip(ma, sa)], [a + b for a, b in zip(ma, sa)], color="tab:orange",
-                            alpha=0.35, label=f"with {j['effect']} (±2 SE)")
-            ax.plot(x, ma, color="tab:orange")
-        ax.errorbar(x, [c["y"] for c in cs], yerr=[c["sigma"] for c in cs], fmt="o", color="k", capsize=3,
-                    label="observed (±σ)")
+        for gi, g in enumerate(groups):
+            mk, ls = styles[gi % len(styles)]
+            tag = ", ".join(f"{k.split('.')[-1]} {v:g}" for k, v in zip(gkeys, g))
+            sfx = f" [{tag}]" if tag else ""
+            first = gi == 0
+            cs = sorted([c for c in cells if c["observable"] == o and group_of(c) == g],
+                        key=lambda c: c["condition_si"].get(xkey, 0))
+            if not cs:
+                continue
+            x = [c["condition_si"].get(xkey, 0) for c in cs]
+            m = [c["model"] for c in cs]
+            s_ = [2 * c["model_se"] for c in cs]
+            ax.fill_between(x, [a - b for a, b in zip(m, s_)], [a + b for a, b in zip(m, s_)], color="0.7", alpha=0.5,
+                            label="model, baseline (±2 SE)" if first else None)
+            ax.plot(x, m, color="0.35", ls=ls)
+            if all("null_refit" in c for c in cs) and j.get("null_refit", {}).get("setting", 0) != 0:
+                mr = [c["null_refit"]["model"] for c in cs]
+                sr = [2 * c["null_refit"]["model_se"] for c in cs]
+                ax.fill_between(x, [a - b for a, b in zip(mr, sr)], [a + b for a, b in zip(mr, sr)],
+                                color="tab:green", alpha=0.25,
+                                label=f"no effect, {j['null_refit']['label']} (±2 SE)" if first else None)
+                ax.plot(x, mr, color="tab:green", ls=ls)
+            if after:
+                ma = [c["after"]["model"] for c in cs]
+                sa = [2 * c["after"]["model_se"] for c in cs]
+                ax.fill_between(x, [a - b for a, b in zip(ma, sa)], [a + b for a, b in zip(ma, sa)],
+                                color="tab:orange", alpha=0.35,
+                                label=f"with {j['effect']}, fresh seeds (±2 SE)" if first else None)
+                ax.plot(x, ma, color="tab:orange", ls=ls)
+            ax.errorbar(x, [c["y"] for c in cs], yerr=[c["sigma"] for c in cs], fmt=mk, color="k", capsize=3,
+                        label="observed (±σ)" + sfx)
         ax.set_xlabel(xkey or "condition")
         ax.set_ylabel(o)
         ax.legend(fontsize=7)
-    fig.suptitle(f"{j['name']}: verdict {j['verdict']}" + (f" ({j['effect']})" if j["effect"] else ""), fontsize=10)
+    title = f"{j['name']}: verdict {j['verdict']}" + (f" ({j['effect']})" if j["effect"] else "")
+    if j.get("tied"):
+        title += ", tied with " + ", ".join(j["tied"])
+    fig.suptitle(title, fontsize=10)
     fig.tight_layout()
     fig.savefig(os.path.join(out, "observables.png"), dpi=120)
     plt.close(fig)

@@ -11,7 +11,7 @@ PKGS=(
   libgtest-dev libgmock-dev
   libtomlplusplus-dev libcli11-dev libfmt-dev libeigen3-dev
   clang-format
-  python3-matplotlib libeigen3-dev   # study figures (scripts/plot_study.py), calibration emulator
+  python3-matplotlib libeigen3-dev   # figures (plot_run.py, plot_study.py, plot_diagnosis.py), emulator
   slurm-wlm munge                    # the real single-node Slurm test of `wetdem study slurm`
 )
 

@@ -1,14 +1,20 @@
 #!/usr/bin/python3
-"""Validation matrix of the sim-to-real diagnosis (diagnosis.md §5; README "Sim-to-real diagnosis").
+"""Validation matrix of the sim-to-real diagnosis (diagnosis.md §5; docs/diagnosis.md, "Validation matrix").
 
-For every candidate effect at a weak and a strong strength, plus null twins, it writes a twin file, runs
-`wetdem twin` (truth seeds of its own) and `wetdem diagnose` against the twin's observations, all through one
-shared run store, and writes OUT/matrix.json and OUT/matrix.md: the confusion matrix (truth -> verdict/effect),
-the top-1 identification rate over effect twins, the median held-out shrink where the verdict is `effect`, the
-null outcomes, the device and the wall time.
+A matrix file (TOML) names the diagnosis, a base twin (case, conditions, noise) and the twins: each with its
+withheld truth (case overrides), the truth's strength in the diagnosis's units (for the strength and interval
+scores), and optionally something else the truth differs in (coarse-graining, PSD tails) or an effect outside
+the candidates. For every twin the script writes a twin file with truth seeds and a noise seed of its own, runs
+`wetdem twin` and `wetdem diagnose` (the diagnosis never sees truth.json), all through one shared run store,
+and writes OUT/matrix.json, OUT/matrix.md and OUT/matrix.png:
+  - the confusion matrix (truth -> outcome: the chosen effect for `effect`/`partial`, else the verdict);
+  - top-1: the chosen effect is the truth (`effect` or `partial`), over the effect twins;
+  - the median held-out shrink over the correctly identified twins;
+  - strength: the fitted strength within +-25 % of the truth, and the interval covering it, over those twins;
+  - nulls and outside effects: any `effect` verdict is a confident wrong answer (`partial` is hedged);
+  - the device and the wall time.
 
-  /usr/bin/python3 scripts/twin_matrix.py --wetdem build/host/wetdem --out matrix \
-      --diagnosis assets/diagnosis/micro/diagnose.toml --twin-base assets/diagnosis/micro/twin_null.toml
+  /usr/bin/python3 scripts/twin_matrix.py assets/diagnosis/flowing/matrix.toml --out matrix --jobs 2 --batch 4
 """
 import argparse
 import json
@@ -18,21 +24,7 @@ import statistics
 import subprocess
 import sys
 import time
-
-# Truth overrides per effect: (weak, strong), as case keys the diagnosis is not told about.
-TRUTHS = {
-    "cohesion": ('"cohesion.surface_energy" = "0.03 J/m2"', '"cohesion.surface_energy" = "0.1 J/m2"'),
-    "absorption": ('"absorption.capacity" = 0.02\n"absorption.rate" = 10.0',
-                   '"absorption.capacity" = 0.08\n"absorption.rate" = 10.0'),
-    "evaporation": ('"liquid.evaporation_time" = "5 s"', '"liquid.evaporation_time" = "1 s"'),
-    "spread": ('"liquid.wetted_fraction" = 0.6', '"liquid.wetted_fraction" = 0.25'),
-    "viscous": ('"liquid.viscosity" = "0.01 Pa s"', '"liquid.viscosity" = "0.2 Pa s"'),
-    "hysteresis": ('"liquid.theta_receding" = "20 deg"', '"liquid.theta_receding" = "2 deg"'),
-}
-
-# The same truths in the diagnosis's strength units (host/diagnose/effects.cpp; theta = 30 deg for hysteresis).
-TRUTH_STRENGTH = {"cohesion": (0.03, 0.1), "absorption": (0.02, 0.08), "evaporation": (0.2, 1.0),
-                  "spread": (0.4, 0.75), "viscous": (0.01, 0.2), "hysteresis": (10.0, 28.0)}
+import tomllib
 
 
 def run(cmd, log):
@@ -42,31 +34,57 @@ def run(cmd, log):
         sys.exit(f"failed ({r.returncode}): {' '.join(cmd)} (see {log})")
 
 
-def row_of(d, name, effect, truth, twins):
+def toml_value(v):
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, (int, float)):
+        return repr(v)
+    return json.dumps(str(v))
+
+
+def twin_text(base, base_dir, seeds, noise_seed, overrides):
+    text = re.sub(r'^case\s*=\s*"([^"]+)"', lambda m: f'case = "{os.path.join(base_dir, m.group(1))}"', base,
+                  flags=re.M)
+    text = re.sub(r"^seeds\s*=.*$", f"seeds = [{', '.join(str(s) for s in seeds)}]", text, flags=re.M)
+    text = re.sub(r"^noise_seed\s*=.*$", f"noise_seed = {noise_seed}", text, flags=re.M)
+    text = re.sub(r"^\[truth\][^\[]*", "", text, flags=re.M)
+    if overrides:
+        text += "\n[truth]\n" + "".join(f'"{k}" = {toml_value(v)}\n' for k, v in overrides.items())
+    return text
+
+
+def row_of(d, t):
     j = json.load(open(os.path.join(d, "diagnosis", "diagnosis.json")))
-    level = name.rsplit("-", 1)[-1]
-    ts = TRUTH_STRENGTH.get(effect, (None, None))[0 if level == "weak" else 1] if effect else None
     best = next((r for r in j.get("ranking") or [] if r["effect"] == j["effect"]), None)
-    return {"twin": name, "truth": effect, "truth_strength": ts, "verdict": j["verdict"], "effect": j["effect"],
+    return {"twin": t["name"], "truth": t.get("effect"), "truth_strength": t.get("strength"),
+            "perturbed": bool(t.get("perturb")), "verdict": j["verdict"], "effect": j["effect"],
+            "tied": j.get("tied") or [],
             "strength": best["strength"] if best else None,
             "interval": best["strength_interval"] if best else None,
-            "held_out_shrink": j["held_out_shrink"], "device": j["device"]}
+            "interval_open": best.get("strength_interval_open") if best else None,
+            "held_out_shrink": j["held_out_shrink"], "runs_computed": j.get("runs_computed"),
+            "wall_s": j.get("wall_s"), "device": j["device"]}
 
 
 def outcome(r):
-    return r["effect"] if r["verdict"] == "effect" else r["verdict"]
+    return r["effect"] if r["verdict"] in ("effect", "partial") else r["verdict"]
+
+
+def is_effect_twin(r):
+    return r["truth"] not in (None, "outside")
 
 
 def confusion(rows):
     truths = list(dict.fromkeys(r["truth"] or "none" for r in rows))
-    cols = list(dict.fromkeys([t for t in truths if t != "none"] + [outcome(r) for r in rows]))
-    cols = [c for c in cols if c not in ("no_gap", "unexplained")] + ["no_gap", "unexplained"]
+    cols = list(dict.fromkeys([t for t in truths if t not in ("none", "outside")] + [outcome(r) for r in rows]))
+    cols = [c for c in cols if c not in ("no_gap", "refit", "unexplained")] + ["refit", "no_gap", "unexplained"]
+    cols = [c for c in cols if c != "refit" or any(outcome(r) == "refit" for r in rows)]
     md = ["Confusion matrix (rows: the withheld truth; columns: the diagnosis's outcome)", "",
           "| truth \\ outcome | " + " | ".join(cols) + " |", "|---" * (len(cols) + 1) + "|"]
     for t in truths:
         n = [sum(1 for r in rows if (r["truth"] or "none") == t and outcome(r) == c) for c in cols]
         md.append(f"| {t} | " + " | ".join(str(x) if x else "" for x in n) + " |")
-    return md
+    return md, truths, cols
 
 
 def plot(rows, path):
@@ -76,9 +94,9 @@ def plot(rows, path):
         import matplotlib.pyplot as plt
     except ImportError:
         return
-    truths = list(dict.fromkeys(r["truth"] or "none" for r in rows))
-    cols = [t for t in truths if t != "none"] + ["no_gap", "unexplained"]
-    cols += [c for c in dict.fromkeys(outcome(r) for r in rows) if c not in cols]
+    if not rows:
+        return
+    _, truths, cols = confusion(rows)
     m = [[sum(1 for r in rows if (r["truth"] or "none") == t and outcome(r) == c) for c in cols] for t in truths]
     fig, ax = plt.subplots(figsize=(1.1 * len(cols) + 2, 0.6 * len(truths) + 1.8))
     top = max(2, max(max(x) for x in m))
@@ -88,11 +106,11 @@ def plot(rows, path):
             if x:
                 ax.text(k, i, str(x), ha="center", va="center", color="white" if x > top / 2 else "black",
                         fontsize=12)
-            if truths[i] == cols[k] or (truths[i] == "none" and cols[k] in ("no_gap", "unexplained")):
+            if truths[i] == cols[k] or (truths[i] in ("none", "outside") and cols[k] in ("no_gap", "unexplained")):
                 ax.add_patch(plt.Rectangle((k - 0.5, i - 0.5), 1, 1, fill=False, ec="tab:green", lw=2))
     ax.set_xticks(range(len(cols)), cols, rotation=30, ha="right")
     ax.set_yticks(range(len(truths)), truths)
-    ax.set_xlabel("diagnosis outcome")
+    ax.set_xlabel("diagnosis outcome (the chosen effect for effect/partial)")
     ax.set_ylabel("withheld truth (twin)")
     ax.set_title("Twin matrix: withheld effect vs diagnosis (green: a right answer)")
     fig.tight_layout()
@@ -100,91 +118,111 @@ def plot(rows, path):
     plt.close(fig)
 
 
+def summarize(rows, wall, device, out_dir, spec_path):
+    eff = [r for r in rows if is_effect_twin(r)]
+    right = [r for r in eff if r["verdict"] in ("effect", "partial") and r["effect"] == r["truth"]]
+    shrinks = [r["held_out_shrink"] for r in right if r["held_out_shrink"] is not None]
+    within = [r for r in right if r["strength"] and r["truth_strength"]
+              and abs(r["strength"] / r["truth_strength"] - 1) <= 0.25]
+    covered = [r for r in right if r["interval"] and r["truth_strength"]
+               and r["interval"][0] * (1 - 1e-9) <= r["truth_strength"] <= r["interval"][1] * (1 + 1e-9)]
+    quiet = [r for r in rows if not is_effect_twin(r)]
+    confident_wrong = [r for r in quiet if r["verdict"] == "effect"]
+    out = {"matrix": spec_path, "rows": rows, "effect_twins": len(eff), "top1": len(right),
+           "top1_rate": len(right) / len(eff) if eff else None,
+           "in_reported_set": sum(1 for r in eff if r["effect"] == r["truth"] or r["truth"] in r["tied"]),
+           "median_held_out_shrink": statistics.median(shrinks) if shrinks else None,
+           "strength_within_25pc": len(within), "interval_covers_truth": len(covered),
+           "nulls_and_outside": len(quiet), "confident_wrong": len(confident_wrong),
+           "device": device, "wall_s": wall}
+    json.dump(out, open(os.path.join(out_dir, "matrix.json"), "w"), indent=2)
+    md = ["| twin | truth | truth strength | also differs | verdict | chosen (tied) | fitted strength [interval] | "
+          "held-out shrink | wall |", "|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        s = r["held_out_shrink"]
+        fit = ""
+        if r["strength"] is not None:
+            lo, hi = r["interval"]
+            op = r["interval_open"] or [False, False]
+            fit = f"{r['strength']:.3g} [{'≤ ' if op[0] else ''}{lo:.3g}, {hi:.3g}{' ≤' if op[1] else ''}]"
+        ts = "" if r["truth_strength"] is None else f"{r['truth_strength']:.3g}"
+        chosen = (r["effect"] or "-") + (f" ({', '.join(r['tied'])})" if r["tied"] else "")
+        md.append(f"| {r['twin']} | {r['truth'] or 'none'} | {ts} | {'yes' if r['perturbed'] else ''} | "
+                  f"{r['verdict']} | {chosen} | {fit} | {'' if s is None else f'{100 * s:.0f} %'} | "
+                  f"{'' if r['wall_s'] is None else '%.0f s' % r['wall_s']} |")
+    md.append("")
+    md += confusion(rows)[0]
+    md.append("")
+    n = len(right)
+    md.append(
+        f"Top-1 identification {len(right)}/{len(eff)} ({100 * (out['top1_rate'] or 0):.0f} %) over the effect twins "
+        f"(truth in the reported set, chosen or tied: {out['in_reported_set']}/{len(eff)}); median held-out "
+        f"shrink {'-' if not shrinks else f'{100 * statistics.median(shrinks):.0f} %'} over the {n} identified; "
+        f"fitted strength within ±25 % of the truth for {len(within)}/{n}, interval covering the truth for "
+        f"{len(covered)}/{n}; nulls and outside effects given an `effect` verdict (a confident wrong answer): "
+        f"{len(confident_wrong)}/{len(quiet)}. Device {device}; wall {wall:.0f} s.")
+    open(os.path.join(out_dir, "matrix.md"), "w").write("\n".join(md) + "\n")
+    plot(rows, os.path.join(out_dir, "matrix.png"))
+    print("\n".join(md))
+
+
 def main():
     ap = argparse.ArgumentParser()
+    ap.add_argument("matrix", help="matrix file (TOML): diagnosis, twin_base, [[twin]]")
     ap.add_argument("--wetdem", default="build/host/wetdem")
     ap.add_argument("--out", required=True)
-    ap.add_argument("--diagnosis", required=True, help="diagnosis file (its effects are the candidates)")
-    ap.add_argument("--twin-base", required=True, help="a null twin file: case, conditions, seeds, noise")
-    ap.add_argument("--effects", nargs="*", help="truth effects (default: the diagnosis file's)")
-    ap.add_argument("--nulls", type=int, default=2)
     ap.add_argument("--jobs", type=int, default=1)
+    ap.add_argument("--batch", type=int, default=1)
+    ap.add_argument("--only", nargs="*", help="run only these twins (names)")
     ap.add_argument("--store", help="run store (default OUT/store); share one across matrices to reuse runs")
     ap.add_argument("--summarize", action="store_true",
                     help="only (re)write matrix.json/.md/.png from the twin folders already in --out")
-    ap.add_argument("--perturb", action="append", default=[],
-                    help="a truth key every twin also differs in, e.g. 'psd.tails = \"lognormal\"' or "
-                         "'scaling = 4.5' (diagnosis.md §5: a real system differs in more than one way)")
     a = ap.parse_args()
+    spec = tomllib.load(open(a.matrix, "rb"))
+    mdir = os.path.dirname(os.path.abspath(a.matrix))
+    for k in ("diagnosis", "twin_base", "twin"):
+        if k not in spec:
+            sys.exit(f"{a.matrix}: {k}: required")
+    diagnosis = os.path.join(mdir, spec["diagnosis"])
+    base_path = os.path.join(mdir, spec["twin_base"])
+    base, base_dir = open(base_path).read(), os.path.dirname(base_path)
+    names = [t["name"] for t in spec["twin"]]
+    if len(set(names)) != len(names):
+        sys.exit(f"{a.matrix}: twin names must be unique")
+    for t in spec["twin"]:
+        for k in t:
+            if k not in ("name", "effect", "strength", "truth", "perturb"):
+                sys.exit(f"{a.matrix}: twin {t['name']}: unknown key {k}")
     os.makedirs(a.out, exist_ok=True)
     store = a.store or os.path.join(a.out, "store")
-    base = open(a.twin_base).read()
-    base_dir = os.path.dirname(os.path.abspath(a.twin_base))
-    base = re.sub(r'^case\s*=\s*"([^"]+)"', lambda m: f'case = "{os.path.join(base_dir, m.group(1))}"', base,
-                  flags=re.M)
-    effects = a.effects or re.findall(r'"(\w+)"', re.search(r"^effects\s*=\s*\[(.*)\]", open(a.diagnosis).read(),
-                                                                      re.M).group(1))
-    twins = []
-    for e in effects:
-        for level, truth in zip(("weak", "strong"), TRUTHS[e]):
-            twins.append((f"{e}-{level}", e, truth))
-    for k in range(a.nulls):
-        twins.append((f"null-{k + 1}", None, ""))
     t0 = time.time()
     rows = []
-    for i, (name, effect, truth) in enumerate(twins):
-        d = os.path.join(a.out, name)
-        if a.summarize:
+    for i, t in enumerate(spec["twin"]):
+        d = os.path.join(a.out, t["name"])
+        if a.summarize or (a.only and t["name"] not in a.only):
             if os.path.exists(os.path.join(d, "diagnosis", "diagnosis.json")):
-                rows.append(row_of(d, name, effect, truth, twins))
+                rows.append(row_of(d, t))
             continue
         os.makedirs(d, exist_ok=True)
-        text = re.sub(r"^seeds\s*=.*$", f"seeds = [{1000 + 10 * i}, {1001 + 10 * i}]", base, flags=re.M)
-        text = re.sub(r"^noise_seed\s*=.*$", f"noise_seed = {500 + i}", text, flags=re.M)
-        text = re.sub(r"^\[truth\][^\[]*", "", text, flags=re.M)
-        if truth or a.perturb:
-            text += "\n[truth]\n" + "\n".join([truth] + a.perturb if truth else a.perturb) + "\n"
+        overrides = dict(t.get("truth", {}))
+        overrides.update(t.get("perturb", {}))
         tf = os.path.join(d, "twin.toml")
-        open(tf, "w").write(text)
-        run([a.wetdem, "twin", tf, "--out", os.path.join(d, "twin"), "--store", store, "--jobs", str(a.jobs),
-             "--quiet"], os.path.join(d, "twin.log"))
+        open(tf, "w").write(twin_text(base, base_dir, [1000 + 10 * i, 1001 + 10 * i], 500 + i, overrides))
+        common = ["--store", store, "--jobs", str(a.jobs), "--batch", str(a.batch), "--quiet"]
+        run([a.wetdem, "twin", tf, "--out", os.path.join(d, "twin")] + common, os.path.join(d, "twin.log"))
         # The diagnosis sees the observations only (truth.json stays in the twin folder).
-        run([a.wetdem, "diagnose", a.diagnosis, "--observations", os.path.join(d, "twin", "observations.csv"),
-             "--out", os.path.join(d, "diagnosis"), "--store", store, "--jobs", str(a.jobs), "--quiet",
-             "--no-figures"], os.path.join(d, "diagnose.log"))
-        rows.append(row_of(d, name, effect, truth, twins))
-        print(f"{name}: {rows[-1]['verdict']} {rows[-1]['effect'] or ''}", flush=True)
+        run([a.wetdem, "diagnose", diagnosis, "--observations", os.path.join(d, "twin", "observations.csv"),
+             "--out", os.path.join(d, "diagnosis")] + common, os.path.join(d, "diagnose.log"))
+        rows.append(row_of(d, t))
+        r = rows[-1]
+        print(f"{t['name']}: {r['verdict']} {r['effect'] or ''} ({time.time() - t0:.0f} s)", flush=True)
     wall = time.time() - t0
-    if a.summarize:
+    if a.summarize or a.only:
         old = os.path.join(a.out, "matrix.json")
-        wall = json.load(open(old))["wall_s"] if os.path.exists(old) else float("nan")
-    eff = [r for r in rows if r["truth"]]
-    hits = sum(1 for r in eff if r["verdict"] == "effect" and r["effect"] == r["truth"])
-    shrinks = [r["held_out_shrink"] for r in rows if r["verdict"] == "effect" and r["held_out_shrink"] is not None]
-    nulls = [r for r in rows if not r["truth"]]
-    out = {"perturb": a.perturb, "rows": rows, "top1_rate": hits / len(eff) if eff else None,
-           "median_held_out_shrink": statistics.median(shrinks) if shrinks else None,
-           "nulls_ok": sum(1 for r in nulls if r["verdict"] != "effect"), "nulls": len(nulls),
-           "device": next((r["device"] for r in rows if r["device"]), ""), "wall_s": wall}
-    json.dump(out, open(os.path.join(a.out, "matrix.json"), "w"), indent=2)
-    md = ["| twin | truth | truth strength | verdict | chosen | fitted strength [interval] | held-out shrink |",
-          "|---|---|---|---|---|---|---|"]
-    for r in rows:
-        s = r["held_out_shrink"]
-        fit = "" if r["strength"] is None else f"{r['strength']:.3g} [{r['interval'][0]:.3g}, {r['interval'][1]:.3g}]"
-        ts = "" if r["truth_strength"] is None else f"{r['truth_strength']:.3g}"
-        md.append(f"| {r['twin']} | {r['truth'] or 'none'} | {ts} | {r['verdict']} | {r['effect'] or '-'} | {fit} | "
-                  f"{'' if s is None else f'{100 * s:.0f} %'} |")
-    md.append("")
-    md += confusion(rows)
-    md.append("")
-    md.append(f"Top-1 identification: {hits}/{len(eff)}; median held-out shrink where `effect`: "
-              f"{'-' if not shrinks else f'{100 * statistics.median(shrinks):.0f} %'}; nulls without an effect: "
-              f"{out['nulls_ok']}/{len(nulls)}; device {out['device']}; wall {wall:.0f} s."
-              + (f" Every truth also differs in: {'; '.join(a.perturb)}." if a.perturb else ""))
-    open(os.path.join(a.out, "matrix.md"), "w").write("\n".join(md) + "\n")
-    plot(rows, os.path.join(a.out, "matrix.png"))
-    print("\n".join(md))
+        if os.path.exists(old):
+            wall = json.load(open(old)).get("wall_s", wall) + (0 if a.summarize else wall)
+    device = next((r["device"] for r in rows if r["device"]), "")
+    summarize(rows, wall, device, a.out, os.path.relpath(a.matrix))
 
 
 if __name__ == "__main__":

@@ -1,4 +1,4 @@
-// Candidate effects of issue #8 that are forces (README "Candidate effects", diagnosis.md §3): viscous
+// Candidate effects of issue #8 that are forces (docs/model.md "Candidate effects", diagnosis.md §3): viscous
 // lubrication (Pitois 2000), dry JKR cohesion and contact-angle hysteresis. Whole steps on every backend; the
 // expected values are written here from the papers' formulas, independently of both implementations.
 #include <gtest/gtest.h>

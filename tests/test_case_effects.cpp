@@ -1,5 +1,5 @@
-// Case keys of the candidate force effects (README "Candidate effects"): units, validation naming the key,
-// defaults, the resolved echo, and what reaches SimParams (w scaled by l, S_min default, theta_r).
+// Case keys of the candidate force effects (docs/model.md "Candidate effects"): units, validation naming the
+// key, defaults, the resolved echo, and what reaches SimParams (w scaled by l, S_min default, theta_r).
 #ifdef WETDEM_HAVE_APP
 
 #include <gtest/gtest.h>
@@ -93,12 +93,30 @@ TEST(CaseEffects, CutoffDefaultsToOnePercentOfTheMeanRadiusAndDtIsChecked) {
   make_sim_params(c, std::vector<double>(10, 2e-3), &d);
   EXPECT_NEAR(d.lubrication_cutoff, 2e-5, 1e-15);
   EXPECT_GT(d.dt_viscous_limit, 0.0);
-  // 100 Pa s with a 0.1 um cut-off: the damping is far too stiff for dt, a start-up note says so.
+  // 100 Pa s with a 0.1 um cut-off: the damping is far too stiff for the Rayleigh dt. The default dt is
+  // lowered to the damper's limit (as the Rayleigh fraction limits it), and the log says why.
   const Case hard = parse({"liquid.viscosity=\"100 Pa s\"", "liquid.lubrication_cutoff=\"0.1 um\""});
-  make_sim_params(hard, std::vector<double>(10, 2e-3), &d);
-  EXPECT_LT(d.dt_viscous_limit, d.dt);
+  Derived soft;
+  make_sim_params(parse({}), std::vector<double>(10, 2e-3), &soft);
+  const SimParams p = make_sim_params(hard, std::vector<double>(10, 2e-3), &d);
+  EXPECT_LT(d.dt_viscous_limit, soft.dt);
+  EXPECT_DOUBLE_EQ(d.dt, d.dt_viscous_limit);
+  EXPECT_DOUBLE_EQ(p.dt, d.dt);
+  EXPECT_NE(d.dt_reason.find("viscous limit"), std::string::npos) << d.dt_reason;
   bool noted = false;
-  for (const std::string& n : d.notes) noted = noted || n.find("viscous limit") != std::string::npos;
+  for (const std::string& n : d.notes) noted = noted || n.find("dt lowered") != std::string::npos;
+  EXPECT_TRUE(noted);
+  EXPECT_EQ(case_viscous_dt_limit(hard, 2e-3, d.mean_solid_volume), d.dt_viscous_limit);
+  // An explicit run.dt is the user's: kept, with a note that it is unstable.
+  const Case given =
+      parse({"liquid.viscosity=\"100 Pa s\"", "liquid.lubrication_cutoff=\"0.1 um\"", "run.dt=\"1 us\""});
+  make_sim_params(given, std::vector<double>(10, 2e-3), &d);
+  EXPECT_DOUBLE_EQ(d.dt, 1e-6);
+  EXPECT_LT(d.dt_viscous_limit, d.dt);
+  EXPECT_EQ(d.dt_reason, "run.dt");
+  noted = false;
+  for (const std::string& n : d.notes)
+    noted = noted || n.find("exceeds the viscous limit") != std::string::npos;
   EXPECT_TRUE(noted);
 }
 

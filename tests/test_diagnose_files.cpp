@@ -1,6 +1,7 @@
 // Bad diagnosis and twin input is refused before anything runs, with the file and the key (or row) named.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 
@@ -48,7 +49,8 @@ TEST(DiagnoseFiles, ShippedFilesParse) {
   const DiagnosisSpec d = parse_diagnosis_file(dir + "diagnose.toml");
   EXPECT_EQ(d.effects, (std::vector<std::string>{"cohesion", "absorption", "evaporation", "spread"}));
   EXPECT_EQ(d.replicates, 2);
-  EXPECT_EQ(d.probes.at("cohesion"), (std::vector<double>{0.01, 0.04, 0.15}));
+  EXPECT_EQ(d.probes.at("cohesion"), (std::vector<double>{0.01, 0.03, 0.1}));
+  EXPECT_EQ(d.shapes.at("absorption"), effect_spec("absorption").shapes);
   EXPECT_TRUE(d.refit.empty());
   const DiagnosisSpec r = parse_diagnosis_file(dir + "diagnose_refit.toml");
   ASSERT_EQ(r.refit.size(), 1u);
@@ -201,7 +203,70 @@ TEST(DiagnoseFiles, BadObservationTablesAreRefusedBeforeAnyRun) {
                           "\"10 %\",aor_deg_mean,31,1\n")
                 .find("liquid.contnt"),
             std::string::npos);
+  // An observable the model cannot produce: the plate AoR of a periodic slice.
+  EXPECT_NE(diagnose_with("liquid.content,observable,value,sigma\n\"5 %\",aor_deg_mean,30,1\n"
+                          "\"10 %\",aor_plate_deg,31,1\n")
+                .find("line 3: the model cannot produce aor_plate_deg"),
+            std::string::npos);
+  // An observable that carries no information at any condition (every value missing or sigma infinite).
+  EXPECT_NE(
+      diagnose_with("liquid.content,observable,value,sigma\n\"5 %\",aor_deg_mean,30,1\n"
+                    "\"10 %\",aor_deg_mean,31,1\n\"5 %\",f_wet_mean,NA,0.1\n\"10 %\",f_wet_mean,0.5,inf\n")
+          .find("f_wet_mean carries no information at any condition (lines 4, 5"),
+      std::string::npos);
+  // The whole table: nothing measured leaves fewer than two conditions.
+  EXPECT_NE(diagnose_with("liquid.content,observable,value,sigma\n\"5 %\",aor_deg_mean,,1\n"
+                          "\"10 %\",aor_deg_mean,31,inf\n")
+                .find("carries no information"),
+            std::string::npos);
   EXPECT_FALSE(fs::exists(d.p / "out" / "store" / "runs")) << "nothing may run on bad input";
+}
+
+// A twin's conditions as explicit points (a laboratory's table is rarely a full product).
+TEST(DiagnoseFiles, TwinPointsAreExplicitConditions) {
+  Dir d;
+  const std::string head = "case = \"" + kCase + "\"\nseeds = [7]\n[noise]\naor_deg_mean = 1\n";
+  const TwinSpec t = parse_twin_file(
+      d.write("t.toml", head + "[[points]]\n\"liquid.content\" = \"0 %\"\n\"drum.rpm\" = 30\n"
+                               "[[points]]\n\"liquid.content\" = \"10 %\"\n\"drum.rpm\" = 60\n"));
+  ASSERT_EQ(t.points.size(), 2u);
+  EXPECT_NE(std::find(t.points[1].begin(), t.points[1].end(),
+                      std::pair<std::string, std::string>{"liquid.content", "\"10 %\""}),
+            t.points[1].end());
+  EXPECT_TRUE(t.condition_keys.empty());
+  const auto err = [&](const std::string& body) {
+    return expect_error([&] { parse_twin_file(d.write("t.toml", head + body)); });
+  };
+  EXPECT_NE(err("[[points]]\n\"liquid.content\" = \"0 %\"\n[[points]]\n\"drum.rpm\" = 60\n")
+                .find("[[points]] #2: every point needs the same condition keys"),
+            std::string::npos);
+  EXPECT_NE(err("[[points]]\n\"liquid.content\" = \"0 %\"\n").find("at least two"), std::string::npos);
+  EXPECT_NE(err("[conditions]\n\"liquid.content\" = [\"0 %\", \"5 %\"]\n[[points]]\n\"drum.rpm\" = 60\n")
+                .find("give one of them"),
+            std::string::npos);
+}
+
+TEST(DiagnoseFiles, ProbesOutsideThePhysicalRangeAreRefused) {
+  Dir d;
+  const auto err = [&](const std::string& body) {
+    return expect_error(
+        [&] { parse_diagnosis_file(d.write("d.toml", "case = \"" + kCase + "\"\n" + body)); });
+  };
+  EXPECT_NE(
+      err("[probes]\ncohesion = [0.01, 0.3]\n").find("[probes] cohesion: 0.3 is outside the physical range"),
+      std::string::npos);
+  EXPECT_NE(err("[probes]\nspread = [0.5, 0.95]\n").find("0.95 is outside the physical range 0.01-0.9"),
+            std::string::npos);
+  EXPECT_NE(err("[shapes]\nabsorption = [0.001, 1]\n").find("[shapes] absorption: 0.001 is outside"),
+            std::string::npos);
+  EXPECT_NE(err("[shapes]\ncohesion = [1, 2]\n").find("no second parameter"), std::string::npos);
+  EXPECT_NE(err("max_cost = 0.5\n").find("max_cost"), std::string::npos);
+  const DiagnosisSpec ok = parse_diagnosis_file(d.write(
+      "d.toml", "case = \"" + kCase + "\"\n[shapes]\nabsorption = [1, 10]\n[verdict]\ntie_delta = 3\n"));
+  EXPECT_EQ(ok.shapes.at("absorption"), (std::vector<double>{1, 10}));
+  EXPECT_EQ(ok.rule.tie_delta, 3.0);
+  for (const EffectSpec& e : effect_catalogue())
+    for (double s : e.probes) EXPECT_TRUE(s >= e.phys_lo && s <= e.phys_hi) << e.name << " " << s;
 }
 
 TEST(DiagnoseFiles, EveryEffectMapsStrengthsToCaseKeys) {

@@ -46,12 +46,15 @@ TEST(DiagnoseParagraph, RefitNamesTheFittedValues) {
   r.settings = refit_settings(spec.refit);
   r.verdict.kind = "effect";
   r.verdict.ranking[0].refit = 1;
-  r.gaps_after.resize(3);
+  r.fresh.resize(1);
+  r.fresh[0].effect = "cohesion";
+  r.fresh[0].after.resize(3);
+  r.fresh[0].gaps_after.resize(3);
   r.verdict.null_refit = 2;
   r.null_refit_gaps.resize(3);
   r.null_refit_gaps[0].significant = r.null_refit_gaps[2].significant = true;
   const std::string effect = verdict_paragraph(r);
-  EXPECT_NE(effect.find("(interval 0-0) and liquid.v_max re-fitted to 0.5 % it predicts"), std::string::npos)
+  EXPECT_NE(effect.find("(0-0) and liquid.v_max re-fitted to 0.5 % it predicts"), std::string::npos)
       << effect;
   EXPECT_NE(effect.find("Without any added effect, the model with liquid.v_max re-fitted to 2 % scores"),
             std::string::npos)

@@ -6,7 +6,10 @@
 #include <cmath>
 #include <random>
 
-#include "diagnose/candidates.h"
+#include "diagnose/emulator.h"
+#include "diagnose/fit.h"
+#include "diagnose/screen.h"
+#include "diagnose/verdict.h"
 #include "diagnose/where.h"
 
 using namespace wetdem::diagnose;
@@ -214,6 +217,17 @@ std::vector<Response> refit_responses(const std::string& name) {
   return rs;
 }
 
+// A candidate's family over the refit settings (one shape).
+Family family_of(const std::vector<std::vector<Prediction>>& base, const std::vector<Response>& rs,
+                 double screen) {
+  Family f;
+  f.effect = rs.front().effect;
+  f.screen = screen;
+  for (size_t j = 0; j < rs.size(); ++j)
+    f.ems.emplace_back(base[j], rs[j]), f.refit_of.push_back(j), f.shape_of.push_back(0);
+  return f;
+}
+
 std::vector<Cell> observed(const std::vector<Prediction>& truth, uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> noise(0.0, 0.3);
@@ -236,22 +250,21 @@ TEST(DiagnoseStats, RefitRecoversTheParameterWithACandidate) {
   std::vector<Emulator> ems;
   for (size_t j = 0; j < 3; ++j) ems.emplace_back(base[j], rs[j]);
 
-  const RefitFit f = fit_refit(cells, ems);
-  EXPECT_EQ(f.setting, 2u);
+  const ProfileFit f = fit_profile(cells, ems);
+  EXPECT_EQ(f.member, 2u);
   EXPECT_NEAR(std::log10(f.fit.strength), std::log10(s_true), 0.1);
   EXPECT_LT(f.fit.chi2, 10.0);
   for (size_t left = 0; left < cells.size(); ++left) {  // one cell per condition: a fold leaves one out
     std::vector<size_t> train;
     for (size_t k = 0; k < cells.size(); ++k)
       if (k != left) train.push_back(k);
-    EXPECT_EQ(fit_refit(cells, ems, train).setting, 2u) << "fold without condition " << left;
+    EXPECT_EQ(fit_profile(cells, ems, train).member, 2u) << "fold without condition " << left;
   }
   const double with = loco_score(cells, ems), without = loco_score(cells, ems[0]);
   EXPECT_LT(with, 15.0);
   EXPECT_GT(without, 4.0 * with) << "without refit the offset is left in the held-out predictions";
-  EXPECT_EQ(next_refit_knot(cells, base, rs).first, 2u);
 
-  const Verdict v = decide(cells, base, {rs}, {1.0});
+  const Verdict v = decide(cells, base, {family_of(base, rs, 1.0)});
   ASSERT_EQ(v.ranking.size(), 1u);
   EXPECT_EQ(v.kind, "effect");
   EXPECT_EQ(v.ranking[0].refit, 2u);
@@ -279,7 +292,7 @@ TEST(DiagnoseStats, RefitClosesAGapOfTheParameterAloneWithoutAnEffect) {
   EXPECT_GT(null_plain, 30.0);  // 5 cells at z = -1.5 / sqrt(0.5^2 + 0.2^2) = -2.8
   EXPECT_GT(null_plain, 4.0 * null_refit);
   const Verdict without = decide(cells, base[0], {refit_responses("evaporation")[0]}, {1.0});
-  const Verdict with = decide(cells, base, {refit_responses("evaporation")}, {1.0});
+  const Verdict with = decide(cells, base, {family_of(base, refit_responses("evaporation"), 1.0)});
   EXPECT_EQ(with.null_refit, 1u);
   EXPECT_DOUBLE_EQ(with.null_loco, null_refit);
   EXPECT_EQ(with.kind, "refit") << "no cell is left significant at p = 0.5: no effect is needed";
@@ -295,12 +308,9 @@ TEST(DiagnoseStats, OneRefitSettingIsThePlainDiagnosis) {
   const Response r = refit_responses("evaporation")[0];
   const Emulator em(base, r);
   EXPECT_EQ(loco_null(cells, std::vector<std::vector<Prediction>>{base}), chi2(cells, base));
-  const RefitFit f = fit_refit(cells, {em});
+  const ProfileFit f = fit_profile(cells, {em});
   const StrengthFit g = fit_strength(cells, em);
-  EXPECT_EQ(f.setting, 0u);
+  EXPECT_EQ(f.member, 0u);
   EXPECT_EQ(f.fit.strength, g.strength);
   EXPECT_EQ(f.fit.chi2, g.chi2);
-  const auto [j, s] = next_refit_knot(cells, {base}, {r});
-  EXPECT_EQ(j, 0u);
-  EXPECT_EQ(s, next_knot(cells, base, r));
 }

@@ -1,4 +1,4 @@
-// Ensembles (README "Ensembles"): independent runs stepped together in one System, each bitwise equal to the
+// Ensembles (docs/ensembles.md): independent runs stepped together in one System, each bitwise equal to the
 // same run done alone, and kept apart (runs never touch, even when their particles overlap in space).
 #include <gtest/gtest.h>
 

@@ -174,7 +174,7 @@ TEST_F(GpuSystem, RestoredSnapshotStepsBitwiseAsTheContinuedRun) {
   // The System-level half of a resumed run (DrumRun.ResumeReachesTheBitwiseSameFinalState adds the run
   // phases): a snapshot taken mid-run, restored into a new System, must step to bitwise the state of the run
   // that went on, through rebuilds and bridge events. (On the H100 the drum-level resume was not bitwise,
-  // README "On a GPU"; this test separates the System from the run phases there.)
+  // docs/benchmark.md "On a GPU"; this test separates the System from the run phases there.)
   SimParams prm = wet_drum_params();
   SystemState s = random_drum_packing(prm, 600, 0.5e-3, 0.8e-3, 13, 0.2);
   for (auto& f : s.p.film) f = 1 << 27;

@@ -18,7 +18,7 @@ constexpr double kR = 1e-3, kRho = 2500.0;
 
 class Sinks : public ::testing::TestWithParam<std::string> {};
 
-// Bound of the floor law (stated in README "Liquid sinks"): V_{n+1} = V_n - floor(a V_n) lies in
+// Bound of the floor law (stated in docs/model.md "Liquid sinks"): V_{n+1} = V_n - floor(a V_n) lies in
 // [(1 - a) V_n, (1 - a) V_n + 1), so e_n = V_n - (1 - a)^n V0 lies in [0, sum_{k<n} (1 - a)^k) within [0, n).
 // (1 - a)^n = e^(-k n dt) exactly for a = 1 - e^(-k dt); the 64-bit fraction rounds a down by < 2^-64, which
 // moves V_n by < n V0 2^-64 < 1 unit here. So 0 <= V_n - V0 e^(-k n dt) < n + 1, and relative to V_n that is

@@ -4,7 +4,7 @@
 // How much of the half-kick increment dv = ½ Δt (F/m + g) float32 velocities lose on a resting wet bed: the
 // demo slice settled for 0.25 s (its own settle), then the state's float32 velocities and forces. For every
 // particle and component: the float32 result fl(v + fl(dv)) against the exact v + dv (double). Results in the
-// README.
+// docs/model.md ("Known differences from MercuryDPM").
 #include <gtest/gtest.h>
 
 #include <cmath>

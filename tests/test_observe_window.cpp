@@ -86,16 +86,26 @@ TEST(ObserveWindow, TimeseriesRowAndCheckpointRoundTrip) {
   const std::string head = app::timeseries_header(), row = app::timeseries_row(s);
   EXPECT_NE(head.find(",aor_surface_deg,aor_plate_deg,aor_centre_deg,surface_velocity_mps,"
                       "flowing_layer_depth_m,agglomerate_size_mean,drum_to_agglomerate_ratio,"
-                      "liquid_free_fraction,surface_size_ratio\n"),
+                      "liquid_free_fraction,surface_size_ratio,surface_agglomerate_size\n"),
             std::string::npos);
-  EXPECT_NE(row.find(",30.5,,,,,2.25,,,\n"), std::string::npos) << row;  // no value: empty cell
+  EXPECT_NE(row.find(",30.5,,,,,2.25,,,,\n"), std::string::npos) << row;  // no value: empty cell
+  s.interface = {0.01, std::nan(""), -0.002};
   const std::vector<app::Sample> back = app::samples_from_json(app::samples_to_json({s}));
   ASSERT_EQ(back.size(), 1u);
   EXPECT_EQ(back[0].camera.aor_surface_deg, 30.5);
   EXPECT_EQ(back[0].camera.agglomerate_size_mean, 2.25);
   EXPECT_TRUE(std::isnan(back[0].camera.aor_plate_deg));
-  // A checkpoint written before the camera observables (no trailing camera array) still reads.
+  const app::Sample with = app::samples_from_json(app::samples_to_json({s}))[0];
+  ASSERT_EQ(with.interface.size(), 3u);
+  EXPECT_EQ(with.interface[0], 0.01);
+  EXPECT_TRUE(std::isnan(with.interface[1]));
+  EXPECT_EQ(with.interface[2], -0.002);
+  // A checkpoint written before the interface profile (no trailing array) reads without one; one written
+  // before the camera observables (no camera array either) still reads.
   nlohmann::json old = app::samples_to_json({s});
+  old[0].erase(old[0].size() - 1);
+  EXPECT_TRUE(app::samples_from_json(old)[0].interface.empty());
+  EXPECT_EQ(app::samples_from_json(old)[0].camera.aor_surface_deg, 30.5);
   old[0].erase(old[0].size() - 1);
   EXPECT_TRUE(std::isnan(app::samples_from_json(old)[0].camera.aor_surface_deg));
 }

@@ -91,7 +91,10 @@ double truth(double content, double vmax) {
 
 std::string calib_study(const std::string& obs) {
   return "base = \"" + micro_case() +
-         "\"\nreplicates = 2\n[axes]\n\"liquid.content\" = [\"5 %\", \"10 %\"]\n"
+         "\"\nreplicates = 2\n"
+         // V_max = 8 % needs a slice thicker than the micro case's 18 mm (twice the neighbour reach).
+         "[set]\n\"drum.slice_thickness\" = \"24 mm\"\n"
+         "[axes]\n\"liquid.content\" = [\"5 %\", \"10 %\"]\n"
          "\"liquid.v_max\" = [\"0.25 %\", \"0.5 %\", \"1 %\", \"2 %\", \"4 %\", \"8 %\"]\n"
          "[observations]\nfile = \"" +
          obs + "\"\nfit = [\"liquid.v_max\"]\n";

@@ -40,10 +40,10 @@ TEST_F(TwinWet, BridgesFilmsAndForcesMatchReferenceEveryStep) {
   run_twin(wet_twin_params(0.9e-3), 1000, 400, 100, 20);
 }
 
-// The candidate force effects of issue #8 switched on at strong strengths (README "Candidate effects"):
-// lubrication (eta = 0.05 Pa s, S_min = 5 um), dry adhesion (w = 0.02 J/m^2 on pairs and walls) and
-// hysteresis (theta_r = 60 deg against theta = 30 deg: longer bridges, weaker stretched pull). Shorter run,
-// same checks.
+// The candidate force effects of issue #8 switched on at strong strengths (docs/model.md "Candidate
+// effects"): lubrication (eta = 0.05 Pa s, S_min = 5 um), dry adhesion (w = 0.02 J/m^2 on pairs and walls)
+// and hysteresis (theta_r = 60 deg against theta = 30 deg: longer bridges, weaker stretched pull). Shorter
+// run, same checks.
 TEST_F(TwinWet, CandidateForceEffectsMatchReferenceEveryStep) {
   SimParams prm = wet_twin_params(0.9e-3);
   for (LiquidParams* l : {&prm.liq_pp, &prm.liq_pw[kWallCylinder]}) {

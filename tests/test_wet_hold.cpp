@@ -33,8 +33,8 @@ class WetHold : public ::testing::TestWithParam<std::string> {};
 // Two equal spheres (r = 1 mm) with a bridge at V_max, pulled apart at 0.4 m/s (4e-7 m per step); their mass
 // is huge so the bridge cannot change the imposed motion. Every step: the force equals Willett's at the gap;
 // the bridge lasts while S < S_c,max = (1 + theta/2) V_max^(1/3) (which is also the interaction range) and
-// ruptures at the end of the first step with S >= S_c,max, pulling in that step (README "Known differences":
-// MercuryDPM no longer sees the pair then); after it, no force.
+// ruptures at the end of the first step with S >= S_c,max, pulling in that step (docs/model.md "Known
+// differences": MercuryDPM no longer sees the pair then); after it, no force.
 TEST_P(WetHold, VmaxBridgeFollowsWillettUntilTheInteractionRange) {
   SimParams prm = dry_params(5e6, 2e6, 0.5, 1e-6);
   prm.liquid_unit_m3 = 1e-21;

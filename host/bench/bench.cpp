@@ -2,7 +2,7 @@
 // rotation through the run phases (bench/steady.h, cached), then N steps are timed on the wall clock and
 // again with a GPU timestamp before every pass. Reports particle-steps/s, per-pass shares, the rebuild
 // interval, contacts, bridges, neighbour entries, device bytes per particle and the step's memory traffic
-// against the device's bandwidth (bench/traffic.h). README "Benchmark" defines every column.
+// against the device's bandwidth (bench/traffic.h). docs/benchmark.md defines every column.
 #include <fmt/core.h>
 #include <CLI/CLI.hpp>
 
@@ -206,7 +206,7 @@ nlohmann::json bench_case(vk::Context& ctx, const app::Case& c, const std::strin
     j["gated_rebuilds"] = {{"particle_steps_per_s", gated_pss}, {"split_speedup", pss / gated_pss}};
   }
 
-  // Ensembles (README "Ensembles"): k runs of this drum from its steady state, stepped together in one
+  // Ensembles (docs/ensembles.md): k runs of this drum from its steady state, stepped together in one
   // System; run r's sliding friction is scaled by 1 + 1e-3 r so that the runs part ways. Aggregate
   // particle-steps/s, and its ratio to the one run timed above (same device, same run).
   if (!o.ensembles.empty()) {
@@ -302,7 +302,9 @@ void print_table(const nlohmann::json& runs) {
 
 int main(int argc, char** argv) {
   CLI::App app{
-      "wetdem_bench: particle-steps per second of real runs in rotation, per pass (README Benchmark)"};
+      "wetdem_bench: particle-steps per second of real runs in rotation, per pass (docs/benchmark.md)"};
+  app.footer(
+      "Example: wetdem_bench assets/studies/micro/micro_case.toml --variants wet --steps 1000 --ensemble 8");
   std::vector<std::string> cases{"assets/demo.toml", "assets/demo_closed.toml", "assets/pp2_l5.toml",
                                  "assets/pp2_l3.toml", "assets/pp1_l3.toml"};
   std::vector<std::string> variants{"wet", "dry"}, sets;

@@ -41,7 +41,7 @@ Bandwidth default_bandwidth(const std::string& device_name) {
       {"l40s", {864, "NVIDIA L40S data sheet, 864 GB/s"}},
       {"rtx 4090", {1008, "NVIDIA RTX 4090 data sheet, 1.0 TB/s"}},
       {"mi300x", {5300, "AMD MI300X data sheet, 5.3 TB/s"}},
-      {"llvmpipe", {20, "assumed for lavapipe on a 2-core share of a server's DRAM (README Benchmark)"}},
+      {"llvmpipe", {20, "assumed for lavapipe on a 2-core share of a server's DRAM (docs/benchmark.md)"}},
   };
   for (const auto& [key, bw] : table)
     if (has(key)) return bw;

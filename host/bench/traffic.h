@@ -2,7 +2,7 @@
 // against the device's bandwidth (a roofline estimate). Pure functions, unit-tested
 // (tests/test_bench_traffic.cpp).
 //
-// Traffic model (compulsory traffic: every live byte moved once, as with an ideal cache; README "Benchmark"):
+// Traffic model (compulsory traffic: every live byte moved once, as with an ideal cache; docs/benchmark.md):
 //   every step   2 n B_pset + 2 E (B_eset + B_escr)   current particle set and entry set read once and
 //   written
 //                                                     once; per-entry scratch (pair forces, events) written

@@ -2,10 +2,13 @@
 //   wetdem run CASE.toml [--set key=value ...] [--out DIR] [--device NAME] [--resume DIR] [--quiet]
 //   wetdem check CASE.toml [--set key=value ...]    validate and print the resolved case; no run
 //   wetdem devices                                   list Vulkan devices
-//   wetdem study plan|run|run-one|slurm|collect ...  studies (host/study/, README "Studies and calibration")
+//   wetdem study plan|run|run-one|slurm|collect ...  studies (host/study/, docs/studies.md)
 //   wetdem calibrate DIR [--refine K]                fit a study to its observation table
-//   wetdem diagnose D.toml --out DIR                 sim-to-real diagnosis (host/diagnose/, README)
-//   wetdem twin T.toml --out DIR                     observations from a model with a withheld effect
+//   wetdem diagnose D.toml --out DIR                 sim-to-real diagnosis (host/diagnose/,
+//   docs/diagnosis.md) wetdem twin T.toml --out DIR                     observations from a model with a
+//   withheld effect wetdem                                           (no arguments) what wetdem is and the
+//   tour's first command
+// Every command's --help ends with a one-line example (README "A 10-minute tour").
 // Exit codes: 0 done; 2 bad input (one line naming the key, nothing written); 1 the run or the device failed.
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
@@ -32,26 +35,39 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
+// The tour's first command (README "A 10-minute tour"), printed by `wetdem` with no arguments.
+constexpr const char* kFirstCommand = "wetdem run assets/quick_drum.toml --out runs/quick";
+
+void print_welcome() {
+  std::printf(
+      "wetdem: DEM of wet granular materials in a rotating drum (Vulkan compute, GPU or lavapipe)\n"
+      "\n"
+      "Start here (a wet drum to a quotable angle of repose, a few minutes on a CPU):\n"
+      "  %s\n"
+      "\n"
+      "Then: wetdem check, study, calibrate, twin, diagnose (the tour in README.md); wetdem --help lists\n"
+      "every command, wetdem COMMAND --help its options and an example.\n",
+      kFirstCommand);
+}
+
 int check(const std::string& path, const std::vector<std::string>& sets) {
   using namespace wetdem;
   const app::Case c = app::parse_case_file(path, sets);
   for (const std::string& n : c.notes) std::printf("# note: %s\n", n.c_str());
   // What the run will derive, estimated from the PSD model (the run uses the particles it draws).
   const Psd psd(c.psd);
-  const double v = kPi * 0.25 * c.drum.diameter * c.drum.diameter * c.drum.sim_length();
-  const double n = c.drum.fill * v * c.drum.bed_solid_fraction / psd.mean_volume();
-  const double r_min = 0.5 * psd.d_min();
-  const double tr =
-      rayleigh_time(r_min, c.material.density, c.material.G / c.material.stiffness_reduction, c.material.nu);
-  const double dt = c.run.dt ? *c.run.dt : c.run.dt_rayleigh_fraction * tr;
-  const double steps = std::round((c.run.settle + c.run.duration) / dt);
+  const app::ResourceEstimate e = app::estimate_resources(c);
   std::printf("# psd: %s\n", psd.describe().c_str());
   std::printf(
-      "# about %.0f particles; r_min = %.4g m, Rayleigh time %.4g s, dt = %.4g s, %.0f steps (%.3g "
+      "# about %.0f particles; r_min = %.4g m, Rayleigh time %.4g s, dt = %.4g s (%s), %.0f steps (%.3g "
       "particle-steps)\n",
-      n, r_min, tr, dt, steps, n * steps);
+      e.particles, e.r_min, e.t_rayleigh, e.dt, e.dt_reason.c_str(), e.steps, e.particle_steps);
+  try {
+    app::check_reach(c);
+  } catch (const app::CaseError& err) {
+    std::printf("# ERROR: a run would fail: %s\n", err.what());
+  }
   {  // Issue 12: the resource estimate (host/app/run/resources.h) and whether this host could hold it.
-    const app::ResourceEstimate e = app::estimate_resources(c);
     std::printf("%s",
                 app::describe_resources(e, app::kLavapipeThroughput, app::kLavapipeThroughputSource).c_str());
     try {
@@ -67,9 +83,14 @@ int check(const std::string& path, const std::vector<std::string>& sets) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (argc <= 1) {  // no command: say what this is and how to start, not a parse error
+    print_welcome();
+    return 0;
+  }
   CLI::App cli{"wetdem: DEM of wet granular materials in a rotating drum (Vulkan compute)"};
   cli.require_subcommand(1);
   cli.set_version_flag("--version", wetdem::code_version());
+  cli.footer(std::string("Example: ") + kFirstCommand + "   (the tour: README.md)");
 
   wetdem::app::RunOptions ro;
   auto* run = cli.add_subcommand("run", "run a case; results in the run folder (summary.json written last)");
@@ -81,6 +102,10 @@ int main(int argc, char** argv) {
                   "device: index, name substring, \"gpu\" or \"cpu\" (default $WETDEM_DEVICE)");
   run->add_option("--resume", ro.resume_dir, "continue the run in this folder from its last checkpoint");
   run->add_flag("--quiet", ro.quiet, "no progress or log on stdout (run.log is still written)");
+  bool no_figures = false;
+  run->add_flag("--no-figures", no_figures,
+                "draw no figures (default: figures/aor.png and figures/bed.png, scripts/plot_run.py)");
+  run->footer(std::string("Example: ") + kFirstCommand);
   run->add_option("--stop-after-steps", ro.stop_after_steps,
                   "stop as if killed after N steps (testing resume)")
       ->group("");
@@ -92,8 +117,10 @@ int main(int argc, char** argv) {
   chk->add_option("case", check_path, "case file (TOML)")->required();
   chk->add_option("--set", check_sets, "override a case key: dotted.key=value")
       ->allow_extra_args(false);  // one value per --set, so `--set a=1 case.toml` keeps the case
+  chk->footer("Example: wetdem check assets/pp2_l5.toml --set liquid.content=10%");
 
   auto* dev = cli.add_subcommand("devices", "list the Vulkan devices");
+  dev->footer("Example: wetdem devices   (then --device INDEX, or WETDEM_DEVICE=INDEX)");
 
 #ifdef WETDEM_HAVE_STUDY
   // Studies and calibration: registered and run by host/study/commands.cpp.
@@ -133,6 +160,7 @@ int main(int argc, char** argv) {
         wetdem::app::request_interrupt();
         std::signal(s, SIG_DFL);
       });
+    ro.figures = !no_figures;
     const wetdem::app::RunResult r = wetdem::app::run_case(ro);
     return r.completed || ro.stop_after_steps ? 0 : 1;
   } catch (const wetdem::app::CaseError& e) {

@@ -8,6 +8,7 @@
 
 #include "app/case/case.h"
 #include "diagnose/driver.h"
+#include "diagnose/twin.h"
 #include "study/executor.h"
 #include "study/study_file.h"
 
@@ -21,11 +22,16 @@ class Impl : public study::Commands {
     diag_ = cli.add_subcommand("diagnose",
                                "sim-to-real diagnosis: where the model misses, which effect explains it");
     diag_->add_option("file", file_, "diagnosis file (TOML)")->required();
+    diag_->footer(
+        "Example: wetdem diagnose assets/diagnosis/micro/diagnose.toml --observations "
+        "diag/twin/observations.csv --out diag/spread --store diag/store");
     diag_->add_option("--observations", observations_, "observation table (CSV) instead of the file's");
     add_common(diag_);
     twin_ =
         cli.add_subcommand("twin", "synthetic observations from a model with a withheld effect (validation)");
     twin_->add_option("file", file_, "twin file (TOML)")->required();
+    twin_->footer(
+        "Example: wetdem twin assets/diagnosis/micro/twin_spread.toml --out diag/twin --store diag/store");
     add_common(twin_);
   }
   bool selected() const override { return diag_->parsed() || twin_->parsed(); }
@@ -67,9 +73,7 @@ class Impl : public study::Commands {
     c->add_option("--out", o_.out, "output directory")->required();
     c->add_option("--store", o_.store, "run store to use and share (a study directory; default OUT/store)");
     c->add_option("--jobs", o_.jobs, "runs at a time (default 1)");
-    c->add_option(
-         "--batch", o_.batch,
-         "hand up to K runs at a time to one process, stepped together as ensembles (README Ensembles)")
+    c->add_option("--batch", o_.batch, "runs handed to one process as ensembles (default 1; docs/ensembles.md)")
         ->check(CLI::PositiveNumber);
     c->add_option("--device", o_.device, "device for every run (index, name substring, gpu, cpu)");
     c->add_flag("--quiet", o_.quiet, "no progress line");

@@ -77,9 +77,10 @@ std::string toml_text_of_written(const std::string& w) {
 DiagnosisSpec parse_diagnosis_file(const std::string& path_in) {
   const std::string path = fs::absolute(path_in).lexically_normal().string();
   const toml::table root = load(path);
-  reject_unknown(root, path,
-                 {"name", "case", "observations", "effects", "replicates", "screen_top", "refine", "set",
-                  "probes", "verdict", "refit", "refit_values"});
+  reject_unknown(
+      root, path,
+      {"name", "case", "observations", "effects", "replicates", "screen_top", "refine", "extend", "confirm",
+       "max_cost", "next_conditions", "set", "probes", "shapes", "verdict", "refit", "refit_values"});
   DiagnosisSpec d;
   d.path = path;
   d.name = root["name"].value_or(fs::path(path).stem().string());
@@ -122,30 +123,75 @@ DiagnosisSpec parse_diagnosis_file(const std::string& path_in) {
     if (!r || *r < 0 || *r > 5) throw DiagnoseError(fmt::format("{}: refine: an integer in [0, 5]", path));
     d.refine = int(*r);
   }
+  if (root.contains("extend")) {
+    const auto r = root["extend"].value<int64_t>();
+    if (!r || *r < 0 || *r > 6) throw DiagnoseError(fmt::format("{}: extend: an integer in [0, 6]", path));
+    d.extend = int(*r);
+  }
+  if (root.contains("confirm")) {
+    const auto r = root["confirm"].value<int64_t>();
+    if (!r || *r < 0 || *r > 3) throw DiagnoseError(fmt::format("{}: confirm: an integer in [0, 3]", path));
+    d.confirm = int(*r);
+  }
+  if (root.contains("max_cost")) {
+    const auto r = root["max_cost"].value<double>();
+    if (!r || !(*r >= 1)) throw DiagnoseError(fmt::format("{}: max_cost: a number >= 1", path));
+    d.max_cost = *r;
+  }
+  if (root.contains("next_conditions")) {
+    const auto r = root["next_conditions"].value<int64_t>();
+    if (!r || *r < 0 || *r > 20)
+      throw DiagnoseError(fmt::format("{}: next_conditions: an integer in [0, 20]", path));
+    d.next_conditions = size_t(*r);
+  }
   if (const auto* t = root["set"].as_table()) d.set = overrides_of(*t, path, "set");
-  if (const auto* t = root["probes"].as_table()) {
+  // [probes] (strengths) and [shapes] (second parameters): positive, ascending, inside the physical range
+  // (diagnosis.md §3), so that no probe asks for a system that cannot exist.
+  const auto read_list = [&](const char* table, bool shapes) {
+    const auto* t = root[table].as_table();
+    if (!t) {
+      if (root.contains(table))
+        throw DiagnoseError(fmt::format("{}: [{}]: a table of effect = [values]", path, table));
+      return;
+    }
     for (const auto& [k, v] : *t) {
       const std::string name(k.str());
       if (std::find(d.effects.begin(), d.effects.end(), name) == d.effects.end())
-        throw DiagnoseError(fmt::format("{}: [probes] {}: not one of the effects diagnosed", path, name));
+        throw DiagnoseError(fmt::format("{}: [{}] {}: not one of the effects diagnosed", path, table, name));
+      const EffectSpec& spec = effect_spec(name);
+      if (shapes && spec.shape.empty())
+        throw DiagnoseError(fmt::format("{}: [shapes] {}: the effect has no second parameter", path, name));
       const auto* a = v.as_array();
       std::vector<double> s;
       if (a)
         for (const auto& x : *a)
           if (auto f = x.value<double>()) s.push_back(*f);
       if (!a || s.size() != a->size() || s.empty())
-        throw DiagnoseError(fmt::format("{}: [probes] {}: an array of positive numbers", path, name));
+        throw DiagnoseError(fmt::format("{}: [{}] {}: an array of positive numbers", path, table, name));
       for (size_t i = 0; i < s.size(); ++i)
         if (!(s[i] > 0) || (i && !(s[i] > s[i - 1])))
           throw DiagnoseError(
-              fmt::format("{}: [probes] {}: strengths must be positive and ascending", path, name));
-      d.probes[name] = s;
+              fmt::format("{}: [{}] {}: values must be positive and ascending", path, table, name));
+      const double lo = shapes ? spec.shape_lo : spec.phys_lo, hi = shapes ? spec.shape_hi : spec.phys_hi;
+      for (double x : s)
+        if (x < lo * (1 - 1e-9) || x > hi * (1 + 1e-9))
+          throw DiagnoseError(
+              fmt::format("{}: [{}] {}: {:g} is outside the physical range {:g}-{:g} of {} (diagnosis.md §3)",
+                          path, table, name, x, lo, hi, shapes ? spec.shape : spec.strength));
+      (shapes ? d.shapes : d.probes)[name] = s;
     }
-  }
-  for (const std::string& e : d.effects)
+  };
+  read_list("probes", false);
+  read_list("shapes", true);
+  for (const std::string& e : d.effects) {
     if (!d.probes.count(e)) d.probes[e] = effect_spec(e).probes;
+    if (!d.shapes.count(e) && !effect_spec(e).shapes.empty()) d.shapes[e] = effect_spec(e).shapes;
+  }
   if (const auto* t = root["verdict"].as_table()) {
-    reject_unknown(*t, path + ": [verdict]", {"fdr", "ratio", "min_drop"});
+    reject_unknown(*t, path + ": [verdict]", {"fdr", "ratio", "min_drop", "tie_delta"});
+    d.rule.tie_delta = (*t)["tie_delta"].value_or(d.rule.tie_delta);
+    if (!(d.rule.tie_delta >= 0))
+      throw DiagnoseError(fmt::format("{}: verdict.tie_delta: a number >= 0", path));
     d.rule.q = (*t)["fdr"].value_or(d.rule.q);
     d.rule.ratio = (*t)["ratio"].value_or(d.rule.ratio);
     d.rule.min_drop = (*t)["min_drop"].value_or(d.rule.min_drop);
@@ -166,7 +212,8 @@ DiagnosisSpec parse_diagnosis_file(const std::string& path_in) {
 TwinSpec parse_twin_file(const std::string& path_in) {
   const std::string path = fs::absolute(path_in).lexically_normal().string();
   const toml::table root = load(path);
-  reject_unknown(root, path, {"name", "case", "set", "conditions", "truth", "seeds", "noise", "noise_seed"});
+  reject_unknown(root, path,
+                 {"name", "case", "set", "conditions", "points", "truth", "seeds", "noise", "noise_seed"});
   TwinSpec t;
   t.path = path;
   t.name = root["name"].value_or(fs::path(path).stem().string());
@@ -176,28 +223,58 @@ TwinSpec parse_twin_file(const std::string& path_in) {
   if (const auto* s = root["set"].as_table()) t.set = overrides_of(*s, path, "set");
   if (const auto* s = root["truth"].as_table()) t.truth = overrides_of(*s, path, "truth");
   const auto* c = root["conditions"].as_table();
-  if (!c || c->empty())
-    throw DiagnoseError(fmt::format("{}: [conditions]: at least one condition key", path));
-  size_t n = 1;
-  for (const auto& [k, v] : *c) {
-    const auto* a = v.as_array();
-    if (!a || a->empty())
-      throw DiagnoseError(fmt::format("{}: [conditions] {}: a non-empty array", path, k.str()));
-    t.condition_keys.emplace_back(k.str());
-    std::vector<std::string> vals;
-    for (const auto& x : *a) {
-      try {
-        vals.push_back(value_toml(x));
-      } catch (const DiagnoseError& e) {
-        throw DiagnoseError(fmt::format("{}: [conditions] {}: {}", path, k.str(), e.what()));
+  const auto* pts = root["points"].as_array();
+  if (c && pts) throw DiagnoseError(fmt::format("{}: [conditions] and [[points]]: give one of them", path));
+  if (pts) {
+    std::vector<std::string> keys;
+    for (size_t i = 0; i < pts->size(); ++i) {
+      const auto* p = (*pts)[i].as_table();
+      if (!p || p->empty())
+        throw DiagnoseError(fmt::format("{}: [[points]] #{}: a table of condition keys", path, i + 1));
+      std::vector<std::pair<std::string, std::string>> point;
+      std::vector<std::string> ks;
+      for (const auto& [k, v] : *p) {
+        try {
+          point.emplace_back(std::string(k.str()), value_toml(v));
+        } catch (const DiagnoseError& e) {
+          throw DiagnoseError(fmt::format("{}: [[points]] #{} {}: {}", path, i + 1, k.str(), e.what()));
+        }
+        ks.emplace_back(k.str());
       }
+      std::sort(ks.begin(), ks.end());
+      if (i == 0) keys = ks;
+      if (ks != keys)
+        throw DiagnoseError(fmt::format(
+            "{}: [[points]] #{}: every point needs the same condition keys as the first", path, i + 1));
+      t.points.push_back(point);
     }
-    n *= vals.size();
-    t.condition_toml.push_back(vals);
+    if (t.points.size() < 2)
+      throw DiagnoseError(
+          fmt::format("{}: [[points]]: at least two conditions (a held-out check needs them)", path));
+  } else {
+    if (!c || c->empty())
+      throw DiagnoseError(fmt::format("{}: [conditions]: at least one condition key (or [[points]])", path));
+    size_t n = 1;
+    for (const auto& [k, v] : *c) {
+      const auto* a = v.as_array();
+      if (!a || a->empty())
+        throw DiagnoseError(fmt::format("{}: [conditions] {}: a non-empty array", path, k.str()));
+      t.condition_keys.emplace_back(k.str());
+      std::vector<std::string> vals;
+      for (const auto& x : *a) {
+        try {
+          vals.push_back(value_toml(x));
+        } catch (const DiagnoseError& e) {
+          throw DiagnoseError(fmt::format("{}: [conditions] {}: {}", path, k.str(), e.what()));
+        }
+      }
+      n *= vals.size();
+      t.condition_toml.push_back(vals);
+    }
+    if (n < 2)
+      throw DiagnoseError(
+          fmt::format("{}: [conditions]: at least two conditions (a held-out check needs them)", path));
   }
-  if (n < 2)
-    throw DiagnoseError(
-        fmt::format("{}: [conditions]: at least two conditions (a held-out check needs them)", path));
   if (const auto* s = root["seeds"].as_array()) {
     for (const auto& x : *s) {
       const auto v = x.value<int64_t>();

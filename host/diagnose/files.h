@@ -1,4 +1,4 @@
-// The diagnosis file (D.toml) and the twin file (T.toml): README, "Sim-to-real diagnosis". Both are validated
+// The diagnosis file (D.toml) and the twin file (T.toml): docs/diagnosis.md. Both are validated
 // whole before anything runs; errors name the file and the key.
 #pragma once
 
@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "diagnose/candidates.h"
 #include "diagnose/refit.h"
+#include "diagnose/verdict.h"
 
 namespace wetdem::diagnose {
 
@@ -26,10 +26,17 @@ struct DiagnosisSpec {
   std::vector<std::string> effects;  // candidates (default: the whole catalogue)
   bool effects_given = false;  // named in the file (else the catalogue: those that cannot act are dropped)
   std::map<std::string, std::vector<double>>
-      probes;             // per effect: strengths probed (default: the catalogue's)
-  int replicates = 2;     // baseline and shrink seeds
-  size_t screen_top = 3;  // candidates fitted after the screen
-  int refine = 2;         // per fitted candidate: runs added at its fitted strength, then refitted (0-5)
+      probes;  // per effect: strengths probed (default: the catalogue's), inside the physical range
+  // Per effect with a second parameter (absorption: its rate k, 1/s): the values the fit profiles over
+  // (default: the catalogue's), inside its physical range.
+  std::map<std::string, std::vector<double>> shapes;
+  int extend = 3;              // per fitted candidate: runs that extend the probed range past an edge (0-6)
+  int confirm = 1;             // re-fits of the chosen effect with its fresh runs as a knot (0-3, shrink.h)
+  double max_cost = 10;        // a run needing more than this many times a baseline run's steps is not run
+  size_t next_conditions = 6;  // conditions the next-experiment stage may propose and run (0: none)
+  int replicates = 2;          // baseline and shrink seeds
+  size_t screen_top = 3;       // candidates fitted after the screen
+  int refine = 2;              // per fitted candidate: runs added at its fitted strength, then refitted (0-5)
   VerdictRule rule;
   std::vector<RefitKey> refit;  // `refit` + [refit_values] (refit.h); empty: nothing re-fitted
 };
@@ -38,9 +45,13 @@ DiagnosisSpec parse_diagnosis_file(const std::string& path);
 struct TwinSpec {
   std::string path, name;
   std::string case_path;
-  std::vector<std::string> set;                          // "key=toml" for every run (the common model)
+  std::vector<std::string> set;  // "key=toml" for every run (the common model)
+  // The conditions: [conditions] (keys with value lists, their Cartesian product in file order), or
+  // [[points]] (explicit conditions, each a table of key = value, all with the same keys): a laboratory's
+  // table is rarely a full product (speeds measured at some liquid contents only).
   std::vector<std::string> condition_keys;               // [conditions], Cartesian product in file order
   std::vector<std::vector<std::string>> condition_toml;  // per key: values as TOML
+  std::vector<std::vector<std::pair<std::string, std::string>>> points;  // [[points]]: (key, TOML) each
   std::vector<std::string> truth;       // "key=toml": what the real system has and the model lacks
   std::vector<uint64_t> seeds;          // truth seeds (distinct from the diagnosis's 1..2R)
   std::map<std::string, double> noise;  // observable -> measurement sd (also the table's sigma)

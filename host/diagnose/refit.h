@@ -1,4 +1,4 @@
-// Model parameters re-fitted with each effect (diagnosis.md §1 and §4 step 4; README, "Re-fitted
+// Model parameters re-fitted with each effect (diagnosis.md §1 and §4 step 4; docs/diagnosis.md, "Re-fitted
 // parameters"): `refit = ["liquid.v_max"]` with `[refit_values] "liquid.v_max" = ["0.5 %", "2 %"]` in the
 // diagnosis file. The calibrated value is always tried (setting 0); every value is checked against the case
 // schema before any run.

@@ -17,7 +17,8 @@ namespace {
 
 double chi2_of(const std::vector<CellGap>& g) {
   double s = 0;
-  for (const CellGap& x : g) s += x.z * x.z;
+  for (const CellGap& x : g)
+    if (std::isfinite(x.z)) s += x.z * x.z;
   return s;
 }
 
@@ -31,17 +32,52 @@ bool has_refit(const Report& r) {
   return !r.spec->refit.empty() && r.settings.size() > 1;
 }
 
-// What the null model with refit leaves (only with refit and a fitted null): a sentence for the paragraph.
-std::string null_refit_sentence(const Report& r) {
-  if (!has_refit(r) || r.null_refit_gaps.empty()) return "";
-  return fmt::format(
-      " Without any added effect, the model with {} scores a held-out χ² of {:.1f} and leaves {} of {} cells "
-      "significant.",
-      refit_phrase(r, r.verdict.null_refit), r.verdict.null_loco, significant(r.null_refit_gaps),
-      r.cells.size());
+nlohmann::json num(double x) {
+  return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
 }
 
 }  // namespace
+
+const CandidateRuns* Report::runs_of(const std::string& effect) const {
+  for (const CandidateRuns& c : fitted)
+    if (c.effect == effect) return &c;
+  return nullptr;
+}
+
+const FreshCheck* Report::fresh_of(const std::string& effect) const {
+  for (const FreshCheck& f : fresh)
+    if (f.effect == effect) return &f;
+  return nullptr;
+}
+
+Report make_report(const Procedure& p, double wall_s) {
+  Report r;
+  r.spec = &p.d;
+  r.cells = p.tab.cells;
+  for (size_t k = 0; k < p.tab.cells.size(); ++k)
+    r.cell_condition.push_back(p.tab.conditions[p.tab.cell_condition[k]].label);
+  r.baseline = p.baselines.front();
+  r.gaps = p.gaps;
+  r.where = describe_where(p.tab.cells, p.gaps);
+  r.screened = p.screened;
+  r.fitted = p.fitted;
+  r.settings = p.settings;
+  r.verdict = p.verdict;
+  if (p.settings.size() > 1 && p.baselines.size() > r.verdict.null_refit && !r.verdict.ranking.empty()) {
+    r.null_refit_pred = p.baselines[r.verdict.null_refit];
+    r.null_refit_gaps = where(p.tab.cells, r.null_refit_pred, p.d.rule.q);
+  }
+  r.fresh = p.fresh;
+  r.next = p.next;
+  r.notes = p.notes;
+  r.not_measured = p.tab.not_measured;
+  r.runs = p.book.runs();
+  r.computed = p.book.computed();
+  r.device = p.book.device();
+  r.store = p.store;
+  r.wall_s = wall_s;
+  return r;
+}
 
 std::string refit_phrase(const Report& r, size_t j) {
   if (!has_refit(r)) return "";
@@ -58,86 +94,41 @@ std::string refit_phrase(const Report& r, size_t j) {
   return to;
 }
 
-std::string verdict_paragraph(const Report& r) {
-  const size_t n = r.cells.size(), ns = significant(r.gaps);
-  if (r.verdict.kind == "no_gap")
-    return fmt::format(
-        "**No gap.** The calibrated model agrees with the observations within their uncertainties: none of "
-        "the "
-        "{} measured cells differs significantly (false-discovery rate {:.0f} %). No effect needs to be "
-        "added; "
-        "a new measurement (another liquid content or speed) is what would test the model further.",
-        n, 100 * r.spec->rule.q);
-  std::string where;
-  for (const std::string& w : r.where) where += (where.empty() ? "" : "; ") + w;
-  if (r.verdict.kind == "effect") {
-    const Candidate& c = r.verdict.ranking.front();
-    const EffectSpec& e = effect_spec(c.effect);
-    const double before = chi2_of(r.gaps), after = chi2_of(r.gaps_after);
-    return fmt::format(
-        "**Gap explained by `{}`.** The model departs from the observations at {} of {} cells ({}). Of the "
-        "candidates, `{}` ({}) explains it best: with {} = {:.3g} (interval {:.3g}-{:.3g}){} it predicts the "
-        "conditions it was not fitted to {:.0f} % better than the model without it (held-out shrink), and "
-        "fresh runs at that strength bring χ² from {:.1f} to {:.1f} over the {} cells, {} still "
-        "significant.{} "
-        "Add `{}` to the model (or measure it directly) before trusting predictions at new conditions.",
-        c.effect, ns, n, where, c.effect, e.fingerprint, e.strength, r.chosen_strength, c.fit.lo, c.fit.hi,
-        has_refit(r) ? " and " + refit_phrase(r, c.refit) : "", 100 * r.verdict.held_out_shrink, before,
-        after, n, significant(r.gaps_after), null_refit_sentence(r), c.effect);
-  }
-  // Unexplained: either the best candidate helps but not by the rule's margin (a lead worth more data), or
-  // none helps (the cause lies outside the candidates).
-  const double ratio = r.spec->rule.ratio;
-  // With refit, the model without any effect may close the gap at a re-fitted setting (decide: "refit").
-  if (r.verdict.kind == "refit") {
-    const std::string best =
-        r.verdict.ranking.empty()
-            ? ""
-            : fmt::format(
-                  " The best candidate, `{}`, scores {:.1f} held out, but no cell is left for it to explain.",
-                  r.verdict.ranking.front().effect, r.verdict.ranking.front().loco);
-    return fmt::format(
-        "**Gap closed by re-fitting, no effect needed.** The model as calibrated departs from the "
-        "observations at "
-        "{} of {} cells ({}).{}{} Re-calibrate the model with these values rather than add an effect.",
-        ns, n, where, null_refit_sentence(r), best);
-  }
-  if (!r.verdict.ranking.empty() && r.verdict.held_out_shrink >= 0.5 * (1.0 - ratio)) {
-    const Candidate& c = r.verdict.ranking.front();
-    return fmt::format(
-        "**Gap not explained (a lead: `{}`).** The model departs from the observations at {} of {} cells "
-        "({}). "
-        "The best candidate, `{}` ({}), improves the held-out predictions by {:.0f} % (at {} = {:.3g}), "
-        "short "
-        "of the {:.0f} % the rule asks: the data point to it but do not single it out. To decide, measure "
-        "more "
-        "conditions where its fingerprint is strongest, or repeat the measurements to shrink their error "
-        "bars.{}",
-        c.effect, ns, n, where, c.effect, effect_spec(c.effect).fingerprint, 100 * r.verdict.held_out_shrink,
-        effect_spec(c.effect).strength, c.fit.strength, 100 * (1.0 - ratio), null_refit_sentence(r));
-  }
-  std::string best = r.verdict.ranking.empty()
-                         ? "none was fitted"
-                         : fmt::format("the best, `{}`, improves the held-out predictions by only {:.0f} %",
-                                       r.verdict.ranking.front().effect, 100 * r.verdict.held_out_shrink);
-  return fmt::format(
-      "**Gap not explained.** The model departs from the observations at {} of {} cells ({}), but none of "
-      "the candidate effects explains it by the rule's margin ({}). The cause is likely outside the "
-      "candidates "
-      "(another mechanism, a measurement bias, or a model parameter to re-calibrate).{}",
-      ns, n, where, best, null_refit_sentence(r));
+std::string strength_text(const Candidate& c, const CandidateRuns* runs) {
+  const StrengthFit& f = c.fit;
+  std::string shape;
+  if (runs && c.shape < runs->shapes.size() && !std::isnan(runs->shapes[c.shape]))
+    shape = fmt::format(" at {} = {:.3g}", effect_spec(c.effect).shape, runs->shapes[c.shape]);
+  std::string interval;
+  if (f.open_lo && f.open_hi)
+    interval = "any strength probed fits as well: not determined";
+  else if (f.open_hi)
+    interval =
+        fmt::format(">= {:.3g}: the interval reaches the strongest strength that could be probed", f.lo);
+  else if (f.open_lo)
+    interval = fmt::format("<= {:.3g}: the interval reaches the weakest", f.hi);
+  else
+    interval = fmt::format("{:.3g}-{:.3g}", f.lo, f.hi);
+  return fmt::format("{:.3g}{} ({})", f.strength, shape, interval);
 }
 
 nlohmann::json write_report(const std::string& dir, const Report& r, bool figures) {
   fs::create_directories(dir);
   using nlohmann::json;
+  const FreshCheck* chosen = r.chosen();
+  const bool after = chosen && !chosen->after.empty();
+  const bool named = r.verdict.kind == "effect" || r.verdict.kind == "partial";
   json j;
   j["name"] = r.spec->name;
   j["case"] = r.spec->case_path;
   j["observations"] = r.spec->observations;
   j["verdict"] = r.verdict.kind;
-  j["effect"] = r.verdict.kind == "effect" ? json(r.verdict.effect) : json(nullptr);
-  j["rule"] = {{"fdr", r.spec->rule.q}, {"ratio", r.spec->rule.ratio}, {"min_drop", r.spec->rule.min_drop}};
+  j["effect"] = named ? json(r.verdict.effect) : json(nullptr);
+  j["tied"] = r.verdict.tied;
+  j["rule"] = {{"fdr", r.spec->rule.q},
+               {"ratio", r.spec->rule.ratio},
+               {"min_drop", r.spec->rule.min_drop},
+               {"tie_delta", r.spec->rule.tie_delta}};
   j["where_summary"] = r.where;
   for (size_t k = 0; k < r.cells.size(); ++k) {
     json c = {{"condition", r.cell_condition[k]},
@@ -156,14 +147,15 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
                          {"model_se", r.null_refit_pred[k].se},
                          {"z", r.null_refit_gaps[k].z},
                          {"significant", bool(r.null_refit_gaps[k].significant)}};
-    if (!r.after.empty())
-      c["after"] = {{"model", r.after[k].mean},
-                    {"model_se", r.after[k].se},
-                    {"z", r.gaps_after[k].z},
-                    {"significant", bool(r.gaps_after[k].significant)}};
+    if (after)
+      c["after"] = {{"model", chosen->after[k].mean},
+                    {"model_se", chosen->after[k].se},
+                    {"z", chosen->gaps_after[k].z},
+                    {"significant", bool(chosen->gaps_after[k].significant)}};
     j["cells"].push_back(c);
   }
-  for (const auto& [s, e] : r.screened) j["screen"].push_back({{"effect", e}, {"score", s}});
+  for (const Screened& s : r.screened)
+    j["screen"].push_back({{"effect", s.effect}, {"score", s.score}, {"probe", s.strength}});
   const bool refit = has_refit(r);
   auto setting_json = [&](size_t s) {
     return json{{"setting", s}, {"label", r.settings.at(s).label}, {"values", r.settings.at(s).si}};
@@ -179,49 +171,94 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
     for (size_t s = 0; s < r.settings.size(); ++s) settings.push_back(setting_json(s));
     j["refit"] = {{"keys", keys}, {"settings", settings}};
   }
+  j["ranking"] = json::array();
   for (const Candidate& c : r.verdict.ranking) {
-    j["ranking"].push_back({{"effect", c.effect},
-                            {"screen", c.screen},
-                            {"loco_chi2", c.loco},
-                            {"weight", r.verdict.null_loco > 0 ? 1.0 - c.loco / r.verdict.null_loco : 0.0},
-                            {"strength", c.fit.strength},
-                            {"strength_interval", {c.fit.lo, c.fit.hi}},
-                            {"strength_at_edge", c.fit.at_edge},
-                            {"strength_meaning", effect_spec(c.effect).strength}});
-    if (refit) j["ranking"].back()["refit"] = setting_json(c.refit);
+    const CandidateRuns* cr = r.runs_of(c.effect);
+    const EffectSpec& spec = effect_spec(c.effect);
+    json x = {{"effect", c.effect},
+              {"screen", c.screen},
+              {"loco_chi2", c.loco},
+              {"weight", r.verdict.null_loco > 0 ? 1.0 - c.loco / r.verdict.null_loco : 0.0},
+              {"strength", c.fit.strength},
+              {"strength_interval", {c.fit.lo, c.fit.hi}},
+              {"strength_interval_open", {c.fit.open_lo, c.fit.open_hi}},
+              {"strength_interval_delta_chi2", c.fit.delta},
+              {"strength_at_edge", c.fit.at_edge},
+              {"strength_meaning", spec.strength},
+              {"physical_range", {spec.phys_lo, spec.phys_hi}},
+              {"at_physical_limit", cr ? cr->at_limit : 0},
+              {"range_cut_at", cr && std::isfinite(cr->cut) ? json(cr->cut) : json(nullptr)},
+              {"notes", cr ? cr->notes : std::vector<std::string>{}},
+              {"text", strength_text(c, cr)}};
+    if (cr && c.shape < cr->shapes.size() && !std::isnan(cr->shapes[c.shape]))
+      x["shape"] = {{"meaning", spec.shape}, {"value", cr->shapes[c.shape]}, {"probed", cr->shapes}};
+    if (refit) x["refit"] = setting_json(c.refit);
+    j["ranking"].push_back(x);
   }
   if (refit && !r.null_refit_gaps.empty()) {
     j["null_refit"] = setting_json(r.verdict.null_refit);
     j["null_refit"]["chi2"] = chi2_of(r.null_refit_gaps);
     j["null_refit"]["significant_cells"] = significant(r.null_refit_gaps);
   }
-  for (size_t i = 0; i < r.responses.size(); ++i) {
-    const Response& resp = r.responses[i];
-    json x = {{"effect", resp.effect}, {"strengths", resp.strengths}};
-    if (refit)
-      for (const Candidate& c : r.verdict.ranking)
-        if (c.effect == resp.effect) x["refit"] = setting_json(c.refit);
-    for (const auto& p : resp.pred) {
-      json row;
-      for (const Prediction& q : p) row.push_back({q.mean, q.se});
-      x["pred"].push_back(row);
+  for (const CandidateRuns& cr : r.fitted)
+    for (size_t i = 0; i < cr.members.size(); ++i) {
+      const Response& resp = cr.members[i];
+      json x = {{"effect", resp.effect}, {"strengths", resp.strengths}};
+      if (!std::isnan(cr.shapes[cr.shape_of[i]])) x["shape"] = cr.shapes[cr.shape_of[i]];
+      if (refit) x["refit"] = setting_json(cr.refit_of[i]);
+      for (const auto& p : resp.pred) {
+        json row;
+        for (const Prediction& q : p) row.push_back({q.mean, q.se});
+        x["pred"].push_back(row);
+      }
+      j["responses"].push_back(x);
     }
-    j["responses"].push_back(x);
-  }
   j["null_loco_chi2"] = r.verdict.null_loco;
   j["held_out_shrink"] = r.verdict.ranking.empty() ? json(nullptr) : json(r.verdict.held_out_shrink);
   j["chi2_before"] = chi2_of(r.gaps);
   j["dof"] = r.cells.size();
-  if (!r.after.empty()) {
-    j["chosen_strength"] = r.chosen_strength;
-    if (refit) j["chosen_refit"] = setting_json(r.verdict.ranking.front().refit);
-    j["chi2_after"] = chi2_of(r.gaps_after);
-    j["shrink"] = 1.0 - chi2_of(r.gaps_after) / std::max(1e-300, chi2_of(r.gaps));
+  j["fresh"] = json::array();
+  for (const FreshCheck& f : r.fresh) {
+    json x = {{"effect", f.effect}, {"strength", f.strength}, {"shape", num(f.shape)}};
+    if (refit) x["refit"] = setting_json(f.refit);
+    if (!f.failure.empty()) x["failure"] = f.failure;
+    if (!f.after.empty()) {
+      x["chi2_after"] = chi2_of(f.gaps_after);
+      x["significant_cells"] = significant(f.gaps_after);
+    }
+    j["fresh"].push_back(x);
+  }
+  if (after) {
+    j["chosen_strength"] = chosen->strength;
+    j["chosen_shape"] = num(chosen->shape);
+    if (refit) j["chosen_refit"] = setting_json(chosen->refit);
+    j["chi2_after"] = chi2_of(chosen->gaps_after);
+    j["shrink"] = 1.0 - chi2_of(chosen->gaps_after) / std::max(1e-300, chi2_of(r.gaps));
     json rem = json::array();
     for (size_t k = 0; k < r.cells.size(); ++k)
-      if (r.gaps_after[k].significant) rem.push_back(r.cell_condition[k] + " / " + r.cells[k].observable);
+      if (chosen->gaps_after[k].significant)
+        rem.push_back(r.cell_condition[k] + " / " + r.cells[k].observable);
     j["remaining_gap"] = rem;
   }
+  if (!r.next.effect_a.empty() || !r.next.note.empty()) {
+    json props = json::array();
+    for (size_t i = 0; i < r.next.proposals.size() && i < 12; ++i) {
+      const Proposal& q = r.next.proposals[i];
+      props.push_back({{"condition", q.condition},
+                       {"observable", q.observable},
+                       {"model_a", q.model_a},
+                       {"model_b", q.model_b},
+                       {"se_a", q.se_a},
+                       {"se_b", q.se_b},
+                       {"sigma", q.sigma},
+                       {"separation", q.separation},
+                       {"in_table", q.in_table}});
+    }
+    j["next_experiment"] = {
+        {"effects", {r.next.effect_a, r.next.effect_b}}, {"proposals", props}, {"note", r.next.note}};
+  }
+  j["notes"] = r.notes;
+  j["not_measured"] = r.not_measured;
   j["runs"] = r.runs;
   j["runs_computed"] = r.computed;
   j["store"] = r.store;
@@ -246,28 +283,40 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
   md += "## Where\n\n";
   for (const std::string& w : r.where) md += "- " + w + "\n";
   md += "\n| condition | observable | observed | model (baseline) | z | significant |";
-  md += r.after.empty() ? "\n|---|---|---|---|---|---|\n"
-                        : " with effect | z after |\n|---|---|---|---|---|---|---|---|\n";
+  md += after ? fmt::format(" with `{}` | z after |\n|---|---|---|---|---|---|---|---|\n", chosen->effect)
+              : "\n|---|---|---|---|---|---|\n";
   for (size_t k = 0; k < r.cells.size(); ++k) {
     md += fmt::format("| {} | {} | {:.4g} ± {:.2g} | {:.4g} ± {:.2g} | {:+.2f} | {} |", r.cell_condition[k],
                       r.cells[k].observable, r.cells[k].y, r.cells[k].sigma, r.baseline[k].mean,
                       r.baseline[k].se, r.gaps[k].z, r.gaps[k].significant ? "yes" : "no");
-    if (!r.after.empty())
-      md += fmt::format(" {:.4g} ± {:.2g} | {:+.2f} |", r.after[k].mean, r.after[k].se, r.gaps_after[k].z);
+    if (after)
+      md += fmt::format(" {:.4g} ± {:.2g} | {:+.2f}{} |", chosen->after[k].mean, chosen->after[k].se,
+                        chosen->gaps_after[k].z,
+                        chosen->gaps_after[k].significant ? " (still significant)" : "");
     md += "\n";
   }
-  md += "\n## Candidates\n\n| effect | screen score | held-out χ² (LOCO) | fitted strength | interval |";
-  md += refit ? " re-fitted (all cells) |\n|---|---|---|---|---|---|\n" : "\n|---|---|---|---|---|\n";
+  if (!r.not_measured.empty()) {
+    md += "\nRows of the table that say a quantity was not measured (left out): ";
+    for (const std::string& s : r.not_measured) md += s + "; ";
+    md += "\n";
+  }
+  md += "\n## Candidates\n\n| effect | screen score | held-out χ² (LOCO) | fitted strength (interval) |";
+  md += refit ? " re-fitted (all cells) | notes |\n|---|---|---|---|---|---|\n"
+              : " notes |\n|---|---|---|---|---|\n";
   if (refit)
-    md += fmt::format("| (none: the model without an added effect) | | {:.2f} | | | {} |\n",
+    md += fmt::format("| (none: the model without an added effect) | | {:.2f} | | {} | |\n",
                       r.verdict.null_loco, r.settings.at(r.verdict.null_refit).label);
   else
     md += fmt::format("| (none: the model as calibrated) | | {:.2f} | | |\n", r.verdict.null_loco);
   for (const Candidate& c : r.verdict.ranking) {
-    md += fmt::format("| {} | {:.2f} | {:.2f} | {:.3g} {} | {:.3g}-{:.3g}{} |", c.effect, c.screen, c.loco,
-                      c.fit.strength, effect_spec(c.effect).strength, c.fit.lo, c.fit.hi,
-                      c.fit.at_edge ? " (at the probed range's edge)" : "");
-    md += refit ? fmt::format(" {} |\n", r.settings.at(c.refit).label) : "\n";
+    const CandidateRuns* cr = r.runs_of(c.effect);
+    std::string notes;
+    if (cr)
+      for (const std::string& n : cr->notes) notes += (notes.empty() ? "" : "; ") + n;
+    md += fmt::format("| {} | {:.2f} | {:.2f} | {} {} |", c.effect, c.screen, c.loco,
+                      effect_spec(c.effect).strength, strength_text(c, cr));
+    md += refit ? fmt::format(" {} |", r.settings.at(c.refit).label) : "";
+    md += " " + notes + " |\n";
   }
   if (refit) {
     std::string keys;
@@ -278,11 +327,32 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
         r.settings.size(), keys);
   }
   md += "\nScreen scores of every candidate: ";
-  for (const auto& [s, e] : r.screened) md += fmt::format("{} {:.2f}; ", e, s);
+  for (const Screened& s : r.screened) md += fmt::format("{} {:.2f}; ", s.effect, s.score);
   md += fmt::format(
-      "\n\nRule: `effect` when the best held-out χ² ≤ {} × the null's and lower by ≥ {}; cells "
-      "significant by Benjamini-Hochberg at {}.\n\n",
-      r.spec->rule.ratio, r.spec->rule.min_drop, r.spec->rule.q);
+      "\n\nRule: `effect` when the best held-out χ² ≤ {} × the null's and lower by ≥ {}, and the fresh-seed "
+      "runs "
+      "at its fitted strength leave no cell significant (else `partial`); a runner-up that also passes is "
+      "*tied* unless its held-out χ² exceeds the best's by ≥ {} × max(1, χ²_best/n); cells significant by "
+      "Benjamini-Hochberg at {}. Intervals: Δχ² = max(1, χ²_min/(n − 1)).\n\n",
+      r.spec->rule.ratio, r.spec->rule.min_drop, r.spec->rule.tie_delta, r.spec->rule.q);
+  if (!r.next.proposals.empty()) {
+    md += fmt::format("## Next experiment: `{}` or `{}`?\n\n", r.next.effect_a, r.next.effect_b);
+    md += fmt::format("| condition | observable | `{}` | `{}` | noise σ | separation (σ) | in the table |\n",
+                      r.next.effect_a, r.next.effect_b);
+    md += "|---|---|---|---|---|---|---|\n";
+    for (size_t i = 0; i < r.next.proposals.size() && i < 8; ++i) {
+      const Proposal& q = r.next.proposals[i];
+      md += fmt::format("| {} | {} | {:.4g} ± {:.2g} | {:.4g} ± {:.2g} | {:.3g} | {:.2f} | {} |\n",
+                        q.condition, q.observable, q.model_a, q.se_a, q.model_b, q.se_b, q.sigma,
+                        q.separation, q.in_table ? "yes" : "no");
+    }
+    md += "\n";
+  }
+  if (!r.notes.empty()) {
+    md += "## Runs that could not be made\n\n";
+    for (const std::string& n : r.notes) md += "- " + n + "\n";
+    md += "\n";
+  }
   md += figs;
   md += fmt::format("Runs: {} in the store ({} computed now), device {}, wall time {:.0f} s.\n", r.runs,
                     r.computed, r.device.empty() ? "-" : r.device, r.wall_s);

@@ -1,15 +1,13 @@
-// What a diagnosis writes: diagnosis.json (schema in the README), report.md with a plain-language verdict,
-// tables and figures (scripts/plot_diagnosis.py, Debian's matplotlib).
+// What a diagnosis writes: diagnosis.json (schema in docs/diagnosis.md), report.md with a plain-language
+// verdict, tables and figures (scripts/plot_diagnosis.py, Debian's matplotlib).
 #pragma once
 
+#include <cmath>
 #include <nlohmann/json.hpp>
 #include <string>
-#include <utility>
 #include <vector>
 
-#include "diagnose/candidates.h"
-#include "diagnose/files.h"
-#include "diagnose/where.h"
+#include "diagnose/procedure.h"
 
 namespace wetdem::diagnose {
 
@@ -20,28 +18,40 @@ struct Report {
   std::vector<Prediction> baseline;
   std::vector<CellGap> gaps;
   std::vector<std::string> where;
-  std::vector<std::pair<double, std::string>> screened;  // (score, effect), best first
-  std::vector<Response> responses;                       // the fitted candidates (at their refit setting)
-  std::vector<RefitSetting> settings;                    // refit settings (one, as calibrated, without refit)
+  std::vector<Screened> screened;           // best first
+  std::vector<CandidateRuns> fitted;        // the runs behind every fitted candidate
+  std::vector<RefitSetting> settings;       // refit settings (one, as calibrated, without refit)
   std::vector<Prediction> null_refit_pred;  // with refit: the model without effect at the null's setting
   std::vector<CellGap> null_refit_gaps;
   Verdict verdict;
-  double chosen_strength = 0.0;
-  std::vector<Prediction> after;  // the chosen effect, fresh seeds (empty unless verdict is "effect")
-  std::vector<CellGap> gaps_after;
+  std::vector<FreshCheck> fresh;  // the chosen effect's fresh-seed runs first, then any tied one's
+  NextExperiment next;
+  std::vector<std::string> notes;         // failed runs, cut ranges
+  std::vector<std::string> not_measured;  // table rows that say a quantity was not measured
   size_t runs = 0, computed = 0;
   std::string device, store;
   double wall_s = 0.0;
+
+  const CandidateRuns* runs_of(const std::string& effect) const;
+  const FreshCheck* fresh_of(const std::string& effect) const;
+  // The chosen effect's fresh check (nullptr when none was made).
+  const FreshCheck* chosen() const { return fresh.empty() ? nullptr : &fresh.front(); }
 };
+
+Report make_report(const Procedure& p, double wall_s);
 
 // Writes DIR/diagnosis.json, DIR/report.md and (figures) DIR/figures/*.png; returns diagnosis.json.
 nlohmann::json write_report(const std::string& dir, const Report& r, bool figures);
 
-// The plain-language paragraph of report.md.
+// The plain-language paragraph of report.md (paragraph.cpp).
 std::string verdict_paragraph(const Report& r);
 
 // "liquid.v_max re-fitted to 0.5 %" ("liquid.v_max kept as calibrated") for refit setting j; "" without
 // refit.
 std::string refit_phrase(const Report& r, size_t j);
+
+// A fitted strength with its interval, honest about open ends: "0.05 (0.03-0.08)", "0.2 (>= 0.12: the
+// interval reaches the strongest strength probed)".
+std::string strength_text(const Candidate& c, const CandidateRuns* runs);
 
 }  // namespace wetdem::diagnose

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "app/run/resources.h"
 #include "study/store.h"
 
 namespace fs = std::filesystem;
@@ -14,7 +15,8 @@ namespace fs = std::filesystem;
 namespace wetdem::diagnose {
 
 std::string Variant::label() const {
-  const std::string l = effect.empty() ? "baseline" : fmt::format("{}@{:.6g}", effect, strength);
+  std::string l = effect.empty() ? "baseline" : fmt::format("{}@{:.6g}", effect, strength);
+  if (!std::isnan(shape)) l += fmt::format("~{:.6g}", shape);
   return refit.empty() ? l : l + " [" + refit + "]";
 }
 
@@ -74,7 +76,7 @@ void RunBook::want(Condition& c, const Variant& v, const std::vector<uint64_t>& 
   }
 }
 
-void RunBook::run() {
+size_t RunBook::run() {
   study::StudySpec s = spec();
   s.points = points_;
   study::write_plan(dir_, s, runs_);
@@ -82,12 +84,50 @@ void RunBook::run() {
   wall_s_ += rep.wall_s;
   computed_ += rep.completed;
   if (rep.interrupted) throw std::runtime_error("interrupted; run the same command again to continue");
-  if (rep.failed || rep.stopped || rep.skipped_failed) {
+  for (const study::PlannedRun& r : runs_) {
     std::string why;
-    for (const std::string& f : rep.failures) why += "\n  " + f;
-    throw std::runtime_error(fmt::format("{} run(s) of the diagnosis did not complete (store {}):{}",
-                                         rep.failed + rep.stopped + rep.skipped_failed, dir_, why));
+    const fs::path dir = fs::path(dir_) / "runs" / r.hash;
+    const study::RunState st = study::run_state(dir.string(), &why);
+    if (st == study::RunState::Complete) continue;
+    if (st == study::RunState::Failed)
+      failed_[r.hash] = why.empty() ? "failed" : why;
+    else
+      failed_[r.hash] = std::string("did not complete (") + study::state_name(st) + ")";
   }
+  return failed_.size();
+}
+
+std::string RunBook::failure(const Condition& c, const Variant& v, uint64_t seed) const {
+  const auto it = key_to_hash_.find(c.label + "|" + v.label() + "|" + std::to_string(seed));
+  if (it == key_to_hash_.end()) return "";
+  const auto f = failed_.find(it->second);
+  return f == failed_.end() ? "" : f->second;
+}
+
+std::string RunBook::failure(const std::vector<Condition>& cs, const Variant& v,
+                             const std::vector<uint64_t>& seeds) const {
+  for (const Condition& c : cs)
+    for (uint64_t seed : seeds)
+      if (std::string why = failure(c, v, seed); !why.empty())
+        return fmt::format("{} at {} (seed {}): {}", v.label(), c.label, seed, why);
+  return "";
+}
+
+bool RunBook::has_summaries(const std::vector<Condition>& cs, const Variant& v,
+                            const std::vector<uint64_t>& seeds) const {
+  for (const Condition& c : cs)
+    for (uint64_t seed : seeds) {
+      const auto it = key_to_hash_.find(c.label + "|" + v.label() + "|" + std::to_string(seed));
+      if (it == key_to_hash_.end()) return false;
+      if (summaries_.count(it->second)) continue;
+      if (!fs::exists(fs::path(dir_) / "runs" / it->second / "summary.json")) return false;
+    }
+  return true;
+}
+
+double RunBook::steps(const Condition& c, const Variant& v) const {
+  const std::vector<study::PlannedRun> r = study::expand(spec_of(c, v, {1}));
+  return app::estimate_resources(r.front().resolved).steps;
 }
 
 const nlohmann::json& RunBook::summary(const std::string& hash) const {
@@ -136,26 +176,32 @@ bool RunBook::reports(const Condition& c, const Variant& v, const std::vector<ui
 Prediction RunBook::predict(const Condition& c, const Variant& v, const std::vector<uint64_t>& seeds,
                             const std::string& observable) const {
   std::vector<double> x;
-  double own_se = 0.0;
+  double own2 = 0.0;  // Σ of the runs' own window SE², over the runs that report one
+  size_t owned = 0;
   for (uint64_t seed : seeds) {
     const nlohmann::json& s = summary_of(c, v, seed);
     if (!s.contains(observable) || !s[observable].is_number()) continue;  // flagged or absent in this run
     x.push_back(s[observable].get<double>());
     const std::string k = sem_key(observable, s);
-    if (!k.empty()) own_se = std::max(own_se, s[k].get<double>());
+    if (!k.empty()) own2 += s[k].get<double>() * s[k].get<double>(), ++owned;
   }
   if (x.empty())
     throw std::runtime_error(fmt::format("no run of {} at {} reports '{}'", v.label(), c.label, observable));
   Prediction p;
   for (double a : x) p.mean += a;
   p.mean /= double(x.size());
+  // Two estimates of the error of the mean: the spread between the seeds (sd/√n, one degree of freedom with
+  // two seeds, so often far too small by chance) and the runs' own window errors (from the autocorrelation of
+  // each window, √(mean SE²/n)). The larger is kept: a cell is never called significant because two seeds
+  // happened to agree.
+  const double within = owned ? std::sqrt(own2 / double(owned) / double(x.size())) : 0.0;
+  double between = 0.0;
   if (x.size() >= 2) {
     double ss = 0;
     for (double a : x) ss += (a - p.mean) * (a - p.mean);
-    p.se = std::sqrt(ss / double(x.size() - 1) / double(x.size()));
-  } else {
-    p.se = own_se;
+    between = std::sqrt(ss / double(x.size() - 1) / double(x.size()));
   }
+  p.se = std::max(between, within);
   return p;
 }
 

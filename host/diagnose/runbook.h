@@ -3,6 +3,7 @@
 // computed twice, not across stages and not across diagnoses that share the store (--store).
 #pragma once
 
+#include <cmath>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -20,10 +21,12 @@ struct Condition {
   std::map<std::string, double> si;      // key -> SI value
 };
 
-// A model variant: the baseline (no effect) or one effect at one strength, at a refit setting (refit.h).
+// A model variant: the baseline (no effect) or one effect at one strength (and, for an effect with a second
+// parameter, one shape: effects.h), at a refit setting (refit.h).
 struct Variant {
   std::string effect;  // "" = baseline
   double strength = 0.0;
+  double shape = std::nan("");         // the second parameter's value; NaN: the effect has none
   std::string refit;                   // the refit setting's label; "" = as calibrated
   std::vector<std::string> overrides;  // "key=toml": the refit setting's, then the effect's
   std::string label() const;
@@ -37,10 +40,24 @@ class RunBook {
   void want(Condition& c, const Variant& v, const std::vector<uint64_t>& seeds);
   // Resolves and validates the run of v at c as want does, without wanting it.
   void check(const Condition& c, const Variant& v) const;
-  // Runs every wanted run that is not complete; throws std::runtime_error when any failed.
-  void run();
-  // Replicate mean and SE of `observable` (a summary.json key) over the seeds (SE: sd/√n for n >= 2, else the
-  // run's own window SE when it reports one, else 0). Throws when a run is missing or never reports it.
+  // Runs every wanted run that is not complete. A run that fails (a probe whose bed blows up) does not stop
+  // the others nor the diagnosis: it is recorded (failure()) and the stages decide what it means (a cut
+  // range). A run that failed in an earlier diagnosis sharing the store is not run again and reads the same.
+  // Throws std::runtime_error only when interrupted. Returns the number of runs that failed so far.
+  size_t run();
+  // Why the run of v at c with this seed failed ("" when it completed or has not been asked for).
+  std::string failure(const Condition& c, const Variant& v, uint64_t seed) const;
+  // The first failure among the runs of v at these conditions and seeds ("" when all completed).
+  std::string failure(const std::vector<Condition>& cs, const Variant& v,
+                      const std::vector<uint64_t>& seeds) const;
+  // Whether every run of v at these conditions and seeds has its summary.json.
+  bool has_summaries(const std::vector<Condition>& cs, const Variant& v,
+                     const std::vector<uint64_t>& seeds) const;
+  // Steps the run of v at c would take (settle + duration over its dt), from the case alone.
+  double steps(const Condition& c, const Variant& v) const;
+  // Replicate mean and SE of `observable` (a summary.json key) over the seeds: SE = max(sd/√n, √(mean own
+  // SE²/n)), the runs' own window errors a floor under the spread of few seeds. Throws when a run is missing
+  // or never reports it.
   Prediction predict(const Condition& c, const Variant& v, const std::vector<uint64_t>& seeds,
                      const std::string& observable) const;
   // Whether any of these runs reports `observable` as a number (e.g. liquid_free_fraction is null in a dry
@@ -66,6 +83,7 @@ class RunBook {
   std::vector<std::vector<study::AxisValue>> points_;
   std::map<std::string, std::string> key_to_hash_;  // condition|variant|seed -> hash
   mutable std::map<std::string, nlohmann::json> summaries_;
+  std::map<std::string, std::string> failed_;  // hash -> reason
   size_t computed_ = 0;
   double wall_s_ = 0.0;
 };

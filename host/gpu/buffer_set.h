@@ -53,7 +53,7 @@ struct GpuTable {
 };
 
 struct BufferSet {
-  // `runs` parameter blocks (ensembles: one per run, README "Ensembles").
+  // `runs` parameter blocks (ensembles: one per run, docs/ensembles.md).
   BufferSet(vk::Context& ctx, uint32_t num_particles, uint32_t num_cells, uint32_t runs = 1);
 
   // Reallocates pair set `set` (contents lost) and the per-entry scratch for at least `entries` entries.

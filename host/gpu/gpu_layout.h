@@ -26,8 +26,8 @@ struct GpuLiquid {
 };
 static_assert(sizeof(GpuLiquid) == 48);
 
-// Candidate effects of one interaction type (diagnosis.md §3; README "Candidate effects"). Zero = off; with
-// theta_r = theta, f0r_per_Rh equals GpuLiquid::f0_per_Rh bit for bit.
+// Candidate effects of one interaction type (diagnosis.md §3; docs/model.md "Candidate effects"). Zero = off;
+// with theta_r = theta, f0r_per_Rh equals GpuLiquid::f0_per_Rh bit for bit.
 struct GpuEffects {
   float visc_eta;    // viscosity eta (Pa s): Pitois lubrication on bridged pairs
   float visc_smin;   // lubrication cut-off S_min (m)

@@ -155,9 +155,9 @@ void System::Impl::record_step(VkCommandBuffer cb, bool split) {
 }
 
 // Split rebuilds: steps per submit. A batch that ends before the next rebuild costs a host round trip; one
-// that halts early costs its remaining steps, each a few empty dispatches. On the H100 (README "GPU") a round
-// trip cost about as much as 20 halted steps, so a batch runs past the estimated next rebuild by half an
-// interval; if none came, shorter batches follow. One command buffer is recorded per batch length.
+// that halts early costs its remaining steps, each a few empty dispatches. On the H100 (docs/benchmark.md "On
+// a GPU") a round trip cost about as much as 20 halted steps, so a batch runs past the estimated next rebuild
+// by half an interval; if none came, shorter batches follow. One command buffer is recorded per batch length.
 uint32_t System::Impl::plan_split_batch(uint64_t count) const {
   const double left = 1.5 * interval_est - double(since_rebuild);
   const double want = left >= 1.0 ? std::ceil(left) : std::max(1.0, std::floor(interval_est / 4.0));

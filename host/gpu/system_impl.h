@@ -70,7 +70,7 @@ class GatedDispatcher final : public Dispatcher {
 struct System::Impl {
   vk::Context& ctx;
   SimParams prm;                   // run 0's (the only run's) parameters, skin resolved
-  std::vector<SimParams> run_prm;  // ensembles: each run's parameters (README "Ensembles"); [0] is prm
+  std::vector<SimParams> run_prm;  // ensembles: each run's parameters (docs/ensembles.md); [0] is prm
   std::vector<uint32_t> run_off;   // first stable id of each run, and n at the end
   SystemOptions opt;
   uint32_t n;

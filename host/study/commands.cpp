@@ -46,8 +46,10 @@ class Impl : public Commands {
   explicit Impl(CLI::App& cli) {
     study_ = cli.add_subcommand("study", "studies: many runs of a case over a grid, locally or on Slurm");
     study_->require_subcommand(1);
+    study_->footer("Example: wetdem study run assets/studies/micro/micro.toml --out studies/micro");
     plan_ = study_->add_subcommand("plan", "list the runs of a study file, their size and estimated cost");
     plan_->add_option("study", file_, "study file (TOML)")->required();
+    plan_->footer("Example: wetdem study plan assets/studies/micro/micro.toml");
     plan_->add_option("--out", dir_,
                       "study directory whose completed runs are counted (default studies/<name>)");
     plan_->add_option("--throughput", throughput_,
@@ -67,11 +69,12 @@ class Impl : public Commands {
 
     run_ = study_->add_subcommand("run", "run what is missing; progress line with ETA");
     run_->add_option("study", file_, "study file (TOML)")->required();
+    run_->footer("Example: wetdem study run assets/studies/micro/micro.toml --out studies/micro");
     run_->add_option("--out", dir_, "study directory (default studies/<name>)");
     run_->add_option("--jobs", jobs_, "runs at a time (default 1: one per GPU; lavapipe uses every core)");
     run_->add_option("--device", device_, "device for every run (index, name substring, gpu, cpu)");
     run_->add_option("--batch", batch_,
-                     "hand up to K runs to one process, stepped together as ensembles (README Ensembles; "
+                     "hand up to K runs to one process, stepped together as ensembles (docs/ensembles.md; "
                      "default 1)")
         ->check(CLI::PositiveNumber);
     run_->add_flag("--retry-failed", retry_, "rerun runs that failed (FAILED.txt) before");
@@ -84,6 +87,7 @@ class Impl : public Commands {
 
     one_ = study_->add_subcommand("run-one", "run one run of a planned study (what a Slurm array task does)");
     one_->add_option("dir", dir_, "study directory")->required();
+    one_->footer("Example: wetdem study run-one studies/micro --index 0");
     one_->add_option("--index", index_, "run index (0-based, as in index.json)")->required();
     one_->add_option("--device", device_, "device");
     one_->add_flag("--quiet", quiet_, "no progress on stdout");
@@ -91,6 +95,7 @@ class Impl : public Commands {
     batch_cmd_ =
         study_->add_subcommand("run-batch", "run some runs of a planned study as ensembles, in this process");
     batch_cmd_->add_option("dir", dir_, "study directory")->required();
+    batch_cmd_->footer("Example: wetdem study run-batch studies/micro --index 0,1,2,3");
     batch_cmd_->add_option("--index", indices_, "run indices, comma-separated (0-based, as in index.json)")
         ->required()
         ->delimiter(',');
@@ -99,6 +104,8 @@ class Impl : public Commands {
 
     slurm_ = study_->add_subcommand("slurm", "write a Slurm job array for the missing runs");
     slurm_->add_option("study", file_, "study file (TOML)")->required();
+    slurm_->footer(
+        "Example: wetdem study slurm assets/studies/pp2_l5.toml --partition gpu --gpus-per-task 1 --submit");
     slurm_->add_option("--out", dir_, "study directory (default studies/<name>)");
     slurm_->add_option("--partition", so_.partition, "Slurm partition");
     slurm_->add_option("--time", so_.time, "time limit per task (Slurm format, e.g. 02:00:00)");
@@ -115,10 +122,12 @@ class Impl : public Commands {
 
     collect_ = study_->add_subcommand("collect", "runs.csv, points.csv, figures and report.md of a study");
     collect_->add_option("dir", dir_, "study directory")->required();
+    collect_->footer("Example: wetdem study collect studies/micro");
     collect_->add_flag("--no-figures", no_figures_, "tables and report only");
 
     cal_ = cli.add_subcommand("calibrate", "fit the study's axes to its observation table (chi2, emulator)");
     cal_->add_option("dir", dir_, "study directory")->required();
+    cal_->footer("Example: wetdem calibrate studies/micro");
     cal_->add_option("--observations", co_.observations, "observation table (default: the study's)");
     cal_->add_option("--fit", co_.fit, "fitted axes (default: the study's [observations].fit)");
     cal_->add_option("--refine", refine_,

@@ -25,7 +25,7 @@ struct OneResult {
 OneResult run_one(const std::string& dir, size_t index, const std::string& device, bool quiet,
                   const std::function<void(const IndexEntry&, app::RunOptions&)>& configure = {});
 
-// Runs `indices` of the study in DIR in this process as ensembles (README "Ensembles"): complete runs are
+// Runs `indices` of the study in DIR in this process as ensembles (docs/ensembles.md): complete runs are
 // skipped, runs with their own checkpoint resume alone (run_one), runs of a batch stopped with a checkpoint
 // resume with that batch (all its runs, also those not in `indices`); the fresh ones are grouped by what an
 // ensemble's runs must share (dt, drum, schedule) and each group is stepped together in one System

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <cctype>
 #include <cmath>
 #include <fstream>
 
@@ -51,7 +52,7 @@ bool parse_double(const std::string& s, double* v) {
 
 }  // namespace
 
-std::vector<Observation> read_observations(const std::string& path) {
+std::vector<Observation> read_observations(const std::string& path, bool allow_missing) {
   std::ifstream f(path);
   if (!f) throw StudyError(path + ": cannot read the observation table");
   std::string line;
@@ -99,11 +100,24 @@ std::vector<Observation> read_observations(const std::string& path) {
     }
     o.observable = v[size_t(c_obs)];
     if (o.observable.empty()) throw bad("empty observable");
-    if (!parse_double(v[size_t(c_val)], &o.value))
-      throw bad("value \"" + v[size_t(c_val)] + "\" is not a number");
-    if (!parse_double(v[size_t(c_sig)], &o.sigma))
-      throw bad("sigma \"" + v[size_t(c_sig)] + "\" is missing or not a number");
-    if (!(o.sigma > 0)) throw bad(fmt::format("sigma must be positive, got {}", o.sigma));
+    const auto missing = [](std::string s) {
+      for (char& ch : s) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+      return s.empty() || s == "na" || s == "nan" || s == "n/a";
+    };
+    const auto infinite = [](std::string s) {
+      for (char& ch : s) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+      return s == "inf" || s == "+inf" || s == "infinity";
+    };
+    if (allow_missing && (missing(v[size_t(c_val)]) || infinite(v[size_t(c_sig)]))) {
+      o.measured = false;
+      o.value = o.sigma = std::nan("");
+    } else {
+      if (!parse_double(v[size_t(c_val)], &o.value))
+        throw bad("value \"" + v[size_t(c_val)] + "\" is not a number");
+      if (!parse_double(v[size_t(c_sig)], &o.sigma))
+        throw bad("sigma \"" + v[size_t(c_sig)] + "\" is missing or not a number");
+      if (!(o.sigma > 0)) throw bad(fmt::format("sigma must be positive, got {}", o.sigma));
+    }
     if (c_n >= 0 && !v[size_t(c_n)].empty()) {
       double n = 0;
       if (!parse_double(v[size_t(c_n)], &n) || n < 1 || n != std::floor(n))

@@ -17,10 +17,13 @@ struct Observation {
   double value = 0, sigma = 0;
   int n = 0;  // 0: not given
   std::string note;
+  bool measured = true;  // false: a row that states a quantity was not measured (allow_missing only)
 };
 
 // Parses and checks the table's form (columns, numbers, positive sigma). Throws StudyError naming the row.
-std::vector<Observation> read_observations(const std::string& path);
+// With allow_missing, a row whose value is empty or "NA"/"nan", or whose sigma is "inf", is read as "not
+// measured" (measured = false) instead of refused: a laboratory table often lists every cell it planned.
+std::vector<Observation> read_observations(const std::string& path, bool allow_missing = false);
 
 // Splits one CSV line (RFC 4180 quotes).
 std::vector<std::string> split_csv(const std::string& line);

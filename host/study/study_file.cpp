@@ -1,4 +1,6 @@
 #include "study/study_file.h"
+
+#include "app/run/resources.h"
 #include "wetdem/version.h"
 
 #include <fmt/format.h>
@@ -85,7 +87,7 @@ std::string override_of(const AxisValue& v) {
 }
 
 std::string code_version() {
-  return wetdem::code_version();
+  return wetdem::run_version();
 }
 
 std::string run_hash(const app::Case& c, uint64_t seed, const std::string& version) {
@@ -264,6 +266,7 @@ std::vector<PlannedRun> expand(const StudySpec& s) {
       r.overrides.push_back("run.seed=" + std::to_string(seed));
       try {
         r.resolved = app::parse_case_file(s.base, r.overrides);
+        app::check_reach(r.resolved);
       } catch (const app::CaseError& e) {
         throw StudyError(fmt::format("{}: point {} ({}): {}", s.path, p, describe(r.values), e.what()));
       }

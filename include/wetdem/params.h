@@ -18,8 +18,9 @@ struct ContactParams {
   double mu_r = 0.0;         // rolling friction coefficient, §3 (0 = off)
   double phi_t = 0.0;        // tangential damping factor, eta_t = phi_t sqrt(m* k_t), §2
   double eta_r = 0.0;        // rolling viscous coefficient (kg/s), §3
-  // Candidate effect `cohesion` (diagnosis.md §3, README "Candidate effects"): dry JKR adhesion, pull-off
-  // F_a = 1.5 pi w R*, attractive along n while touching (delta > 0), outside the Coulomb limits. 0 = off.
+  // Candidate effect `cohesion` (diagnosis.md §3, docs/model.md "Candidate effects"): dry JKR adhesion,
+  // pull-off F_a = 1.5 pi w R*, attractive along n while touching (delta > 0), outside the Coulomb limits. 0
+  // = off.
   double surface_energy = 0.0;  // w (J/m^2), already scaled by l like gamma (w_scaled = l w)
 };
 
@@ -32,7 +33,7 @@ struct LiquidParams {
   int64_t v_min = 0;     // formation threshold: V_f,i + V_f,j > v_min (units)
   int64_t v_max = 0;     // bridge volume cap (units)
   double d_c = 1.0;      // distribution coefficient on rupture, [0, 1]
-  // Candidate effects (diagnosis.md §3, README "Candidate effects"), off by default:
+  // Candidate effects (diagnosis.md §3, docs/model.md "Candidate effects"), off by default:
   // `viscous`: Pitois lubrication of bridged pairs, F_v = 6 pi eta R*^2 v_n / S (1 - 1/sqrt(1 + V_b/(pi R*
   // S^2)))^2 with S = max(gap, S_min) (S = S_min while overlapping), opposing v_n. 0 = off.
   double viscosity = 0.0;           // eta (Pa s)

@@ -70,7 +70,7 @@ struct SystemState {
   void canonicalize();
 };
 
-// Ensembles (README "Ensembles"): several runs' states as one, run r's particle k getting the stable id
+// Ensembles (docs/ensembles.md): several runs' states as one, run r's particle k getting the stable id
 // (first id of run r) + k, and back. Times and steps are run 0's (runs stepped together share them).
 SystemState concat_states(const std::vector<SystemState>& runs);
 std::vector<SystemState> split_state(const SystemState& all, const std::vector<size_t>& sizes);

@@ -76,7 +76,7 @@ struct RunSample {
 class System {
  public:
   System(vk::Context& ctx, const SimParams& prm, size_t num_particles, SystemOptions opt = {});
-  // An ensemble (README "Ensembles"): independent runs stepped together in the same dispatches, run r with
+  // An ensemble (docs/ensembles.md): independent runs stepped together in the same dispatches, run r with
   // sizes[r] particles and its own parameters (contact, liquid, effects, drum speed, sinks). They share the
   // clock (dt), the drum's size, periodicity and plates (the position ticks and the cell grid), and one
   // rebuild schedule; each run's cells are its own, so runs never touch, and each run is bitwise the same

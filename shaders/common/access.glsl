@@ -68,7 +68,7 @@ Uints CTL() { return Uints(T().ctl); }
 uint64_t paddr(uint set, uint field) { return T().pset[set * PF_COUNT + field]; }
 uint64_t eaddr(uint set, uint field) { return T().eset[set * EF_COUNT + field]; }
 Params PRM() { return Params(T().params); }
-// Ensembles (several independent runs in one system, README "Ensembles"): the parameters of run r, and the
+// Ensembles (several independent runs in one system, docs/ensembles.md): the parameters of run r, and the
 // run of a particle from its stable id. Physics reads them; with one run both are run 0's, with no load.
 Params PRMR(uint r) { return Params(T().params + uint64_t(r) * uint64_t(PRM().run_stride)); }
 uint run_of_id(int id) { return PRM().runs > 1u ? Uints(T().run_of).v[id] : 0u; }

@@ -254,7 +254,7 @@ void read_liquid(Section s, Case& c) {
     require_in(*q, 0, false, 1, false, "[0, 1]"), l.d_c = q->v;
   if (auto f = s.choice("films", {"per_particle_volume", "mean_volume"}))
     l.films = *f == "mean_volume" ? FilmMode::MeanVolume : FilmMode::PerParticleVolume;
-  // Candidate effects `viscous` and `hysteresis` (README "Candidate effects").
+  // Candidate effects `viscous` and `hysteresis` (docs/model.md "Candidate effects").
   if (auto q = s.quantity("viscosity", Dim::Viscosity))
     require_in(*q, 0, false, 100, false, "[0, 100] Pa s (searched range 1e-4 to 1 Pa s)"), l.viscosity = q->v;
   if (auto q = s.quantity("lubrication_cutoff", Dim::Length)) {

@@ -1,5 +1,5 @@
 // A case file: everything that defines one drum run, parsed from TOML and validated before any work.
-// Key reference: README "Case files"; the shipped cases are in assets/. Quantities are SI once parsed
+// Key reference: docs/case-keys.md; the shipped cases are in assets/. Quantities are SI once parsed
 // (angles in radians, fractions as numbers in [0, 1]).
 #pragma once
 
@@ -53,7 +53,7 @@ struct LiquidSpec {
   double v_max = 0;      // fraction of V-bar_S
   double d_c = 1.0;
   FilmMode films = FilmMode::PerParticleVolume;
-  // Candidate effects (README "Candidate effects"; diagnosis.md §3), off by default:
+  // Candidate effects (docs/model.md "Candidate effects"; diagnosis.md §3), off by default:
   double viscosity = 0;                      // eta, Pa s: lubrication of bridged pairs (0 = off)
   std::optional<double> lubrication_cutoff;  // S_min, m; default 1 % of the mean particle radius
   std::optional<double> theta_receding;      // theta_r, rad; absent = theta (no hysteresis)
@@ -139,6 +139,7 @@ struct Derived {
   double nu = 0, E_star = 0, G_star = 0;  // reduced moduli that enter the contact laws
   double r_min = 0, r_max = 0, mean_solid_volume = 0;
   double t_rayleigh = 0, dt = 0, skin = 0;
+  std::string dt_reason;      // what set dt: "run.dt", "0.2 x Rayleigh time of r_min", the viscous limit
   double gamma_scaled = 0;    // l * gamma
   double liquid_unit_m3 = 0;  // V-bar_S * 2^-40
   int64_t v_min_units = 0, v_max_units = 0;
@@ -146,9 +147,13 @@ struct Derived {
   // Candidate effects, as they enter SimParams.
   double lubrication_cutoff = 0;     // S_min (m): given, or 1 % of the mean radius
   double surface_energy_scaled = 0;  // l w (J/m^2)
-  double dt_viscous_limit = 0;  // 2 m*/(12 c) at S_min, smallest particles, V_max bridge (0: viscous off)
+  double dt_viscous_limit = 0;  // 2 m*/(4 c) at S_min, smallest particles, V_max bridge (0: viscous off)
   std::vector<std::string> notes;
 };
+// The explicit stability limit 2 m*/(4 c) of the lubrication damper (candidate effect `viscous`) for the
+// smallest particle radius r_min and the mean solid volume (S_min: the case's, else 1 % of the mean radius;
+// a bridge of V_max; against a wall too when wall bridges are on). 0 when viscosity is off.
+double case_viscous_dt_limit(const Case& c, double r_min, double mean_solid_volume);
 // radii: the inserted particles (m). Fills every SimParams field from the case (physics.md §1, §4, §6).
 SimParams make_sim_params(const Case& c, const std::vector<double>& radii, Derived* derived = nullptr);
 nlohmann::json derived_to_json(const Derived& d);

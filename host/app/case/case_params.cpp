@@ -72,6 +72,18 @@ std::vector<int64_t> spread_films(const std::vector<int64_t>& films, const std::
   return out;
 }
 
+double case_viscous_dt_limit(const Case& c, double r_min, double mean_solid_volume) {
+  const LiquidSpec& l = c.liquid;
+  if (!l.on() || !(l.viscosity > 0)) return 0.0;
+  const double r_mean = std::cbrt(mean_solid_volume * 3.0 / (4.0 * kPi));
+  const double s_min = l.lubrication_cutoff ? *l.lubrication_cutoff : 0.01 * r_mean;
+  const double m_min = c.material.density * sphere_volume(r_min), vmax = l.v_max * mean_solid_volume;
+  double lim = viscous_dt_limit(0.5 * m_min, 0.5 * r_min, l.viscosity, s_min, vmax);
+  if (c.cylinder.liquid_bridges || (c.plates.liquid_bridges && !c.drum.periodic_slice))
+    lim = std::min(lim, viscous_dt_limit(m_min, r_min, l.viscosity, s_min, vmax));
+  return lim;
+}
+
 SimParams make_sim_params(const Case& c, const std::vector<double>& radii, Derived* out) {
   if (radii.empty()) throw CaseError("drum.fill", "no particle was inserted");
   Derived d;
@@ -90,10 +102,10 @@ SimParams make_sim_params(const Case& c, const std::vector<double>& radii, Deriv
   // particle.
   d.t_rayleigh = rayleigh_time(d.r_min, m.density, m.G / m.stiffness_reduction, m.nu);
   d.dt = c.run.dt ? *c.run.dt : c.run.dt_rayleigh_fraction * d.t_rayleigh;
+  d.dt_reason = c.run.dt ? "run.dt" : fmt::format("{} x Rayleigh time of r_min", c.run.dt_rayleigh_fraction);
   if (c.run.dt && *c.run.dt > 0.2 * d.t_rayleigh)
     d.notes.push_back(fmt::format("run.dt = {:.4g} s exceeds 0.2 t_R = {:.4g} s of the smallest particle",
                                   *c.run.dt, 0.2 * d.t_rayleigh));
-  p.dt = d.dt;
   // Skin: the list is rebuilt when some particle has moved skin/2. 0.3 r_min: on the demo (lavapipe) 0.1
   // r_min rebuilt every ~4 steps and ran 2.5x slower; 0.6 r_min rebuilt half as often as 0.3 r_min but was no
   // faster, the thicker neighbour shell (entries grow with (r + skin)^3) eating the saving.
@@ -181,20 +193,30 @@ SimParams make_sim_params(const Case& c, const std::vector<double>& radii, Deriv
     }
   }
   if (l.on() && l.viscosity > 0) {
-    // Explicit stability of the lubrication damper (README "Candidate effects"): dt < 2 m*/(12 c) at S_min
+    // Explicit stability of the lubrication damper (docs/model.md "Candidate effects"): dt < 2 m*/(4 c) at S_min
     // for the two smallest particles with a bridge of V_max, or the smallest against a wall with bridges.
-    const double m_min = m.density * sphere_volume(d.r_min), vmax = l.v_max * d.mean_solid_volume;
-    d.dt_viscous_limit =
-        viscous_dt_limit(0.5 * m_min, 0.5 * d.r_min, l.viscosity, d.lubrication_cutoff, vmax);
-    if (c.cylinder.liquid_bridges || (c.plates.liquid_bridges && !c.drum.periodic_slice))
-      d.dt_viscous_limit = std::min(
-          d.dt_viscous_limit, viscous_dt_limit(m_min, d.r_min, l.viscosity, d.lubrication_cutoff, vmax));
-    if (d.dt >= d.dt_viscous_limit)
-      d.notes.push_back(fmt::format(
-          "dt = {:.4g} s exceeds the viscous limit 2 m*/(12 c) = {:.4g} s of the lubrication damping at "
-          "S_min = {:.4g} m (explicit damping unstable); lower run.dt or raise liquid.lubrication_cutoff",
-          d.dt, d.dt_viscous_limit, d.lubrication_cutoff));
+    d.dt_viscous_limit = case_viscous_dt_limit(c, d.r_min, d.mean_solid_volume);
+    // The damper's limit bounds the time step as the Rayleigh fraction does: a default dt above it is
+    // lowered to it (so every strength of the candidate runs, at a cost in steps); an explicit run.dt above
+    // it is the user's choice and gets a note.
+    if (d.dt >= d.dt_viscous_limit) {
+      if (c.run.dt) {
+        d.notes.push_back(fmt::format(
+            "run.dt = {:.4g} s exceeds the viscous limit 2 m*/(4 c) = {:.4g} s of the lubrication damping "
+            "at S_min = {:.4g} m (explicit damping unstable); lower run.dt or raise "
+            "liquid.lubrication_cutoff",
+            d.dt, d.dt_viscous_limit, d.lubrication_cutoff));
+      } else {
+        d.notes.push_back(fmt::format(
+            "dt lowered from {:.4g} s ({}) to the viscous limit 2 m*/(4 c) = {:.4g} s of the lubrication "
+            "damping at S_min = {:.4g} m: {:.3g}x the steps",
+            d.dt, d.dt_reason, d.dt_viscous_limit, d.lubrication_cutoff, d.dt / d.dt_viscous_limit));
+        d.dt = d.dt_viscous_limit;
+        d.dt_reason = "viscous limit 2 m*/(4 c) of the lubrication damping";
+      }
+    }
   }
+  p.dt = d.dt;
   // Liquid sinks (diagnosis.md §3): pore absorption and evaporation act inside the liquid passes.
   if (l.on()) {
     if (c.absorption.on()) {
@@ -224,6 +246,7 @@ nlohmann::json derived_to_json(const Derived& d) {
   j["mean_solid_volume_m3"] = d.mean_solid_volume;
   j["rayleigh_time_s"] = d.t_rayleigh;
   j["dt_s"] = d.dt;
+  j["dt_reason"] = d.dt_reason;
   j["skin_m"] = d.skin;
   j["gamma_scaled_N_per_m"] = d.gamma_scaled;
   j["liquid_unit_m3"] = d.liquid_unit_m3;

@@ -28,6 +28,7 @@ CameraSample observe_camera(const SystemState& s, const SimParams& prm, int64_t 
     c.surface_velocity_mps = sf.downhill_speed_mps;
     c.flowing_layer_depth_m = sf.flowing_layer_depth_m;
     c.surface_size_ratio = surface_size_ratio(s, sf);
+    c.surface_agglomerate_size = surface_cluster_size(s, sf.layer);
   }
   const SlabAor sl = slab_aor(s, prm.drum);
   if (sl.present) {

@@ -1,8 +1,8 @@
 // The per-sample observables a camera sees (diagnosis.md §2), computed together from one downloaded state:
 // surface angle, plate and centre slab AoR, surface downhill speed, flowing-layer depth, agglomerate size and
-// D / agglomerate, free liquid. NaN marks a value that does not exist for this sample (bed flagged, no slab
-// angle, no liquid put in); the plate and centre angles never exist on a periodic slice. Definitions:
-// surface.h, slabs.h, clusters.h and the README ("Camera observables").
+// D / agglomerate, free liquid, clumps on the surface. NaN marks a value that does not exist for this sample
+// (bed flagged, no slab angle, no liquid put in); the plate and centre angles never exist on a periodic
+// slice. Definitions: surface.h, slabs.h, clusters.h and docs/outputs.md ("Camera observables").
 #pragma once
 
 #include <cstdint>
@@ -24,6 +24,7 @@ struct CameraSample {
   double drum_to_agglomerate_ratio = kNone;  // D / equivalent diameter of the mean cluster
   double liquid_free_fraction = kNone;       // (films + bridges) / liquid put in at the start
   double surface_size_ratio = kNone;         // mean radius of the surface layer / mean radius of the bed
+  double surface_agglomerate_size = kNone;   // mass-weighted mean particles per clump on the free surface
 };
 
 // One row of the table of fields: name (the timeseries.csv column and summary.json key), member, and whether
@@ -43,6 +44,7 @@ inline constexpr CameraField kCameraFields[] = {
     {"drum_to_agglomerate_ratio", &CameraSample::drum_to_agglomerate_ratio, false},
     {"liquid_free_fraction", &CameraSample::liquid_free_fraction, false},
     {"surface_size_ratio", &CameraSample::surface_size_ratio, false},
+    {"surface_agglomerate_size", &CameraSample::surface_agglomerate_size, false},
 };
 
 // liquid_start: liquid put in at the start (units); ≤ 0 leaves liquid_free_fraction NaN.

@@ -1,6 +1,7 @@
 #include "app/observe/clusters.h"
 
 #include <cmath>
+#include <cstdint>
 #include <numeric>
 
 namespace wetdem::observe {
@@ -58,6 +59,35 @@ Clusters bridge_clusters(const SystemState& s) {
     c.equivalent_diameter_m = std::cbrt(6.0 * c.volume_mean_m3 / kPi);
   }
   return c;
+}
+
+double surface_cluster_size(const SystemState& s, const std::vector<size_t>& layer) {
+  if (layer.empty()) return std::nan("");
+  const size_t n = s.p.size();
+  // Layer positions by particle (stable id order, as the pair records).
+  std::vector<uint32_t> slot(n, UINT32_MAX);
+  for (size_t i = 0; i < layer.size(); ++i) slot[layer[i]] = uint32_t(i);
+  std::vector<uint32_t> parent(layer.size());
+  std::iota(parent.begin(), parent.end(), 0u);
+  for (const PairRecord& r : s.pairs) {
+    if (r.bridge <= 0 || r.id_i >= n || r.id_j >= n) continue;
+    if (slot[r.id_i] == UINT32_MAX || slot[r.id_j] == UINT32_MAX) continue;
+    const uint32_t a = find(parent, slot[r.id_i]), b = find(parent, slot[r.id_j]);
+    if (a < b)
+      parent[b] = a;
+    else if (b < a)
+      parent[a] = b;
+  }
+  std::vector<double> mass(layer.size(), 0.0);
+  std::vector<uint32_t> count(layer.size(), 0);
+  for (uint32_t i = 0; i < layer.size(); ++i) {
+    const uint32_t root = find(parent, i);
+    mass[root] += s.p.mass[layer[i]];
+    ++count[root];
+  }
+  double msum = 0, mn = 0;
+  for (size_t i = 0; i < layer.size(); ++i) msum += mass[i], mn += mass[i] * count[i];
+  return msum > 0 ? mn / msum : std::nan("");
 }
 
 }  // namespace wetdem::observe

@@ -28,4 +28,11 @@ struct Clusters {
 
 Clusters bridge_clusters(const SystemState& s);
 
+// Agglomerates as an image of the surface shows them (diagnosis.md §2: "clumps in the flowing layer, not the
+// bridge network's components"): the bridge network restricted to the visible surface particles `layer`
+// (surface.h: the surface layer of the fitted columns), i.e. the clumps a camera can pick out on the free
+// surface, each held together by bridges between surface particles. The mass-weighted mean particle count
+// Σ M_c n_c / Σ M_c over those clumps (1 when no two surface particles are bridged); NaN for an empty layer.
+double surface_cluster_size(const SystemState& s, const std::vector<size_t>& layer);
+
 }  // namespace wetdem::observe

@@ -11,8 +11,10 @@
 
 #include "app/drum/aor.h"
 #include "app/drum/psd.h"
+#include "app/observe/interface.h"
 #include "app/observe/window.h"
 #include "app/output/timeseries_stats.h"
+#include "app/output/window_rules.h"
 #include "wetdem/observables.h"
 #include "wetdem/version.h"
 
@@ -77,9 +79,12 @@ nlohmann::json samples_to_json(const std::vector<Sample>& v) {
       const double x = s.camera.*f.value;
       cam.push_back(std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr));
     }
+    nlohmann::json iface = nlohmann::json::array();  // null for NaN
+    for (double h : s.interface)
+      iface.push_back(std::isfinite(h) ? nlohmann::json(h) : nlohmann::json(nullptr));
     j.push_back({s.step, s.time, s.aor_signed_deg, s.com_x, s.com_y, s.flagged, s.contacts, s.bridges,
                  s.f_wet, s.kinetic_energy, s.liquid_films, s.liquid_bridges, s.liquid_pores,
-                 s.liquid_evaporated, s.liquid_unit_m3, cam});
+                 s.liquid_evaporated, s.liquid_unit_m3, cam, iface});
   }
   return j;
 }
@@ -113,6 +118,8 @@ std::vector<Sample> samples_from_json(const nlohmann::json& j) {
         ++i;
       }
     }
+    if (e.size() >= 17)  // checkpoints written before the interface profile have none
+      for (const auto& h : e.at(16)) s.interface.push_back(h.is_number() ? h.get<double>() : std::nan(""));
     v.push_back(s);
   }
   return v;
@@ -149,9 +156,12 @@ nlohmann::json number_or_null(double x) {
 // diagnosis.md §2: each camera observable as <name> (window mean of the samples that have a value) and
 // <name>_sem (the correlation-aware error of window_stats, as aor_sem_tau); null when no sample of the window
 // has one (the error bar: fewer than two); the plate and centre slab angles are absent on a periodic slice.
-// The AoR drift over the window, per revolution.
-void add_camera_observables(nlohmann::json& j, const Case& c, const std::vector<Sample>& samples,
-                            double t_from, bool aor_flag) {
+// The AoR drift over the window, per revolution. Issue 21: the window rules of window_rules.h decide what may
+// be quoted; a mean whose window fails them keeps its value and is listed in `not_quotable` with the reason,
+// the drift is not reported at all (null, aor_drift_reason) when the window cannot carry it.
+void add_camera_observables(nlohmann::json& j, nlohmann::json& not_quotable, const Case& c,
+                            const std::vector<Sample>& samples, double t_from, bool aor_flag,
+                            size_t particles, double n_eff) {
   for (const observe::CameraField& f : observe::kCameraFields) {
     if (f.needs_plates && c.drum.periodic_slice) continue;
     std::vector<double> v;
@@ -160,13 +170,47 @@ void add_camera_observables(nlohmann::json& j, const Case& c, const std::vector<
     const WindowStats w = window_stats_finite(v, c.run.sample_interval);
     j[f.name] = w.n ? number_or_null(w.mean) : nlohmann::json(nullptr);
     j[std::string(f.name) + "_sem"] = w.n >= 2 ? number_or_null(w.sem) : nlohmann::json(nullptr);
+    const std::string why = mean_rule_reason(w);
+    if (!why.empty() && w.n) not_quotable[f.name] = "window not stationary: " + why;
+  }
+  // A bridge network that spans the bed is not an agglomerate (window_rules.h).
+  const double agg = j.value("agglomerate_size_mean", nlohmann::json(nullptr)).is_number()
+                         ? j["agglomerate_size_mean"].get<double>()
+                         : std::nan("");
+  const bool spans = network_spans_bed(agg, particles);
+  j["bridge_network_spans_bed"] = spans;
+  j["bridge_network_bed_fraction"] =
+      particles ? number_or_null(agg / double(particles)) : nlohmann::json(nullptr);
+  if (spans) {
+    const std::string why = fmt::format(
+        "the bridge network spans the bed (the mass-weighted mean cluster holds {:.0f} % of the particles): "
+        "one percolating network, not agglomerates",
+        100.0 * agg / double(particles));
+    not_quotable["agglomerate_size_mean"] = why;
+    if (j.contains("drum_to_agglomerate_ratio")) not_quotable["drum_to_agglomerate_ratio"] = why;
   }
   std::vector<double> t, a;
   for (const Sample& s : samples)
     if (s.time >= t_from && !s.flagged) t.push_back(s.time), a.push_back(std::fabs(s.aor_signed_deg));
   const observe::Drift d = observe::aor_drift(t, a, c.drum.omega);
-  j["aor_drift_deg_per_rev"] = aor_flag ? nlohmann::json(nullptr) : number_or_null(d.slope_deg_per_rev);
-  j["aor_drift_deg_per_rev_sem"] = aor_flag ? nlohmann::json(nullptr) : number_or_null(d.se_deg_per_rev);
+  const std::string why = aor_flag ? std::string("AoR flagged")
+                                   : drift_rule_reason(t, a, c.run.duration - c.run.steady_state_start,
+                                                       c.drum.omega, c.run.sample_interval);
+  const bool report = why.empty();
+  j["aor_drift_deg_per_rev"] = report ? number_or_null(d.slope_deg_per_rev) : nlohmann::json(nullptr);
+  j["aor_drift_deg_per_rev_sem"] = report ? number_or_null(d.se_deg_per_rev) : nlohmann::json(nullptr);
+  j["aor_drift_reason"] = why;
+  j["aor_window_revolutions"] = window_revolutions(c.run.duration - c.run.steady_state_start, c.drum.omega);
+  // The cohesive index of rotating-drum testers: the interface's fluctuation over the window
+  // (app/observe/interface.h). Its error as that of a standard deviation from n_eff independent samples,
+  // σ/√(2 n_eff), with the AoR's n_eff: the interface moves with the same avalanches.
+  std::vector<std::vector<double>> profiles;
+  for (const Sample& s : samples)
+    if (s.time >= t_from && !s.interface.empty()) profiles.push_back(s.interface);
+  const double ci = observe::interface_fluctuation(profiles);
+  j["cohesive_index_m"] = aor_flag ? nlohmann::json(nullptr) : number_or_null(ci);
+  j["cohesive_index_m_sem"] =
+      aor_flag || !(n_eff > 0) ? nlohmann::json(nullptr) : number_or_null(ci / std::sqrt(2.0 * n_eff));
 }
 
 }  // namespace
@@ -237,6 +281,10 @@ nlohmann::json make_summary(const Case& c, const Derived& d, const std::vector<S
   j["aor_drift_z"] = number_or_null(as.abs_deg.drift_z);
   j["aor_tau_int_s"] = number_or_null(ws.tau_int_s);
   j["aor_n_eff"] = number_or_null(ws.n_eff);
+  // The error of the standard deviation (the paper's cohesion indicator): σ/√(2 n_eff) for n_eff
+  // independent samples.
+  j["aor_deg_std_sem"] =
+      flag || !(ws.n_eff > 0) ? json(nullptr) : number_or_null(as.abs_deg.stddev / std::sqrt(2.0 * ws.n_eff));
   j["aor_sem_tau"] = flag ? json(nullptr) : number_or_null(ws.sem);
   j["aor_signed_deg_mean"] = flag ? json(nullptr) : number_or_null(as.signed_deg.mean);
   j["aor_window_s"] = {t_from, c.run.settle + c.run.duration};
@@ -248,7 +296,21 @@ nlohmann::json make_summary(const Case& c, const Derived& d, const std::vector<S
       "|atan2(com_x, -com_y)|: angle between the downward vertical and the line from the drum axis to the "
       "bed's "
       "centre of mass, in the plane normal to the axis; samples with |COM| < 0.2 R are flagged and excluded";
+  nlohmann::json not_quotable = nlohmann::json::object();  // issue 21: window quantities that fail their rule
+  if (!j["aor_stationary"].get<bool>())
+    not_quotable["aor_deg_mean"] = "window not stationary: " + j["aor_stationary_reason"].get<std::string>();
   j["f_wet_mean"] = number_or_null(window_mean(samples, t_from, [](const Sample& s) { return s.f_wet; }));
+  {  // f_wet's window statistics, as the AoR's: its error bar and whether its window is stationary
+    std::vector<double> fw;
+    for (const Sample& s : samples)
+      if (s.time >= t_from) fw.push_back(s.f_wet);
+    const WindowStats w = window_stats(fw, c.run.sample_interval);
+    const std::string why = mean_rule_reason(w);
+    j["f_wet_sem"] = w.n >= 2 ? number_or_null(w.sem) : json(nullptr);
+    j["f_wet_stationary"] = why.empty();
+    j["f_wet_stationary_reason"] = why;
+    if (!why.empty() && w.n) not_quotable["f_wet_mean"] = "window not stationary: " + why;
+  }
   j["f_wet_definition"] = kFwetDefinition;
   j["bridges_mean"] =
       number_or_null(window_mean(samples, t_from, [](const Sample& s) { return double(s.bridges); }));
@@ -256,7 +318,8 @@ nlohmann::json make_summary(const Case& c, const Derived& d, const std::vector<S
       number_or_null(window_mean(samples, t_from, [](const Sample& s) { return double(s.contacts); }));
   j["kinetic_energy_mean_J"] =
       number_or_null(window_mean(samples, t_from, [](const Sample& s) { return s.kinetic_energy; }));
-  add_camera_observables(j, c, samples, t_from, flag);
+  add_camera_observables(j, not_quotable, c, samples, t_from, flag, t.particles, ws.n_eff);
+  j["not_quotable"] = not_quotable;
   j["particles"] = t.particles;
   j["steps"] = t.steps;
   j["dt_s"] = t.dt;
@@ -313,6 +376,65 @@ std::string aor_log_line(const nlohmann::json& s) {
   else if (!s.at("aor_sem_reliable").get<bool>())
     line += "; error bar NOT RELIABLE: " + s.at("aor_sem_reliable_reason").get<std::string>();
   return line;
+}
+
+std::vector<std::string> result_lines(const nlohmann::json& s) {
+  std::vector<std::string> out;
+  const auto& w = s.at("aor_window_s");
+  const double rev = s.value("aor_window_revolutions", std::nan(""));
+  out.push_back(fmt::format("result over the window {:.4g}-{:.4g} s ({:.2g} revolutions):",
+                            w.at(0).get<double>(), w.at(1).get<double>(), rev));
+  if (s.at("aor_flag").get<bool>()) {
+    out.push_back("  dynamic AoR: flagged (bed near the drum centre: no angle reported)");
+  } else {
+    std::string verdict;
+    if (!s.at("aor_stationary").get<bool>())
+      verdict = "NOT STATIONARY, do not quote: " + s.at("aor_stationary_reason").get<std::string>();
+    else if (!s.at("aor_sem_reliable").get<bool>())
+      verdict = "stationary; error bar NOT RELIABLE: " + s.at("aor_sem_reliable_reason").get<std::string>();
+    else
+      verdict = fmt::format("stationary, n_eff {:.0f}", s.value("aor_n_eff", 0.0));
+    out.push_back(fmt::format("  dynamic AoR  {:.2f}° ± {:.2f}°  ({}; sd {:.2f}° over {} samples)",
+                              s.at("aor_deg_mean").get<double>(), s.at("aor_sem_block").get<double>(),
+                              verdict, s.at("aor_deg_std").get<double>(), s.at("aor_samples").get<size_t>()));
+  }
+  if (s.at("f_wet_mean").is_number()) {
+    const bool st = s.value("f_wet_stationary", false);
+    const double sem = s.value("f_wet_sem", nlohmann::json(nullptr)).is_number()
+                           ? s["f_wet_sem"].get<double>()
+                           : std::nan("");
+    out.push_back(
+        fmt::format("  f_wet        {:.3f} ± {:.3f}  ({})", s["f_wet_mean"].get<double>(), sem,
+                    st ? std::string("stationary")
+                       : "NOT STATIONARY, do not quote: " + s.value("f_wet_stationary_reason", "")));
+  }
+  if (s.value("aor_drift_deg_per_rev", nlohmann::json(nullptr)).is_number())
+    out.push_back(fmt::format("  AoR drift    {:.2f} ± {:.2f} °/rev",
+                              s["aor_drift_deg_per_rev"].get<double>(),
+                              s.value("aor_drift_deg_per_rev_sem", 0.0)));
+  else if (!s.value("aor_drift_reason", "").empty())
+    out.push_back("  AoR drift    not reported: " + s["aor_drift_reason"].get<std::string>());
+  if (s.value("bridge_network_spans_bed", false))
+    out.push_back(fmt::format(
+        "  bridges      the bridge network spans the bed ({:.0f} % of the particles in the mean cluster): "
+        "no agglomerate size",
+        100.0 * s.value("bridge_network_bed_fraction", 0.0)));
+  else if (s.value("agglomerate_size_mean", nlohmann::json(nullptr)).is_number())
+    out.push_back(fmt::format("  agglomerates {:.3g} particles (mass-weighted mean bridge cluster)",
+                              s["agglomerate_size_mean"].get<double>()));
+  std::vector<std::string> other;
+  const nlohmann::json not_quotable =
+      s.value("not_quotable", nlohmann::json::object());  // kept: items() refers to it
+  for (const auto& [k, v] : not_quotable.items())
+    if (k != "aor_deg_mean" && k != "f_wet_mean" && k != "agglomerate_size_mean" &&
+        k != "drum_to_agglomerate_ratio")
+      other.push_back(k);
+  if (!other.empty()) {
+    std::string l = "  not quotable in this window (summary.json not_quotable):";
+    for (const std::string& k : other) l += " " + k;
+    out.push_back(l);
+  }
+  return out;
 }
 
 }  // namespace wetdem::app

@@ -28,6 +28,9 @@ struct Sample {
   // Liquid accounting (units of liquid_unit_m3): films + bridges + pores + evaporated = liquid put in.
   int64_t liquid_films = 0, liquid_bridges = 0, liquid_pores = 0, liquid_evaporated = 0;
   double liquid_unit_m3 = 0;
+  // The free surface's height (m) in fixed laboratory-frame columns (app/observe/interface.h), for the
+  // window's cohesive index; NaN where a column is not full.
+  std::vector<double> interface;
 };
 
 // path.tmp, flushed and fsync'ed, then renamed over path. Throws std::runtime_error on failure.
@@ -68,5 +71,11 @@ nlohmann::json make_summary(const Case& c, const Derived& d, const std::vector<S
 // The run's final AoR log line from a summary: mean ± blocked SEM, sd, window, tau_int, n_eff, and, when the
 // window is not stationary or its error bar not reliable, that verdict with its reason.
 std::string aor_log_line(const nlohmann::json& summary);
+
+// The run's result as a user reads it at the end of the log (issue 21): the dynamic AoR with its error and
+// stationarity verdict, f_wet with its error and verdict, the AoR drift when the window can carry it (else
+// why not), the bridge network labelled as spanning the bed when it does, and every other window quantity
+// that may not be quoted. Figures and paths are added by the driver.
+std::vector<std::string> result_lines(const nlohmann::json& summary);
 
 }  // namespace wetdem::app

@@ -15,7 +15,7 @@
 //    i.e. n_eff ≥ 10. Sokal's estimate stays biased low on short windows even after the correction above
 //    (AR(1) with τ_int = 19.5: median estimate 11 from 100 samples), so a window of 3-5 τ_int is caught
 //    most of the time, not always: measured over 200 AR(1) windows of 60 samples (3 τ_int), 90 % flagged;
-//    white noise of 41 samples, 1.4 % flagged (scripts in the README);
+//    white noise of 41 samples, 1.4 % flagged (docs/outputs.md);
 //  - no trend between halves: z = (x̄₂ − x̄₁) / √(sem₁² + sem₂²), each half with its own τ_int, |z| < 3
 //    (two-sided, ~0.3 % false alarms for Gaussian means).
 // The reason strings name the first test that failed (empty when the verdict is true).

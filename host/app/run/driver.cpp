@@ -24,13 +24,21 @@ std::string local_time(const char* fmt_str) {
 }
 
 void log_result(RunLog& log, const nlohmann::json& s, const fs::path& dir) {
-  log(aor_log_line(s));  // with tau_int, n_eff and the stationarity verdict (issue 12)
   auto num = [](const nlohmann::json& v) {
     return v.is_number() ? fmt::format("{:.4g}", v.get<double>()) : "-";
   };
-  log(fmt::format("f_wet = {}, bridges {}, contacts {} (window means); {:.3g} particle-steps/s; summary: {}",
-                  num(s["f_wet_mean"]), num(s["bridges_mean"]), num(s["contacts_mean"]),
-                  s["particle_steps_per_s"].get<double>(), (dir / "summary.json").string()));
+  log(fmt::format("bridges {}, contacts {} (window means); {:.3g} particle-steps/s, {:.1f} s wall",
+                  num(s["bridges_mean"]), num(s["contacts_mean"]), s["particle_steps_per_s"].get<double>(),
+                  s.value("wall_time_s", 0.0)));
+  for (const std::string& l : result_lines(s)) log(l);  // issue 21: what may be quoted, and what not
+  if (s.contains("figures")) {
+    std::string l = "figures:";
+    for (const auto& f : s["figures"]) l += " " + (dir / f.get<std::string>()).string();
+    if (s["figures"].empty()) l += " none";
+    log(l);
+  }
+  if (!s.value("figures_error", "").empty()) log("WARNING: " + s["figures_error"].get<std::string>());
+  log("summary: " + (dir / "summary.json").string());
 }
 
 }  // namespace
@@ -75,9 +83,10 @@ void log_setup(RunLog& log, const Prepared& prep, const Schedule& sch, bool resu
       "nu = {:.4g}, reduced E* = {:.4g} Pa, G* = {:.4g} Pa",
       c.material.density, d.nu, d.E_star, d.G_star));
   log(fmt::format(
-      "time step: dt = {:.4g} s ({} x Rayleigh time {:.4g} s of r_min = {:.4g} m){}; skin {:.4g} m{}", d.dt,
-      c.run.dt ? d.dt / d.t_rayleigh : c.run.dt_rayleigh_fraction, d.t_rayleigh, d.r_min,
-      c.run.dt ? " (run.dt)" : "", d.skin, c.run.skin ? "" : " (0.3 r_min)"));
+      "time step: dt = {:.4g} s (set by: {}; {:.3g} x Rayleigh time {:.4g} s of r_min = {:.4g} m); skin "
+      "{:.4g} m{}",
+      d.dt, d.dt_reason, d.dt / d.t_rayleigh, d.t_rayleigh, d.r_min, d.skin,
+      c.run.skin ? "" : " (0.3 r_min)"));
   if (c.liquid.on())
     log(fmt::format(
         "liquid: gamma x l = {:.4g} N/m, unit = V-bar_S 2^-40 = {:.4g} m³, V_min = {} units, V_max = {} "
@@ -111,9 +120,11 @@ RunTotals run_totals(const Prepared& prep, const SystemState& fin, int64_t liqui
 }
 
 nlohmann::json write_summary(const fs::path& dir, const Prepared& prep, const std::vector<Sample>& samples,
-                             const RunTotals& t, const nlohmann::json& extra, RunLog& log) {
+                             const RunTotals& t, const nlohmann::json& extra, RunLog& log,
+                             const std::function<void(nlohmann::json&)>& before_write) {
   nlohmann::json s = make_summary(prep.c, prep.derived, samples, t);
   for (const auto& [k, v] : extra.items()) s[k] = v;
+  if (before_write) before_write(s);
   if (t.liquid_start != t.liquid_end)
     log(fmt::format("WARNING: liquid not conserved: {} units at the start, {} at the end", t.liquid_start,
                     t.liquid_end));

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -24,10 +25,12 @@ RunTotals run_totals(const Prepared& prep, const SystemState& fin, int64_t liqui
                      double particle_steps_per_s, double wall_s, const std::string& device,
                      const SystemCounters& counters, uint64_t resumed_from_step);
 
-// summary.json of a finished run (atomically, last), with `extra` keys added; drops the checkpoint (a
+// summary.json of a finished run (atomically, last), with `extra` keys added and `before_write` (if given)
+// called on it just before it is written (the figures add themselves there); drops the checkpoint (a
 // complete run cannot be resumed) and logs the result. Returns the summary.
 nlohmann::json write_summary(const std::filesystem::path& dir, const Prepared& prep,
                              const std::vector<Sample>& samples, const RunTotals& t,
-                             const nlohmann::json& extra, RunLog& log);
+                             const nlohmann::json& extra, RunLog& log,
+                             const std::function<void(nlohmann::json&)>& before_write = {});
 
 }  // namespace wetdem::app

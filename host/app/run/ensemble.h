@@ -1,4 +1,4 @@
-// Ensembles of drum runs (README "Ensembles"): several prepared runs stepped together in one System, each
+// Ensembles of drum runs (docs/ensembles.md): several prepared runs stepped together in one System, each
 // bitwise the run done alone (System's ensemble constructor), each with its own samples and run folder.
 // DrumEnsemble holds the phases (settle, rotate, sample, checkpoint) for all runs; run_batch is the driver
 // that writes each run's folder exactly as run_case would.

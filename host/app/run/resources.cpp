@@ -28,6 +28,21 @@ std::string bytes(double b) {
 
 }  // namespace
 
+void check_reach(const Case& c) {
+  if (!c.drum.periodic_slice) return;
+  const Psd psd(c.psd);
+  const double vbar = psd.mean_volume();
+  const double theta = std::max(c.liquid.theta, c.liquid.theta_receding.value_or(c.liquid.theta));
+  const double s_cmax = c.liquid.on() ? rupture_distance(theta, c.liquid.v_max * vbar) : 0.0;
+  const double skin = c.run.skin ? *c.run.skin : 0.3 * 0.5 * psd.d_min();
+  const double reach = psd.d_max() + s_cmax + skin;
+  if (!(reach < 0.5 * c.drum.slice_thickness))
+    throw CaseError("drum.slice_thickness",
+                    fmt::format("must exceed twice the neighbour reach 2 r_max + S_c,max + skin = {:.4g} m "
+                                "(largest particle of the PSD, bridge of V_max), got {:.4g} m",
+                                reach, c.drum.slice_thickness));
+}
+
 ResourceEstimate estimate_resources(const Case& c) {
   ResourceEstimate e;
   const Psd psd(c.psd);
@@ -44,10 +59,15 @@ ResourceEstimate estimate_resources(const Case& c) {
   e.entries_per_particle = std::max(kInitialEntriesPerParticle, 1.5 * e.entries_in_list);
   e.device_bytes = e.particles * (kDeviceBytesPerParticle + e.entries_per_particle * kDeviceBytesPerEntry);
   e.host_bytes = e.particles * kHostBytesPerParticle;
-  const double tr = rayleigh_time(0.5 * psd.d_min(), c.material.density,
-                                  c.material.G / c.material.stiffness_reduction, c.material.nu);
-  const double dt = c.run.dt ? *c.run.dt : c.run.dt_rayleigh_fraction * tr;
-  e.steps = std::round((c.run.settle + c.run.duration) / dt);
+  e.r_min = 0.5 * psd.d_min();
+  e.t_rayleigh = rayleigh_time(e.r_min, c.material.density, c.material.G / c.material.stiffness_reduction,
+                               c.material.nu);
+  e.dt = c.run.dt ? *c.run.dt : c.run.dt_rayleigh_fraction * e.t_rayleigh;
+  e.dt_reason = c.run.dt ? "run.dt" : fmt::format("{} x Rayleigh time of r_min", c.run.dt_rayleigh_fraction);
+  // The lubrication damper lowers a default dt to its stability limit (make_sim_params).
+  if (const double lim = case_viscous_dt_limit(c, e.r_min, vbar); !c.run.dt && lim > 0 && e.dt >= lim)
+    e.dt = lim, e.dt_reason = "viscous limit 2 m*/(4 c) of the lubrication damping";
+  e.steps = std::round((c.run.settle + c.run.duration) / e.dt);
   e.particle_steps = e.particles * e.steps;
   // n ∝ fill × D² × L / l³: the particle size factor is the strongest lever; name the drum key instead when
   // the drum, not the particles, is what makes n large (a drum much longer or wider than the paper's 140 ×

@@ -13,7 +13,7 @@
 // buffers a System really allocates. Entries per particle: two-sided neighbours with centres within 2 r̄ +
 // S_c,max + skin in a bed of solid fraction φ, ≈ φ (d/r̄)³ in the list; allocated: the initial capacity of 16
 // per particle, or 1.5 × the list once a rebuild overflows it (system.cpp grows a set to 1.5 × the need).
-// wetdem_bench measures the list length of real beds in rotation (README "Benchmark", "Memory"). Host bytes:
+// wetdem_bench measures the list length of real beds in rotation (docs/benchmark.md "Memory"). Host bytes:
 // measured, the slope of the peak resident memory of `wetdem run` on lavapipe between the demo slice (1,834
 // particles, 113 MB) and a 5x longer one (9,091 particles, 141 MB): 4.0 kB per particle. On lavapipe that
 // includes the device buffers (device memory is host memory there), so it errs high on a GPU.
@@ -38,6 +38,10 @@ struct ResourceEstimate {
   double entries_per_particle = 0;  // neighbour-list entries allocated per particle (with regrow headroom)
   double device_bytes = 0;
   double host_bytes = 0;
+  double r_min = 0;       // smallest radius of the PSD model (m)
+  double t_rayleigh = 0;  // Rayleigh time of r_min (s)
+  double dt = 0;          // the time step a run will take (s), and what sets it
+  std::string dt_reason;
   double steps = 0;           // settle + duration over dt
   double particle_steps = 0;  // particles × steps
   std::string driver_key;     // the key the message names: what makes n large
@@ -73,12 +77,19 @@ inline constexpr double kDeviceBytesPerParticle =
 inline constexpr double kDeviceBytesPerEntry = 2.0 * kEntrySetBytes + kEntryScratchBytes;
 inline constexpr double kInitialEntriesPerParticle = 16.0;  // SystemOptions::initial_entries_per_particle
 inline constexpr double kHostBytesPerParticle = 4000.0;
-// Throughput `wetdem check` quotes: the demo on lavapipe (README: ~1,800 particles at 114 steps/s).
+// Throughput `wetdem check` quotes: the demo on lavapipe (docs/benchmark.md: ~1,800 particles at 114
+// steps/s).
 inline constexpr double kLavapipeThroughput = 2.0e5;
 inline constexpr const char* kLavapipeThroughputSource =
-    "lavapipe on 2 CPU cores, the demo (README); a GPU is faster";
+    "lavapipe on 2 CPU cores, the demo (docs/benchmark.md); a GPU is faster";
 
 ResourceEstimate estimate_resources(const Case& c);
+
+// A periodic slice needs every interaction range below half its period (minimum image): the check the run
+// makes after the fill (prepare.cpp), made here from the case alone (the PSD model's largest diameter and
+// mean volume) so that a study, twin or diagnosis refuses such a case before any run. Throws
+// CaseError("drum.slice_thickness", ...).
+void check_reach(const Case& c);
 
 // MemAvailable of /proc/meminfo in bytes, empty where the file or line is missing.
 std::optional<double> host_available_bytes();

@@ -17,6 +17,7 @@
 #include "app/output/checkpoint.h"
 #include "app/output/progress.h"
 #include "app/run/driver.h"
+#include "app/run/figures.h"
 #include "app/run/log.h"
 #include "app/run/outputs.h"
 #include "app/run/resources.h"
@@ -95,8 +96,8 @@ RunResult run_case(const RunOptions& opt) {
     log("device: " + run->system().device_name());
     const uint64_t first_step = run->step();
 
-    RunOutputs out(dir, c, run->samples(), film_color_max(prep.state, prep.prm.liquid_unit_m3),
-                   prep.prm.liquid_unit_m3);
+    const double color_max = film_color_max(prep.state, prep.prm.liquid_unit_m3);
+    RunOutputs out(dir, c, run->samples(), color_max, prep.prm.liquid_unit_m3);
 
     // Running AoR mean over the window, for the progress line.
     double aor_sum = 0;
@@ -163,7 +164,12 @@ RunResult run_case(const RunOptions& opt) {
         run_totals(prep, fin, run->liquid_start(), run->step(),
                    wall > 0 ? double(n) * double(run->step() - first_step) / wall : 0.0, wall_before + wall,
                    run->system().device_name(), run->system().counters(), resume ? first_step : 0);
-    result.summary = write_summary(dir, prep, run->samples(), t, {}, log);
+    auto figures = [&](nlohmann::json& s) {  // issue 21: the run's figures, listed in summary.json
+      if (!opt.figures) return;
+      add_figures(dir, prep, fin, color_max, opt.python,
+                  opt.plot_script.empty() ? default_plot_run_script() : opt.plot_script, s);
+    };
+    result.summary = write_summary(dir, prep, run->samples(), t, {}, log, figures);
     result.completed = true;
     result.final_state = std::move(fin);
     return result;

@@ -38,6 +38,11 @@ struct RunOptions {
   // Called after every sample; an exception thrown here fails the run (tests use it to make a run fail).
   std::function<void(const Sample&)> on_sample;
   vk::Context* context = nullptr;  // use this Vulkan context (tests); otherwise one is created
+  // Figures of the finished run (app/run/figures.h): `wetdem run` draws them unless --no-figures; runs inside
+  // studies and diagnoses do not (their figures are the study's). A failing figure never fails the run.
+  bool figures = false;
+  std::string python = "/usr/bin/python3";
+  std::string plot_script;  // empty: default_plot_run_script()
 };
 
 struct RunResult {

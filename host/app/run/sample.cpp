@@ -7,6 +7,7 @@
 
 #include "app/drum/aor.h"
 #include "app/observe/camera.h"
+#include "app/observe/interface.h"
 #include "wetdem/observables.h"
 #include "wetdem/timestep.h"
 
@@ -48,6 +49,7 @@ Sample make_sample(const Observables& o, const SystemState& st, const SampleCont
   s.kinetic_energy = o.kinetic_energy;
   // diagnosis.md §2; the free liquid (films + bridges) from the reductions
   s.camera = observe::observe_camera(st, prep.prm, x.liquid_start, o.liquid_films + o.liquid_bridges);
+  s.interface = observe::interface_profile(st, prep.prm.drum.radius, prep.prm.drum.length);
   s.liquid_films = o.liquid_films, s.liquid_bridges = o.liquid_bridges;  // liquid accounting
   s.liquid_pores = o.liquid_pores, s.liquid_evaporated = o.liquid_evaporated;
   s.liquid_unit_m3 = prep.prm.liquid_unit_m3;

@@ -31,7 +31,8 @@ DrumSession::DrumSession(vk::Context& ctx, const Prepared& prep, LogFn log)
     log_("WARNING: " + *w);
     dt_warned_ = true;
   }
-  // Candidate effect `viscous`: explicit stability of the lubrication damper (README "Candidate effects").
+  // Candidate effect `viscous`: explicit stability of the lubrication damper (docs/model.md "Candidate
+  // effects").
   if (auto w = viscous_timestep_warning(prep.prm, prep.state)) log_("WARNING: " + *w);
 }
 

@@ -1,0 +1,45 @@
+// A candidate's response over its strength, from a few runs: what step 4 of the diagnosis fits
+// (diagnosis.md §4). Pure statistics on predictions the runs produced; nothing here runs a model.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "diagnose/cells.h"
+
+namespace wetdem::diagnose {
+
+// A candidate's predictions at a few strengths of its key (in the key's SI units), one vector per strength,
+// all at one shape (second parameter, effects.h) and one refit setting (refit.h).
+struct Response {
+  std::string effect;
+  std::vector<double> strengths;              // > 0, ascending
+  std::vector<std::vector<Prediction>> pred;  // [strength][cell]
+};
+
+// The response of every cell over u = log10(strength): piecewise-linear interpolation through the baseline
+// (placed at u_lo = log10 of a tenth of the weakest strength probed, where the effect is taken as absent) and
+// the probes, in mean and in SE. Interpolation, not a smoothing fit: with three or four points per cell a
+// polynomial overshoots steep responses (f_wet against a wetted fraction), and an emulator that misplaces the
+// response misplaces the fitted strength. Outside [u_lo, u_hi] the end values hold (no extrapolation).
+class Emulator {
+ public:
+  Emulator(const std::vector<Prediction>& baseline, const Response& r);
+  Prediction at(size_t cell, double u) const;
+  std::vector<Prediction> at(double u) const;
+  double u_lo() const { return u_.front(); }                        // the anchor of the baseline
+  double u_hi() const { return u_.back(); }                         // the strongest strength probed
+  double u_first() const { return u_.size() > 1 ? u_[1] : u_[0]; }  // the weakest strength probed
+  size_t cells() const { return mean_.size(); }
+
+ private:
+  std::vector<double> u_;                       // knots: anchor, then log10 of every probe
+  std::vector<std::vector<double>> mean_, se_;  // per cell, per knot
+};
+
+// Inserts a run's predictions at `strength` into the response (kept ascending).
+void add_knot(Response& r, double strength, std::vector<Prediction> pred);
+// Removes the knot at `strength` (a run that failed) when present.
+void drop_knot(Response& r, double strength);
+
+}  // namespace wetdem::diagnose

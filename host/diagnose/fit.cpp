@@ -1,0 +1,192 @@
+#include "diagnose/fit.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace wetdem::diagnose {
+
+StrengthFit fit_strength(const std::vector<Cell>& cells, const Emulator& em,
+                         const std::vector<size_t>& idx_in) {
+  std::vector<size_t> idx = idx_in;
+  if (idx.empty())
+    for (size_t k = 0; k < cells.size(); ++k) idx.push_back(k);
+  auto chi = [&](double u) {
+    double s = 0;
+    for (size_t k : idx) {
+      const double z = z_score(cells[k], em.at(k, u));
+      s += z * z;
+    }
+    return s;
+  };
+  constexpr int kGrid = 401;
+  const double a = em.u_lo(), b = em.u_hi(), h = (b - a) / (kGrid - 1);
+  std::vector<double> g(kGrid);
+  int best = 0;
+  for (int i = 0; i < kGrid; ++i) {
+    g[size_t(i)] = chi(a + h * i);
+    if (g[size_t(i)] < g[size_t(best)]) best = i;
+  }
+  // Golden-section refinement inside the grid cell pair around the minimum.
+  double lo = a + h * std::max(0, best - 1), hi = a + h * std::min(kGrid - 1, best + 1);
+  const double phi = 0.5 * (std::sqrt(5.0) - 1.0);
+  double x1 = hi - phi * (hi - lo), x2 = lo + phi * (hi - lo), f1 = chi(x1), f2 = chi(x2);
+  for (int it = 0; it < 40; ++it) {
+    if (f1 < f2)
+      hi = x2, x2 = x1, f2 = f1, x1 = hi - phi * (hi - lo), f1 = chi(x1);
+    else
+      lo = x1, x1 = x2, f1 = f2, x2 = lo + phi * (hi - lo), f2 = chi(x2);
+  }
+  double u_best = 0.5 * (lo + hi), c_best = chi(u_best);
+  if (g[size_t(best)] < c_best) u_best = a + h * best, c_best = g[size_t(best)];
+  StrengthFit f;
+  f.strength = std::pow(10.0, u_best);
+  f.chi2 = c_best;
+  f.at_hi = best == kGrid - 1;
+  f.at_lo = u_best < em.u_first() - 1e-9 && em.u_first() > em.u_lo();
+  f.at_edge = best == 0 || f.at_hi;
+  f.delta = idx.size() > 1 ? std::max(1.0, c_best / double(idx.size() - 1)) : 1.0;
+  int i_lo = best, i_hi = best;
+  while (i_lo > 0 && g[size_t(i_lo - 1)] <= c_best + f.delta) --i_lo;
+  while (i_hi < kGrid - 1 && g[size_t(i_hi + 1)] <= c_best + f.delta) ++i_hi;
+  f.lo = std::pow(10.0, a + h * i_lo);
+  f.hi = std::pow(10.0, a + h * i_hi);
+  f.open_lo = i_lo == 0;
+  f.open_hi = i_hi == kGrid - 1;
+  return f;
+}
+
+ProfileFit fit_profile(const std::vector<Cell>& cells, const std::vector<Emulator>& ems,
+                       const std::vector<size_t>& idx) {
+  if (ems.empty()) throw std::invalid_argument("fit_profile: one emulator per member, at least one");
+  ProfileFit best;
+  for (size_t j = 0; j < ems.size(); ++j) {
+    const StrengthFit f = fit_strength(cells, ems[j], idx);
+    if (j == 0 || f.chi2 < best.fit.chi2) best = {j, f};
+  }
+  return best;
+}
+
+size_t fit_null_refit(const std::vector<Cell>& cells, const std::vector<std::vector<Prediction>>& baselines,
+                      const std::vector<size_t>& idx) {
+  if (baselines.empty()) throw std::invalid_argument("fit_null_refit: one baseline per refit setting");
+  if (idx.empty() && cells.empty()) return 0;
+  size_t best = 0;
+  double c_best = 0;
+  for (size_t j = 0; j < baselines.size(); ++j) {
+    const double c = idx.empty() ? chi2(cells, baselines[j]) : chi2(cells, baselines[j], idx);
+    if (j == 0 || c < c_best) best = j, c_best = c;
+  }
+  return best;
+}
+
+namespace {
+
+// The conditions' cells for leave-one-condition-out: per condition c, (train, test) index lists.
+std::vector<std::pair<std::vector<size_t>, std::vector<size_t>>> loco_folds(const std::vector<Cell>& cells,
+                                                                            const char* who) {
+  std::vector<size_t> cond;
+  const size_t nc = conditions_of(cells, &cond).size();
+  if (nc < 2)
+    throw std::invalid_argument(std::string(who) +
+                                ": fewer than two conditions (no held-out check possible)");
+  std::vector<std::pair<std::vector<size_t>, std::vector<size_t>>> folds(nc);
+  for (size_t c = 0; c < nc; ++c)
+    for (size_t k = 0; k < cells.size(); ++k) (cond[k] == c ? folds[c].second : folds[c].first).push_back(k);
+  return folds;
+}
+
+double sum(const std::vector<double>& v) {
+  double s = 0;
+  for (double x : v) s += x;
+  return s;
+}
+
+}  // namespace
+
+std::vector<double> loco_cells(const std::vector<Cell>& cells, const std::vector<Emulator>& ems) {
+  std::vector<double> out(cells.size(), 0.0);
+  for (const auto& [train, test] : loco_folds(cells, "loco_score")) {
+    const ProfileFit f = fit_profile(cells, ems, train);
+    const double u = std::log10(f.fit.strength);
+    for (size_t k : test) {
+      const double z = z_score(cells[k], ems[f.member].at(k, u));
+      out[k] = z * z;
+    }
+  }
+  return out;
+}
+
+double loco_score(const std::vector<Cell>& cells, const std::vector<Emulator>& ems) {
+  return sum(loco_cells(cells, ems));
+}
+
+double loco_score(const std::vector<Cell>& cells, const Emulator& em) {
+  return loco_score(cells, std::vector<Emulator>{em});
+}
+
+std::vector<double> loco_null_cells(const std::vector<Cell>& cells,
+                                    const std::vector<std::vector<Prediction>>& baselines) {
+  if (baselines.empty()) throw std::invalid_argument("loco_null: one baseline per refit setting");
+  std::vector<double> out(cells.size(), 0.0);
+  if (baselines.size() == 1) {
+    for (size_t k = 0; k < cells.size(); ++k) {
+      const double z = z_score(cells[k], baselines[0][k]);
+      out[k] = z * z;
+    }
+    return out;
+  }
+  for (const auto& [train, test] : loco_folds(cells, "loco_null")) {
+    const std::vector<Prediction>& b = baselines[fit_null_refit(cells, baselines, train)];
+    for (size_t k : test) {
+      const double z = z_score(cells[k], b[k]);
+      out[k] = z * z;
+    }
+  }
+  return out;
+}
+
+double loco_null(const std::vector<Cell>& cells, const std::vector<std::vector<Prediction>>& baselines) {
+  return sum(loco_null_cells(cells, baselines));
+}
+
+double loco_null(const std::vector<Cell>& cells, const std::vector<Prediction>& baseline) {
+  return chi2(cells, baseline);
+}
+
+double next_knot(const std::vector<Cell>& cells, const std::vector<Prediction>& baseline, const Response& r) {
+  const double s = std::stod(fmt::format("{:.3g}", fit_strength(cells, Emulator(baseline, r)).strength));
+  for (double k : r.strengths)
+    if (std::fabs(std::log(s / k)) < 0.02) return 0.0;
+  return s;
+}
+
+double next_edge_knot(const StrengthFit& f, const Response& r, double phys_lo, double phys_hi,
+                      int* at_limit) {
+  if (at_limit) *at_limit = 0;
+  if (r.strengths.empty()) return 0.0;
+  double step = 3.0;  // the probes' largest ratio, at least 3x
+  for (size_t i = 1; i < r.strengths.size(); ++i) step = std::max(step, r.strengths[i] / r.strengths[i - 1]);
+  const auto round3 = [](double s) { return std::stod(fmt::format("{:.3g}", s)); };
+  if (f.at_hi || f.open_hi) {
+    const double top = r.strengths.back();
+    if (top >= phys_hi * (1.0 - 1e-9)) {
+      if (at_limit) *at_limit = 1;
+      return 0.0;
+    }
+    return std::min(phys_hi, round3(top * step));
+  }
+  if (f.at_lo) {
+    const double bottom = r.strengths.front();
+    if (bottom <= phys_lo * (1.0 + 1e-9)) {
+      if (at_limit) *at_limit = -1;
+      return 0.0;
+    }
+    return std::max(phys_lo, round3(bottom / step));
+  }
+  return 0.0;
+}
+
+}  // namespace wetdem::diagnose

@@ -1,0 +1,77 @@
+// Step 4 of the diagnosis (diagnosis.md §4), the statistics: a candidate's strength fitted by weighted least
+// squares through its emulator, profiled over the members of its family (refit settings x shapes), scored by
+// leave-one-condition-out prediction; where to put the next run (refinement at the fit, extension past an
+// edge of the probed range). Pure functions; the stage that runs the models is fit_stage.h.
+#pragma once
+
+#include <utility>
+#include <vector>
+
+#include "diagnose/cells.h"
+#include "diagnose/emulator.h"
+
+namespace wetdem::diagnose {
+
+struct StrengthFit {
+  double strength = 0.0;      // best fit (10^u)
+  double lo = 0.0, hi = 0.0;  // interval: χ² within `delta` of the minimum, on the probed range
+  double chi2 = 0.0;          // at the best fit, over the cells fitted
+  double delta = 1.0;         // the Δχ² of the interval: max(1, χ²_min / (n - 1)) (below)
+  bool at_edge = false;       // the optimum sits at an end of the probed range (either)
+  bool at_lo = false;         // ... below the weakest strength probed (between it and the baseline anchor)
+  bool at_hi = false;         // ... at the strongest strength probed
+  bool open_lo = false;       // the interval runs into the baseline anchor: "strength <= hi"
+  bool open_hi = false;       // the interval runs into the strongest probe: "strength >= lo"
+};
+
+// Weighted least squares of the strength against the cells `idx` (all when empty): χ²(u) on a dense grid over
+// [u_lo, u_hi], refined by golden-section search around the grid minimum. The interval is where χ² is within
+// Δ of the minimum, with Δ = max(1, χ²_min/(n - 1)) for n cells: when the best fit leaves more scatter than
+// the uncertainties allow (the emulator's interpolation error, seed noise of single-seed probes), the
+// interval is widened by that excess (the scale factor of the Particle Data Group's averages) instead of
+// claiming a precision the data do not carry.
+StrengthFit fit_strength(const std::vector<Cell>& cells, const Emulator& em,
+                         const std::vector<size_t>& idx = {});
+
+// A family of models for one candidate: one emulator per member (a refit setting x a shape of the effect's
+// second parameter). The fit is a discrete profile: at each member the strength is fitted as above; the
+// member of least χ² is kept (the lowest index on a tie, so the calibrated setting and the middle shape win
+// ties when they are listed first).
+struct ProfileFit {
+  size_t member = 0;
+  StrengthFit fit;
+};
+ProfileFit fit_profile(const std::vector<Cell>& cells, const std::vector<Emulator>& ems,
+                       const std::vector<size_t>& idx = {});
+// The null model with refit: the setting whose baseline has the least χ² over idx (lowest on a tie).
+size_t fit_null_refit(const std::vector<Cell>& cells, const std::vector<std::vector<Prediction>>& baselines,
+                      const std::vector<size_t>& idx = {});
+
+// Leave-one-condition-out: for every condition c, fit (the member and the strength) without c's cells and
+// predict c's cells; the held-out z² of every cell. Throws std::invalid_argument with fewer than two
+// conditions. loco_score is their sum.
+std::vector<double> loco_cells(const std::vector<Cell>& cells, const std::vector<Emulator>& ems);
+double loco_score(const std::vector<Cell>& cells, const std::vector<Emulator>& ems);
+double loco_score(const std::vector<Cell>& cells, const Emulator& em);
+// The null model: with one baseline nothing is fitted and the score is its plain χ²; with refit settings the
+// setting is re-fitted in every fold.
+std::vector<double> loco_null_cells(const std::vector<Cell>& cells,
+                                    const std::vector<std::vector<Prediction>>& baselines);
+double loco_null(const std::vector<Cell>& cells, const std::vector<std::vector<Prediction>>& baselines);
+double loco_null(const std::vector<Cell>& cells, const std::vector<Prediction>& baseline);
+
+// Refinement: the emulator interpolates between probes a factor 3-10 apart, and a response that bends
+// between them misplaces the fitted strength (measured on the micro twins: an absorption capacity fitted at
+// twice its true value). The fitted strength (3 significant digits) when no knot lies within 2 % of it in log
+// strength, else 0 (refined).
+double next_knot(const std::vector<Cell>& cells, const std::vector<Prediction>& baseline, const Response& r);
+
+// Extension past an edge (diagnosis.md §4: "an effect fitted at the edge of its probes extends the probes,
+// within the physical range"): when the interval of the fit runs into the strongest probe, the next strength
+// up (a step of the probes' largest ratio, at least 3x) capped at phys_hi; when the best fit lies below the
+// weakest probe, the next strength down, floored at phys_lo. 0 when neither applies or the physical range is
+// exhausted (then `*at_limit` says which end: -1 low, +1 high).
+double next_edge_knot(const StrengthFit& f, const Response& r, double phys_lo, double phys_hi,
+                      int* at_limit = nullptr);
+
+}  // namespace wetdem::diagnose

@@ -1,0 +1,212 @@
+#include "diagnose/fit_stage.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "diagnose/fit.h"
+#include "diagnose/verdict.h"
+
+namespace wetdem::diagnose {
+
+namespace {
+
+// A run the stage has asked for: candidate c at member (refit j, shape m), strength s.
+struct Knot {
+  size_t c = 0, j = 0, m = 0;
+  double s = 0.0;
+  std::string why;  // "probe", "refine", "extend", "shape"
+};
+
+struct Stage {
+  Procedure& p;
+  std::vector<CandidateRuns>& cands;
+  std::vector<Knot> pending;
+  std::vector<int> refined, extended;  // per candidate: rounds spent
+
+  Variant variant_of(const Knot& k) const {
+    const CandidateRuns& c = cands[k.c];
+    return p.variant(c.effect, k.s, k.j, c.shapes[k.m]);
+  }
+
+  // A strength at or above the cut cannot run: the candidate's range ends there.
+  void cut(CandidateRuns& c, double s, const std::string& why) {
+    if (s < c.cut) c.cut = s;
+    c.notes.push_back(fmt::format("range cut at {:.3g}: {}", s, why));
+    p.notes.push_back(fmt::format("{}: range cut at {:.3g}: {}", c.effect, s, why));
+    for (Response& r : c.members)
+      while (!r.strengths.empty() && r.strengths.back() >= c.cut) drop_knot(r, r.strengths.back());
+  }
+
+  void want(const Knot& k) {
+    CandidateRuns& c = cands[k.c];
+    if (k.s >= c.cut) return;
+    for (double s : c.member(k.j, k.m).strengths)
+      if (std::fabs(std::log(s / k.s)) < 1e-9) return;  // already a knot
+    const Variant v = variant_of(k);
+    if (const std::string why = p.failure(v, p.probe_seed); !why.empty())
+      return cut(c, k.s, "run failed: " + why);
+    if (const std::string why = p.want(v, p.probe_seed); !why.empty()) return cut(c, k.s, why);
+    pending.push_back(k);
+  }
+
+  // Runs what is pending and adds the knots that completed.
+  void collect() {
+    if (pending.empty()) return;
+    p.run();
+    for (const Knot& k : pending) {
+      CandidateRuns& c = cands[k.c];
+      const Variant v = variant_of(k);
+      if (const std::string why = p.failure(v, p.probe_seed); !why.empty()) {
+        cut(c, k.s, "run failed: " + why);
+        continue;
+      }
+      if (k.s >= c.cut) continue;
+      add_knot(c.member(k.j, k.m), k.s, p.probe(v, k.j));
+      if (k.why == "extend" || k.why == "shape")
+        c.notes.push_back(
+            fmt::format("{} at {:.3g}{}", k.why == "extend" ? "range extended to" : "shape added:", k.s,
+                        std::isnan(c.shapes[k.m]) ? "" : fmt::format(", shape {:.3g}", c.shapes[k.m])));
+    }
+    pending.clear();
+  }
+
+  // The next run candidate c asks for, or false when its fit is settled.
+  bool ask(size_t ci, int max_rounds_left) {
+    CandidateRuns& c = cands[ci];
+    const EffectSpec& spec = effect_spec(c.effect);
+    const Family fam = c.family(p.baselines);
+    if (fam.ems.empty() || max_rounds_left <= 0) return false;
+    const ProfileFit pf = fit_profile(p.tab.cells, fam.ems);
+    const size_t j = fam.refit_of[pf.member], m = fam.shape_of[pf.member];
+    const StrengthFit& f = pf.fit;
+    // Runs are spent only on a candidate that explains something: its fit beats the null at its setting.
+    if (!(f.chi2 < chi2(p.tab.cells, p.baselines[j]) - 1.0)) return false;
+    const Response& r = c.member(j, m);
+    // 1. An edge of the probed range: extend within the physical range and below the cut.
+    const double hi = std::isfinite(c.cut) ? std::min(spec.phys_hi, c.cut / 1.3) : spec.phys_hi;
+    int limit = 0;
+    const double edge = next_edge_knot(f, r, spec.phys_lo, hi, &limit);
+    if (edge > 0 && extended[ci] < p.d.extend) {
+      ++extended[ci];
+      want({ci, j, m, edge, "extend"});
+      return true;
+    }
+    c.at_limit = edge > 0 ? 0 : limit;
+    // 2. An end of the shapes (the second parameter): a shape one step further at the fitted strength.
+    if (c.shapes.size() > 1 && extended[ci] < p.d.extend) {
+      const double v = c.shapes[m];
+      const auto [lo_it, hi_it] = std::minmax_element(c.shapes.begin(), c.shapes.end());
+      double step = 10.0;
+      std::vector<double> sorted = c.shapes;
+      std::sort(sorted.begin(), sorted.end());
+      for (size_t i = 1; i < sorted.size(); ++i) step = std::min(step, sorted[i] / sorted[i - 1]);
+      double next = 0;
+      if (v == *hi_it && v * step <= spec.shape_hi) next = v * step;
+      if (v == *lo_it && v / step >= spec.shape_lo) next = v / step;
+      if (next > 0) {
+        ++extended[ci];
+        c.shapes.push_back(std::stod(fmt::format("{:.3g}", next)));
+        want({ci, j, c.shapes.size() - 1, std::stod(fmt::format("{:.3g}", f.strength)), "shape"});
+        return true;
+      }
+    }
+    // 3. Refinement: a knot at the fitted strength.
+    if (refined[ci] < p.d.refine) {
+      if (const double s = next_knot(p.tab.cells, p.baselines[j], r); s > 0) {
+        ++refined[ci];
+        want({ci, j, m, s, "refine"});
+        return true;
+      }
+    }
+    return false;
+  }
+};
+
+}  // namespace
+
+void run_fit(Procedure& p) {
+  std::vector<CandidateRuns> cands;
+  for (const Screened& s : p.screened) {
+    if (cands.size() >= p.d.screen_top) break;
+    if (s.strength <= 0) continue;  // no probe could run
+    CandidateRuns c;
+    c.effect = s.effect;
+    c.screen = s.score;
+    c.shapes = p.d.shapes.count(s.effect) ? p.d.shapes.at(s.effect) : std::vector<double>{NAN};
+    cands.push_back(c);
+  }
+  // The baselines of the refit settings, then every probe strength at the default shape, at every setting.
+  for (size_t j = 1; j < p.settings.size(); ++j)
+    if (const std::string why = p.want(p.variant("", 0, j), p.base_seeds); !why.empty())
+      throw std::runtime_error("refit setting " + p.settings[j].label + ": " + why);
+  Stage st{p, cands, {}, std::vector<int>(cands.size(), 0), std::vector<int>(cands.size(), 0)};
+  for (size_t ci = 0; ci < cands.size(); ++ci) {
+    const size_t m0 = cands[ci].shapes.size() / 2;
+    for (double s : p.d.probes.at(cands[ci].effect))
+      for (size_t j = 0; j < p.settings.size(); ++j) st.want({ci, j, m0, s, "probe"});
+  }
+  p.run();
+  for (size_t j = 1; j < p.settings.size(); ++j) {
+    const Variant b = p.variant("", 0, j);
+    if (const std::string why = p.failure(b, p.base_seeds); !why.empty())
+      throw std::runtime_error("the model at refit setting " + p.settings[j].label + " failed: " + why);
+    p.baselines.push_back(p.predict(b, p.base_seeds));
+    p.seed1.push_back(p.predict(b, p.probe_seed));
+  }
+  st.collect();
+  // The other shapes at the strength fitted at the default shape (a profile over the second parameter).
+  for (size_t ci = 0; ci < cands.size(); ++ci) {
+    CandidateRuns& c = cands[ci];
+    if (c.shapes.size() < 2) continue;
+    const Family fam = c.family(p.baselines);
+    if (fam.ems.empty()) continue;
+    const ProfileFit pf = fit_profile(p.tab.cells, fam.ems);
+    const double s = std::stod(fmt::format("{:.3g}", pf.fit.strength));
+    for (size_t m = 0; m < c.shapes.size(); ++m)
+      if (m != c.shapes.size() / 2) st.want({ci, fam.refit_of[pf.member], m, s, "shape"});
+  }
+  st.collect();
+  // Rounds: each candidate in contention asks for at most one run per round; the rounds' runs go together.
+  // In contention: the best by held-out score, and every candidate that passes the effect margin against the
+  // null or is not clearly worse than the best (verdict.h): the runs go where they can change the verdict.
+  const int rounds = p.d.refine + p.d.extend + 2;
+  for (int round = 0; round < rounds; ++round) {
+    std::vector<Family> fams;
+    std::vector<size_t> of;
+    for (size_t ci = 0; ci < cands.size(); ++ci)
+      if (Family f = cands[ci].family(p.baselines); !f.ems.empty()) fams.push_back(f), of.push_back(ci);
+    if (fams.empty()) break;
+    const Verdict v = decide(p.tab.cells, p.baselines, fams, p.d.rule);
+    std::vector<bool> contend(cands.size(), false);
+    for (size_t r = 0; r < v.ranking.size(); ++r) {
+      const Candidate& c = v.ranking[r];
+      const bool passes = c.loco <= p.d.rule.ratio * v.null_loco && v.null_loco - c.loco >= p.d.rule.min_drop;
+      const bool close = !clearly_worse(v.ranking.front(), c, p.d.rule);
+      for (size_t i = 0; i < fams.size(); ++i)
+        if (fams[i].effect == c.effect) contend[of[i]] = r == 0 || passes || close;
+    }
+    bool any = false;
+    for (size_t ci = 0; ci < cands.size(); ++ci)
+      if (contend[ci]) any = st.ask(ci, rounds - round) || any;
+    if (!any) break;
+    st.collect();
+  }
+  for (CandidateRuns& c : cands) {
+    const double phys_hi = effect_spec(c.effect).phys_hi;
+    if (c.at_limit > 0 && std::isfinite(c.cut) && c.cut / 1.3 < phys_hi)
+      c.notes.push_back(
+          fmt::format("the fit runs into the cut range (runs at {:.3g} could not be made)", c.cut));
+    else if (c.at_limit > 0)
+      c.notes.push_back(fmt::format("the fit runs into the upper end of the physical range ({:g})", phys_hi));
+    if (c.at_limit < 0)
+      c.notes.push_back(fmt::format("the fit runs into the lower end of the range searched ({:g})",
+                                    effect_spec(c.effect).phys_lo));
+  }
+  p.fitted = cands;
+}
+
+}  // namespace wetdem::diagnose

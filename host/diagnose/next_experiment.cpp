@@ -1,0 +1,169 @@
+#include "diagnose/next_experiment.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "diagnose/files.h"
+#include "diagnose/shrink.h"
+
+namespace wetdem::diagnose {
+
+namespace {
+
+// "5 %" -> (5, " %"); "0.3" -> (0.3, "").
+std::pair<double, std::string> split_number(const std::string& w) {
+  size_t used = 0;
+  double x = 0;
+  try {
+    x = std::stod(w, &used);
+  } catch (const std::exception&) {
+    return {std::nan(""), w};
+  }
+  return {x, w.substr(used)};
+}
+
+std::string label_of(const std::vector<study::AxisValue>& v) {
+  std::string s;
+  for (const auto& a : v) s += (s.empty() ? "" : ", ") + a.key + "=" + a.written;
+  return s;
+}
+
+Condition with_value(const Condition& base, const std::string& key, const std::string& written) {
+  Condition c;
+  bool found = false;
+  for (study::AxisValue a : base.values) {
+    if (a.key == key)
+      a.written = written, a.toml = toml_text_of_written(written), a.si = std::nan(""), found = true;
+    c.values.push_back(a);
+  }
+  if (!found) c.values.push_back({key, written, toml_text_of_written(written), std::nan("")});
+  std::sort(c.values.begin(), c.values.end(), [](const auto& a, const auto& b) { return a.key < b.key; });
+  c.label = label_of(c.values);
+  return c;
+}
+
+}  // namespace
+
+std::vector<Condition> propose_conditions(const std::vector<Condition>& table, const Condition& base,
+                                          double model_rpm, double model_duration_s, size_t max) {
+  std::vector<Condition> beyond, between;
+  std::set<std::string> keys;
+  for (const Condition& c : table)
+    for (const auto& v : c.values) keys.insert(v.key);
+  for (const std::string& key : keys) {
+    // The measured values (SI) and the unit the table writes them in (from a value with SI != 0).
+    std::map<double, std::string> vals;
+    double per_si = std::nan("");
+    std::string unit;
+    for (const Condition& c : table)
+      for (const auto& v : c.values)
+        if (v.key == key && std::isfinite(v.si)) {
+          vals[v.si] = v.written;
+          const auto [x, rest] = split_number(v.written);
+          if (std::isfinite(x) && v.si != 0.0 && std::isnan(per_si)) per_si = x / v.si, unit = rest;
+        }
+    if (vals.size() < 2 || !std::isfinite(per_si)) continue;
+    std::vector<double> si;
+    for (const auto& [x, w] : vals) si.push_back(x);
+    const auto written = [&](double x) { return fmt::format("{:.4g}{}", x * per_si, unit); };
+    beyond.push_back(with_value(base, key, written(si.back() + (si.back() - si[si.size() - 2]))));
+    for (size_t i = 0; i + 1 < si.size(); ++i)
+      between.push_back(with_value(base, key, written(0.5 * (si[i] + si[i + 1]))));
+  }
+  std::vector<Condition> out = beyond;
+  if (!keys.count("drum.rpm") && model_rpm > 0) {
+    out.push_back(with_value(base, "drum.rpm", fmt::format("{:.4g}", 2.0 * model_rpm)));
+    out.push_back(with_value(base, "drum.rpm", fmt::format("{:.4g}", 0.5 * model_rpm)));
+  }
+  if (!keys.count("run.duration") && model_duration_s > 0)
+    out.push_back(with_value(base, "run.duration", fmt::format("{:.4g} s", 2.0 * model_duration_s)));
+  out.insert(out.end(), between.begin(), between.end());
+  std::vector<Condition> unique;
+  for (const Condition& c : out) {
+    bool seen = c.label == base.label;
+    for (const Condition& t : table) seen = seen || t.label == c.label;
+    for (const Condition& u : unique) seen = seen || u.label == c.label;
+    if (!seen && unique.size() < max) unique.push_back(c);
+  }
+  return unique;
+}
+
+void run_next_experiment(Procedure& p) {
+  p.next = {};
+  if (p.verdict.tied.empty()) return;
+  if (p.fresh.size() < 2 || p.fresh[0].after.empty() || p.fresh[1].after.empty()) {
+    p.next.note = "the fresh runs of the tied models could not be made";
+    return;
+  }
+  const FreshCheck &a = p.fresh[0], &b = p.fresh[1];
+  p.next.effect_a = a.effect;
+  p.next.effect_b = b.effect;
+  // The noise of a measurement of each observable: the table's median sigma.
+  std::map<std::string, std::vector<double>> sig;
+  for (const Cell& c : p.tab.cells) sig[c.observable].push_back(c.sigma);
+  std::map<std::string, double> sigma;
+  for (auto& [o, v] : sig) {
+    std::sort(v.begin(), v.end());
+    sigma[o] = v[v.size() / 2];
+  }
+  const auto separation = [&](const std::string& obs, const Prediction& x, const Prediction& y) {
+    return std::fabs(x.mean - y.mean) / std::sqrt(sigma[obs] * sigma[obs] + x.se * x.se + y.se * y.se);
+  };
+  // The table's own conditions, from the fresh runs (no new run).
+  double best = -1;
+  size_t base = 0;
+  for (size_t k = 0; k < p.tab.cells.size(); ++k) {
+    const std::string& obs = p.tab.cells[k].observable;
+    Proposal q{p.tab.conditions[p.tab.cell_condition[k]].label,
+               obs,
+               a.after[k].mean,
+               b.after[k].mean,
+               a.after[k].se,
+               b.after[k].se,
+               sigma[obs],
+               separation(obs, a.after[k], b.after[k]),
+               true};
+    if (q.separation > best) best = q.separation, base = p.tab.cell_condition[k];
+    p.next.proposals.push_back(q);
+  }
+  // Beyond the table: each proposal with both models, the baseline's seeds.
+  const Variant va = p.variant(a.effect, a.strength, a.refit, a.shape);
+  const Variant vb = p.variant(b.effect, b.strength, b.refit, b.shape);
+  std::vector<Condition> props = propose_conditions(p.tab.conditions, p.tab.conditions[base], p.models[0].rpm,
+                                                    p.models[0].duration_s, p.d.next_conditions);
+  std::vector<Condition> wanted;
+  for (Condition& c : props) {
+    try {
+      p.book.want(c, va, p.base_seeds);
+      p.book.want(c, vb, p.base_seeds);
+      wanted.push_back(c);
+    } catch (const study::StudyError& e) {
+      p.notes.push_back(fmt::format("next experiment: {} cannot be run: {}", c.label, e.what()));
+    }
+  }
+  p.run();
+  std::set<std::string> observables;
+  for (const Cell& c : p.tab.cells) observables.insert(c.observable);
+  for (const Condition& c : wanted) {
+    const std::string fa = p.book.failure({c}, va, p.base_seeds), fb = p.book.failure({c}, vb, p.base_seeds);
+    if (!fa.empty() || !fb.empty()) {
+      p.notes.push_back("next experiment: " + (fa.empty() ? fb : fa));
+      continue;
+    }
+    for (const std::string& obs : observables) {
+      if (!p.book.reports(c, va, p.base_seeds, obs) || !p.book.reports(c, vb, p.base_seeds, obs)) continue;
+      const Prediction x = p.book.predict(c, va, p.base_seeds, obs),
+                       y = p.book.predict(c, vb, p.base_seeds, obs);
+      p.next.proposals.push_back(
+          {c.label, obs, x.mean, y.mean, x.se, y.se, sigma[obs], separation(obs, x, y), false});
+    }
+  }
+  std::stable_sort(p.next.proposals.begin(), p.next.proposals.end(),
+                   [](const Proposal& x, const Proposal& y) { return x.separation > y.separation; });
+}
+
+}  // namespace wetdem::diagnose

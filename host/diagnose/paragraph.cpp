@@ -1,0 +1,183 @@
+// The plain-language verdict of report.md: what a process engineer can act on. It says which effect explains
+// the gap and how sure that is (an open interval, a physical limit, a tie with the runner-up and the
+// measurement that would separate them), or which cells stay unexplained.
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "diagnose/effects.h"
+#include "diagnose/report.h"
+
+namespace wetdem::diagnose {
+
+namespace {
+
+double chi2_of(const std::vector<CellGap>& g) {
+  double s = 0;
+  for (const CellGap& x : g)
+    if (std::isfinite(x.z)) s += x.z * x.z;
+  return s;
+}
+
+size_t significant(const std::vector<CellGap>& g) {
+  size_t n = 0;
+  for (const CellGap& x : g) n += x.significant;
+  return n;
+}
+
+bool has_refit(const Report& r) {
+  return !r.spec->refit.empty() && r.settings.size() > 1;
+}
+
+// What the null model with refit leaves (only with refit and a fitted null): a sentence for the paragraph.
+std::string null_refit_sentence(const Report& r) {
+  if (!has_refit(r) || r.null_refit_gaps.empty()) return "";
+  return fmt::format(
+      " Without any added effect, the model with {} scores a held-out χ² of {:.1f} and leaves {} of {} cells "
+      "significant.",
+      refit_phrase(r, r.verdict.null_refit), r.verdict.null_loco, significant(r.null_refit_gaps),
+      r.cells.size());
+}
+
+const Candidate* candidate(const Report& r, const std::string& e) {
+  for (const Candidate& c : r.verdict.ranking)
+    if (c.effect == e) return &c;
+  return nullptr;
+}
+
+// The tie and the next experiment, when the runner-up is not clearly worse.
+std::string tie_sentence(const Report& r) {
+  if (r.verdict.tied.empty()) return "";
+  const Candidate* best = candidate(r, r.verdict.effect);
+  std::string s;
+  for (const std::string& e : r.verdict.tied) {
+    const Candidate* c = candidate(r, e);
+    if (!c || !best) continue;
+    s += fmt::format(
+        " **`{}` explains the data nearly as well** (held-out χ² {:.1f} against {:.1f}, not clearly worse by "
+        "the tie rule; {} = {}): the data do not single one out, and both are reported.",
+        e, c->loco, best->loco, effect_spec(e).strength, strength_text(*c, r.runs_of(e)));
+  }
+  if (!r.next.proposals.empty()) {
+    const Proposal& q = r.next.proposals.front();
+    s += fmt::format(
+        " **Next experiment:** measure `{}` at {}{}: the two fitted models differ there by {:.1f} σ (`{}` "
+        "{:.4g} ± {:.2g}, `{}` {:.4g} ± {:.2g}, measurement noise {:.3g}).",
+        q.observable, q.condition,
+        q.in_table ? " (a condition of the table: measure it again, more precisely)" : "", q.separation,
+        r.next.effect_a, q.model_a, q.se_a, r.next.effect_b, q.model_b, q.se_b, q.sigma);
+  } else if (!r.next.note.empty()) {
+    s += " No separating measurement was found: " + r.next.note + ".";
+  }
+  return s;
+}
+
+std::string limit_sentence(const Report& r, const std::string& e) {
+  const CandidateRuns* cr = r.runs_of(e);
+  if (!cr) return "";
+  if (cr->at_limit > 0)
+    return fmt::format(
+        " The fit runs into the end of the range that could be probed ({}); the true strength may lie "
+        "beyond it.",
+        std::isfinite(cr->cut) ? fmt::format("runs from {:.3g} on could not be made", cr->cut)
+                               : fmt::format("the physical limit {:g}", effect_spec(e).phys_hi));
+  return "";
+}
+
+}  // namespace
+
+std::string verdict_paragraph(const Report& r) {
+  const size_t n = r.cells.size(), ns = significant(r.gaps);
+  if (r.verdict.kind == "no_gap")
+    return fmt::format(
+        "**No gap.** The calibrated model agrees with the observations within their uncertainties: none of "
+        "the "
+        "{} measured cells differs significantly (false-discovery rate {:.0f} %). No effect needs to be "
+        "added; "
+        "a new measurement (another liquid content or speed) is what would test the model further.",
+        n, 100 * r.spec->rule.q);
+  std::string where;
+  for (const std::string& w : r.where) where += (where.empty() ? "" : "; ") + w;
+  if (r.verdict.kind == "effect" || r.verdict.kind == "partial") {
+    const Candidate& c = r.verdict.ranking.front();
+    const EffectSpec& e = effect_spec(c.effect);
+    const FreshCheck* f = r.chosen();
+    const bool ok = f && !f->after.empty();
+    const std::string fresh =
+        ok ? fmt::format("fresh runs at {} = {:.3g} bring χ² from {:.1f} to {:.1f} over the {} cells",
+                         e.strength, f->strength, chi2_of(r.gaps), chi2_of(f->gaps_after), n)
+           : std::string("its fresh-seed runs could not be made");
+    const std::string head = fmt::format(
+        "The model departs from the observations at {} of {} cells ({}). Of the candidates, `{}` ({}) "
+        "explains "
+        "it best: with {} = {}{} it predicts the conditions it was not fitted to {:.0f} % better than the "
+        "model "
+        "without it (held-out shrink), and {}",
+        ns, n, where, c.effect, e.fingerprint, e.strength, strength_text(c, r.runs_of(c.effect)),
+        has_refit(r) ? " and " + refit_phrase(r, c.refit) : "", 100 * r.verdict.held_out_shrink, fresh);
+    if (r.verdict.kind == "effect")
+      return fmt::format(
+          "**Gap explained by `{}`.** {}, none still significant.{}{}{} Add `{}` to the model (or "
+          "measure it directly) before trusting predictions at new conditions.",
+          c.effect, head, limit_sentence(r, c.effect), null_refit_sentence(r), tie_sentence(r), c.effect);
+    std::string left;
+    size_t n_left = 0;
+    if (ok)
+      for (size_t k = 0; k < n; ++k)
+        if (f->gaps_after[k].significant)
+          left += fmt::format("{}{} at {} (z = {:+.1f})", left.empty() ? "" : "; ", r.cells[k].observable,
+                              r.cell_condition[k], f->gaps_after[k].z),
+              ++n_left;
+    return fmt::format(
+        "**Gap explained in part by `{}`.** {}{}.{} What `{}` does not explain: {}. These cells need another "
+        "cause (a second effect, a parameter to re-calibrate, or a measurement bias); treat the fitted "
+        "strength "
+        "as provisional until they are understood.{}{}",
+        c.effect, head, ok ? fmt::format(", but {} cell(s) stay significant", n_left) : std::string(""),
+        limit_sentence(r, c.effect), c.effect, ok ? left : std::string("unknown (no fresh runs)"),
+        null_refit_sentence(r), tie_sentence(r));
+  }
+  const double ratio = r.spec->rule.ratio;
+  // With refit, the model without any effect may close the gap at a re-fitted setting (decide: "refit").
+  if (r.verdict.kind == "refit") {
+    const std::string best =
+        r.verdict.ranking.empty()
+            ? ""
+            : fmt::format(
+                  " The best candidate, `{}`, scores {:.1f} held out, but no cell is left for it to explain.",
+                  r.verdict.ranking.front().effect, r.verdict.ranking.front().loco);
+    return fmt::format(
+        "**Gap closed by re-fitting, no effect needed.** The model as calibrated departs from the "
+        "observations at "
+        "{} of {} cells ({}).{}{} Re-calibrate the model with these values rather than add an effect.",
+        ns, n, where, null_refit_sentence(r), best);
+  }
+  // Unexplained: either the best candidate helps but not by the rule's margin (a lead worth more data), or
+  // none helps (the cause lies outside the candidates).
+  if (!r.verdict.ranking.empty() && r.verdict.held_out_shrink >= 0.5 * (1.0 - ratio)) {
+    const Candidate& c = r.verdict.ranking.front();
+    return fmt::format(
+        "**Gap not explained (a lead: `{}`).** The model departs from the observations at {} of {} cells "
+        "({}). "
+        "The best candidate, `{}` ({}), improves the held-out predictions by {:.0f} % (at {} = {:.3g}), "
+        "short "
+        "of the {:.0f} % the rule asks: the data point to it but do not single it out. To decide, measure "
+        "more "
+        "conditions where its fingerprint is strongest, or repeat the measurements to shrink their error "
+        "bars.{}",
+        c.effect, ns, n, where, c.effect, effect_spec(c.effect).fingerprint, 100 * r.verdict.held_out_shrink,
+        effect_spec(c.effect).strength, c.fit.strength, 100 * (1.0 - ratio), null_refit_sentence(r));
+  }
+  std::string best = r.verdict.ranking.empty()
+                         ? "none was fitted"
+                         : fmt::format("the best, `{}`, improves the held-out predictions by only {:.0f} %",
+                                       r.verdict.ranking.front().effect, 100 * r.verdict.held_out_shrink);
+  return fmt::format(
+      "**Gap not explained.** The model departs from the observations at {} of {} cells ({}), but none of "
+      "the "
+      "candidate effects explains it by the rule's margin ({}). The cause is likely outside the candidates "
+      "(another mechanism, a measurement bias, or a model parameter to re-calibrate).{}",
+      ns, n, where, best, null_refit_sentence(r));
+}
+
+}  // namespace wetdem::diagnose

@@ -1,0 +1,190 @@
+#include "diagnose/procedure.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "app/case/case.h"
+#include "diagnose/observables.h"
+
+namespace fs = std::filesystem;
+
+namespace wetdem::diagnose {
+
+namespace {
+
+study::ExecOptions exec_of(const DiagnoseOptions& o) {
+  study::ExecOptions e;
+  e.jobs = o.jobs;
+  e.batch = o.batch;
+  e.device = o.device;
+  e.exe = o.exe;
+  e.quiet = o.quiet;
+  return e;
+}
+
+std::vector<uint64_t> seed_range(uint64_t first, int n) {
+  std::vector<uint64_t> s;
+  for (int i = 0; i < n; ++i) s.push_back(first + uint64_t(i));
+  return s;
+}
+
+std::string store_of(const DiagnoseOptions& o) {
+  return o.store.empty() ? (fs::path(o.out) / "store").string() : o.store;
+}
+
+// The calibrated case with [set] and a refit setting's overrides, as the effects' overrides need it.
+ModelFacts model_facts(const DiagnosisSpec& d, const RefitSetting& r) {
+  std::vector<std::string> set = d.set;
+  set.insert(set.end(), r.overrides.begin(), r.overrides.end());
+  const app::Case base = app::parse_case_file(d.case_path, set);
+  ModelFacts m;
+  m.theta_rad = base.liquid.theta;
+  m.scaling = base.scaling;
+  m.has_plates = !base.drum.periodic_slice;
+  m.plates_mu_s = base.plates.mu_s;
+  m.plates_mu_r = base.plates.mu_r;
+  m.rpm = base.drum.omega * 60.0 / (2.0 * 3.14159265358979323846);
+  m.duration_s = base.run.duration;
+  return m;
+}
+
+}  // namespace
+
+Response& CandidateRuns::member(size_t j, size_t m) {
+  for (size_t i = 0; i < members.size(); ++i)
+    if (refit_of[i] == j && shape_of[i] == m) return members[i];
+  members.push_back(Response{effect, {}, {}});
+  refit_of.push_back(j);
+  shape_of.push_back(m);
+  return members.back();
+}
+
+Family CandidateRuns::family(const std::vector<std::vector<Prediction>>& baselines) const {
+  Family f;
+  f.effect = effect;
+  f.screen = screen;
+  for (size_t i = 0; i < members.size(); ++i) {
+    if (members[i].strengths.empty()) continue;  // every run of this member failed
+    f.ems.emplace_back(baselines.at(refit_of[i]), members[i]);
+    f.refit_of.push_back(refit_of[i]);
+    f.shape_of.push_back(shape_of[i]);
+  }
+  return f;
+}
+
+Procedure::Procedure(const DiagnosisSpec& d_, const DiagnoseOptions& o_)
+    : d(d_),
+      o(o_),
+      tab(d_.observations.empty()
+              ? throw DiagnoseError(d_.path + ": observations: no table (give `observations` in the file or "
+                                              "--observations)")
+              : read_table(d_.observations)),
+      book(store_of(o_), d_.path, d_.name, d_.case_path, d_.set, exec_of(o_)),
+      store(store_of(o_)) {
+  base_seeds = seed_range(1, d.replicates);
+  fresh_seeds = seed_range(uint64_t(d.replicates) + 1, d.replicates);
+  probe_seed = {1};  // common random numbers with baseline replicate 1
+  settings = refit_settings(d.refit);
+  for (const RefitSetting& r : settings) models.push_back(model_facts(d, r));
+  const ModelFacts& model = models.front();
+  check_producible(tab, !model.has_plates);
+  for (const std::string& e : d.effects)
+    if (const std::string why = effect_spec(e).not_applicable(model); !why.empty() && d.effects_given)
+      throw DiagnoseError(fmt::format("{}: effects: '{}' cannot act here: {}", d.path, e, why));
+  for (const RefitKey& k : d.refit)
+    for (const Condition& c : tab.conditions)
+      for (const auto& v : c.values)
+        if (v.key == k.key)
+          throw DiagnoseError(
+              fmt::format("{}: refit: \"{}\" is a condition of the observation table {}: it is "
+                          "measured, not fitted",
+                          d.path, k.key, d.observations));
+  for (const std::string& e : d.effects)
+    if (effect_spec(e).not_applicable(model).empty()) effects.push_back(e);
+  // Validate every run the procedure may need before any runs (bad keys, conditions no case can express,
+  // a slice too thin for the neighbour reach at some condition); the baseline is wanted now.
+  try {
+    for (Condition& c : tab.conditions) {
+      book.want(c, variant("", 0), base_seeds);
+      for (size_t j = 1; j < settings.size(); ++j) book.check(c, variant("", 0, j));
+      for (const std::string& e : effects) {
+        const EffectSpec& spec = effect_spec(e);
+        const std::vector<double>& p = d.probes.at(e);
+        const std::vector<double> shapes = d.shapes.count(e) ? d.shapes.at(e) : std::vector<double>{NAN};
+        for (size_t j = 0; j < settings.size(); ++j)
+          for (double sh : shapes)
+            for (double s : {p.front(), p.back(), spec.phys_hi}) book.check(c, variant(e, s, j, sh));
+      }
+    }
+  } catch (const study::StudyError& e) {
+    throw DiagnoseError(e.what());
+  }
+  for (size_t k = 0; k < tab.cells.size(); ++k)
+    tab.cells[k].condition = tab.conditions[tab.cell_condition[k]].si;
+  base_steps = book.steps(tab.conditions.front(), variant("", 0));
+}
+
+Variant Procedure::variant(const std::string& effect, double s, size_t j, double shape) const {
+  Variant v;
+  if (j > 0) v.refit = settings.at(j).label, v.overrides = settings.at(j).overrides;
+  if (effect.empty()) return v;
+  const EffectSpec& spec = effect_spec(effect);
+  v.effect = effect;
+  v.strength = s;
+  if (!spec.shapes.empty()) v.shape = std::isnan(shape) ? spec.default_shape() : shape;
+  for (const std::string& x : spec.overrides(s, v.shape, models.at(j))) v.overrides.push_back(x);
+  return v;
+}
+
+std::string Procedure::want(const Variant& v, const std::vector<uint64_t>& seeds) {
+  // The cost guard: a variant whose time step is far below the baseline's (the lubrication damper's limit at
+  // a high viscosity) is not run; the stage cuts the candidate's range there.
+  double worst = 0;
+  for (const Condition& c : tab.conditions) worst = std::max(worst, book.steps(c, v));
+  if (base_steps > 0 && worst > d.max_cost * base_steps)
+    return fmt::format(
+        "not run: {:.3g}x the steps of a baseline run (max_cost = {:g}; its time step is limited "
+        "by the lubrication damper or a finer scaling)",
+        worst / base_steps, d.max_cost);
+  try {
+    for (Condition& c : tab.conditions) book.want(c, v, seeds);
+  } catch (const study::StudyError& e) {
+    return std::string("not run: ") + e.what();
+  }
+  return "";
+}
+
+std::vector<Prediction> Procedure::predict(const Variant& v, const std::vector<uint64_t>& seeds) const {
+  std::vector<Prediction> p;
+  for (size_t k = 0; k < tab.cells.size(); ++k) {
+    const Condition& c = tab.conditions[tab.cell_condition[k]];
+    // A run may not report an observable (the AoR drift of a window that cannot carry it): NaN.
+    if (!book.reports(c, v, seeds, tab.cells[k].observable))
+      p.push_back({std::nan(""), std::nan("")});
+    else
+      p.push_back(book.predict(c, v, seeds, tab.cells[k].observable));
+  }
+  return p;
+}
+
+std::vector<Prediction> Procedure::probe(const Variant& v, size_t j) const {
+  std::vector<Prediction> p = predict(v, probe_seed);
+  const double r = double(base_seeds.size());
+  for (size_t k = 0; k < p.size(); ++k) {
+    const double s = std::max(spread[k], std::isfinite(p[k].se) ? p[k].se : 0.0);
+    if (std::isnan(p[k].mean) || std::isnan(seed1[j][k].mean)) {
+      // The probe (or baseline seed 1) does not report this cell: no measured change, and a knot that carries
+      // almost no weight there.
+      p[k] = {baselines[j][k].mean, 3.0 * s * std::sqrt(2.0 + 1.0 / r)};
+      continue;
+    }
+    p[k].mean = baselines[j][k].mean + (p[k].mean - seed1[j][k].mean);
+    p[k].se = s * std::sqrt(2.0 + 1.0 / r);
+  }
+  return p;
+}
+
+}  // namespace wetdem::diagnose

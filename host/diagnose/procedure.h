@@ -1,0 +1,116 @@
+// The state of one diagnosis as its stages fill it in (diagnosis.md §4), and the runs they share. A reader
+// follows the procedure by file name: baseline.cpp, where.cpp, screen.cpp, fit_stage.cpp (with the statistics
+// of fit.cpp), verdict.cpp, shrink.cpp, next_experiment.cpp; driver.cpp calls them in that order and
+// report.cpp writes what they found.
+#pragma once
+
+#include <limits>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "diagnose/driver.h"
+#include "diagnose/effects.h"
+#include "diagnose/files.h"
+#include "diagnose/runbook.h"
+#include "diagnose/table.h"
+#include "diagnose/verdict.h"
+#include "diagnose/where.h"
+
+namespace wetdem::diagnose {
+
+// One fitted candidate: its runs at every member of its family (a refit setting x a shape of its second
+// parameter), and what limited its range.
+struct CandidateRuns {
+  std::string effect;
+  double screen = 0.0;
+  std::vector<double> shapes;              // the second parameter's values ({NaN}: the effect has none)
+  std::vector<Response> members;           // one response per member with runs
+  std::vector<size_t> refit_of, shape_of;  // per member
+  double cut = std::numeric_limits<double>::infinity();  // strengths >= cut cannot run (failed or too costly)
+  int at_limit = 0;                // the fit ran into the physical range: -1 low end, +1 high end
+  std::vector<std::string> notes;  // what happened to its range: extended, cut, failed runs
+  // The member of (refit setting j, shape m), created empty when absent.
+  Response& member(size_t j, size_t m);
+  Family family(const std::vector<std::vector<Prediction>>& baselines) const;
+};
+
+// A candidate's screen score (screen.cpp).
+struct Screened {
+  double score = 0.0;
+  std::string effect;
+  double strength = 0.0;  // the probe the score comes from (0: none could run)
+};
+
+// The chosen model (or a tied one) run with fresh seeds at every condition.
+struct FreshCheck {
+  std::string effect;
+  double strength = 0.0;
+  size_t refit = 0;
+  double shape = std::numeric_limits<double>::quiet_NaN();
+  std::vector<Prediction> after;  // empty when its runs failed
+  std::vector<CellGap> gaps_after;
+  std::string failure;
+};
+
+// One proposal of the next-experiment stage: a condition (in or beyond the table), the observable where two
+// tied models differ most there, and by how much relative to the noise.
+struct Proposal {
+  std::string condition;  // "liquid.content=15 %, drum.rpm=60"
+  std::string observable;
+  double model_a = 0.0, model_b = 0.0, se_a = 0.0, se_b = 0.0, sigma = 0.0;
+  double separation = 0.0;  // |a - b| / sqrt(sigma² + se_a² + se_b²)
+  bool in_table = false;    // the condition is one the table already has
+};
+struct NextExperiment {
+  std::string effect_a, effect_b;
+  std::vector<Proposal> proposals;  // best first
+  std::string note;                 // why none was run, when none was
+};
+
+class Procedure {
+ public:
+  Procedure(const DiagnosisSpec& d, const DiagnoseOptions& o);
+
+  const DiagnosisSpec& d;
+  const DiagnoseOptions& o;
+  Table tab;
+  RunBook book;
+  std::string store;
+  std::vector<RefitSetting> settings;  // refit settings (setting 0: as calibrated)
+  std::vector<ModelFacts> models;      // per setting
+  std::vector<std::string> effects;    // the candidates that can act in the model
+  std::vector<uint64_t> base_seeds, fresh_seeds, probe_seed;
+  double base_steps = 0.0;  // steps of one baseline run (the cost unit of max_cost)
+
+  // Filled by the stages, in order.
+  std::vector<std::vector<Prediction>> baselines, seed1;  // per refit setting: mean over the seeds, seed 1
+  std::vector<double> spread;                             // per cell: run-to-run sd of one run
+  std::vector<CellGap> gaps;
+  std::vector<Screened> screened;  // best first
+  std::vector<CandidateRuns> fitted;
+  Verdict verdict;
+  std::vector<FreshCheck> fresh;  // the chosen effect first, then any tied one
+  NextExperiment next;
+  std::vector<std::string> notes;  // failed runs, cut ranges, what could not be probed
+
+  // The effect (none: "") at strength s, refit setting j, shape value (NaN: the effect's default shape).
+  Variant variant(const std::string& effect, double s, size_t j = 0,
+                  double shape = std::numeric_limits<double>::quiet_NaN()) const;
+  // Every condition of the table, with these seeds. "" when wanted; else why it will not run (its cost).
+  std::string want(const Variant& v, const std::vector<uint64_t>& seeds);
+  // Runs what is wanted; failures are recorded in the book (RunBook::run).
+  void run() { book.run(); }
+  // Why some run of v at these seeds failed ("" when all completed).
+  std::string failure(const Variant& v, const std::vector<uint64_t>& seeds) const {
+    return book.failure(tab.conditions, v, seeds);
+  }
+  // Mean and SE over the seeds, per cell; NaN where no run of v reports the cell's observable.
+  std::vector<Prediction> predict(const Variant& v, const std::vector<uint64_t>& seeds) const;
+  // A single-seed probe at refit setting j as a knot of the emulator: common random numbers against seed 1
+  // of the baseline at j, on top of that setting's replicate mean; its SE counts the run-to-run spread of the
+  // probe and of baseline seed 1 and the error of the replicate mean: s √(2 + 1/R).
+  std::vector<Prediction> probe(const Variant& v, size_t j) const;
+};
+
+}  // namespace wetdem::diagnose

@@ -1,0 +1,148 @@
+#include "diagnose/shrink.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace wetdem::diagnose {
+
+double rounded_strength(double s) {
+  return std::stod(fmt::format("{:.3g}", s));
+}
+
+namespace {
+
+CandidateRuns* runs_of(Procedure& p, const std::string& effect) {
+  for (CandidateRuns& c : p.fitted)
+    if (c.effect == effect) return &c;
+  return nullptr;
+}
+
+const Candidate* ranked(const Procedure& p, const std::string& effect) {
+  for (const Candidate& c : p.verdict.ranking)
+    if (c.effect == effect) return &c;
+  return nullptr;
+}
+
+// The fresh check of a ranked candidate at its fitted strength, refit setting and shape (its runs wanted).
+FreshCheck want_fresh(Procedure& p, const Candidate& c) {
+  FreshCheck f;
+  f.effect = c.effect;
+  f.strength = rounded_strength(c.fit.strength);
+  f.refit = c.refit;
+  const CandidateRuns* r = runs_of(p, c.effect);
+  f.shape = r ? r->shapes.at(c.shape) : std::nan("");
+  f.failure = p.want(p.variant(f.effect, f.strength, f.refit, f.shape), p.fresh_seeds);
+  return f;
+}
+
+void collect_fresh(Procedure& p, FreshCheck& f) {
+  if (!f.failure.empty()) return;
+  const Variant v = p.variant(f.effect, f.strength, f.refit, f.shape);
+  f.failure = p.failure(v, p.fresh_seeds);
+  if (!f.failure.empty()) return;
+  f.after = p.predict(v, p.fresh_seeds);
+  f.gaps_after = where(p.tab.cells, f.after, p.d.rule.q);
+}
+
+bool leaves_gap(const FreshCheck& f) {
+  return std::any_of(f.gaps_after.begin(), f.gaps_after.end(),
+                     [](const CellGap& g) { return g.significant; });
+}
+
+// The fresh runs are the model at the fitted strength with R seeds and no common-random-number offset: the
+// best knot there is. Merged with a knot already at that strength by inverse-variance weighting.
+void add_fresh_knot(Procedure& p, const FreshCheck& f, const Candidate& c) {
+  CandidateRuns* cr = runs_of(p, f.effect);
+  if (!cr) return;
+  Response& r = cr->member(c.refit, c.shape);
+  std::vector<Prediction> k = f.after;
+  const double root_r = std::sqrt(double(p.fresh_seeds.size()));
+  for (size_t i = 0; i < k.size(); ++i) k[i].se = std::max(k[i].se, p.spread[i] / root_r);
+  for (size_t s = 0; s < r.strengths.size(); ++s)
+    if (std::fabs(std::log(r.strengths[s] / f.strength)) < 1e-9) {
+      for (size_t i = 0; i < k.size(); ++i) {
+        const Prediction& o = r.pred[s][i];
+        const double wa = 1.0 / std::max(1e-300, o.se * o.se), wb = 1.0 / std::max(1e-300, k[i].se * k[i].se);
+        k[i] = {(wa * o.mean + wb * k[i].mean) / (wa + wb), std::sqrt(1.0 / (wa + wb))};
+      }
+      r.pred[s] = k;
+      return;
+    }
+  add_knot(r, f.strength, k);
+}
+
+Verdict redecide(const Procedure& p) {
+  std::vector<Family> fams;
+  for (const CandidateRuns& c : p.fitted)
+    if (Family f = c.family(p.baselines); !f.ems.empty()) fams.push_back(f);
+  return decide(p.tab.cells, p.baselines, fams, p.d.rule);
+}
+
+// Fresh checks of the chosen effect and every tied one, reusing those already made at the same strength.
+void fresh_all(Procedure& p) {
+  std::vector<FreshCheck> next;
+  std::vector<std::string> names = {p.verdict.effect};
+  names.insert(names.end(), p.verdict.tied.begin(), p.verdict.tied.end());
+  for (const std::string& e : names) {
+    const Candidate* c = ranked(p, e);
+    if (!c) continue;
+    FreshCheck f = want_fresh(p, *c);
+    for (const FreshCheck& old : p.fresh)
+      if (old.effect == f.effect && old.strength == f.strength && old.refit == f.refit &&
+          (old.shape == f.shape || (std::isnan(old.shape) && std::isnan(f.shape))))
+        f = old;
+    next.push_back(f);
+  }
+  p.run();
+  for (FreshCheck& f : next)
+    if (f.after.empty()) collect_fresh(p, f);
+  p.fresh = next;
+}
+
+}  // namespace
+
+void run_shrink(Procedure& p) {
+  p.fresh.clear();
+  if (p.verdict.kind != "effect") return;
+  fresh_all(p);
+  // Confirmation: when cells stay significant, the fresh runs become a knot (R seeds, no common-random-number
+  // offset: single-seed probes misplace a strength whose effect varies from seed to seed, such as which
+  // particles a poor mixing wets), the fit is redone, and a strength that moved is run fresh again.
+  for (int round = 0; round < p.d.confirm; ++round) {
+    const FreshCheck& chosen = p.fresh.front();
+    if (!chosen.failure.empty() || !leaves_gap(chosen)) break;
+    const Candidate* c = ranked(p, chosen.effect);
+    if (!c) break;
+    add_fresh_knot(p, chosen, *c);
+    const std::string before = chosen.effect;
+    const double s_before = chosen.strength;
+    p.verdict = redecide(p);
+    if (p.verdict.kind != "effect") {
+      p.notes.push_back(fmt::format("confirmation: with the fresh runs of {} as a knot the verdict is {}",
+                                    before, p.verdict.kind));
+      p.fresh.clear();
+      return;
+    }
+    const Candidate& now = p.verdict.ranking.front();
+    if (now.effect == before && std::fabs(std::log(rounded_strength(now.fit.strength) / s_before)) < 0.02)
+      break;
+    p.notes.push_back(
+        fmt::format("confirmation: {} re-fitted from {:.3g} to {} {:.3g} with its fresh runs as a knot",
+                    before, s_before, now.effect, rounded_strength(now.fit.strength)));
+    fresh_all(p);
+  }
+  const FreshCheck& chosen = p.fresh.front();
+  if (!chosen.failure.empty()) {
+    // Unconfirmed: the fresh runs could not be made, so the effect is not shown to close the gap.
+    p.notes.push_back("shrink: the fresh runs of " + chosen.effect + " failed: " + chosen.failure);
+    p.verdict.kind = "partial";
+    return;
+  }
+  std::vector<bool> sig;
+  for (const CellGap& g : chosen.gaps_after) sig.push_back(g.significant);
+  settle_verdict(p.verdict, sig);
+}
+
+}  // namespace wetdem::diagnose

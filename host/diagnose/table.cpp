@@ -1,0 +1,88 @@
+#include "diagnose/table.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "diagnose/files.h"
+#include "diagnose/observables.h"
+#include "study/observations.h"
+
+namespace wetdem::diagnose {
+
+namespace {
+
+std::string label_of(const std::vector<study::AxisValue>& v) {
+  std::string s;
+  for (const auto& a : v) s += (s.empty() ? "" : ", ") + a.key + "=" + a.written;
+  return s;
+}
+
+}  // namespace
+
+Table read_table(const std::string& path) {
+  std::vector<study::Observation> rows;
+  try {
+    rows = study::read_observations(path, /*allow_missing=*/true);
+  } catch (const std::exception& e) {
+    throw DiagnoseError(e.what());
+  }
+  Table t;
+  t.path = path;
+  std::map<std::string, std::vector<size_t>> lines_of, measured_of;  // observable -> its rows' lines
+  for (const study::Observation& r : rows) {
+    if (!find_observable(r.observable))
+      throw DiagnoseError(fmt::format("{}: line {}: unknown observable '{}' (known: {})", path, r.line,
+                                      r.observable, observable_names()));
+    lines_of[r.observable].push_back(r.line);
+    std::vector<study::AxisValue> v;
+    for (const auto& [k, w] : r.conditions) v.push_back({k, w, toml_text_of_written(w), std::nan("")});
+    std::sort(v.begin(), v.end(), [](const auto& a, const auto& b) { return a.key < b.key; });
+    const std::string label = label_of(v);
+    if (!r.measured) {
+      t.not_measured.push_back(fmt::format("line {}: {} at {}", r.line, r.observable, label));
+      continue;
+    }
+    measured_of[r.observable].push_back(r.line);
+    size_t ci = 0;
+    while (ci < t.conditions.size() && t.conditions[ci].label != label) ++ci;
+    if (ci == t.conditions.size()) t.conditions.push_back({v, label, {}});
+    t.cell_condition.push_back(ci);
+    t.cell_line.push_back(r.line);
+    Cell c;
+    c.observable = r.observable;
+    c.y = r.value;
+    c.sigma = r.sigma;
+    t.cells.push_back(c);
+  }
+  for (const auto& [obs, lines] : lines_of)
+    if (!measured_of.count(obs)) {
+      std::string ls;
+      for (size_t l : lines) ls += (ls.empty() ? "" : ", ") + std::to_string(l);
+      throw DiagnoseError(fmt::format(
+          "{}: {} carries no information at any condition (lines {}: every value missing or sigma "
+          "infinite); measure it or remove its rows",
+          path, obs, ls));
+    }
+  if (t.conditions.size() < 2)
+    throw DiagnoseError(
+        fmt::format("{}: {} measured condition(s): a diagnosis needs at least two (no held-out check "
+                    "is possible with one)",
+                    path, t.conditions.size()));
+  return t;
+}
+
+void check_producible(const Table& t, bool periodic_slice) {
+  for (size_t k = 0; k < t.cells.size(); ++k) {
+    const ObservableSpec* o = find_observable(t.cells[k].observable);
+    if (o && o->needs_plates && periodic_slice)
+      throw DiagnoseError(fmt::format(
+          "{}: line {}: the model cannot produce {}: it is a periodic slice, which has no end plates (use a "
+          "closed drum, drum.periodic_slice = false, or drop the row)",
+          t.path, t.cell_line[k], t.cells[k].observable));
+  }
+}
+
+}  // namespace wetdem::diagnose

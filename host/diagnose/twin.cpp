@@ -1,0 +1,141 @@
+#include "diagnose/twin.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "app/case/case.h"
+#include "app/output/summary.h"
+#include "diagnose/observables.h"
+#include "diagnose/runbook.h"
+#include "diagnose/table.h"
+
+namespace fs = std::filesystem;
+
+namespace wetdem::diagnose {
+
+namespace {
+
+std::string label_of(const std::vector<study::AxisValue>& v) {
+  std::string s;
+  for (const auto& a : v) s += (s.empty() ? "" : ", ") + a.key + "=" + a.written;
+  return s;
+}
+
+}  // namespace
+
+double noisy_measurement(const std::string& observable, double mean, double sd, std::mt19937_64& rng) {
+  const ObservableSpec* o = find_observable(observable);
+  const double lo = o ? o->lo : -1e300, hi = o ? o->hi : 1e300;
+  const double m = std::clamp(mean, lo, hi);
+  std::normal_distribution<double> unit(0.0, 1.0);
+  for (int i = 0; i < 10000; ++i) {
+    const double y = m + sd * unit(rng);
+    if (y >= lo && y <= hi) return y;
+  }
+  return m;  // unreachable for any sd > 0 with m inside [lo, hi] (each draw lands inside with p >= ~1/2)
+}
+
+nlohmann::json run_twin(const TwinSpec& t, const DiagnoseOptions& o) {
+  const std::string store = o.store.empty() ? (fs::path(o.out) / "store").string() : o.store;
+  study::ExecOptions exec;
+  exec.jobs = o.jobs;
+  exec.batch = o.batch;
+  exec.device = o.device;
+  exec.exe = o.exe;
+  exec.quiet = o.quiet;
+  RunBook book(store, t.path, t.name, t.case_path, t.set, exec);
+  Variant truth;
+  truth.effect = "truth";
+  truth.overrides = t.truth;
+  // The conditions: the explicit [[points]], or the Cartesian product of [conditions] (last key fastest).
+  std::vector<Condition> conds;
+  const auto add = [&](const std::vector<std::pair<std::string, std::string>>& kv) {
+    Condition c;
+    for (const auto& [key, tv] : kv) {
+      std::string written = tv;
+      if (written.size() >= 2 && written.front() == '"') written = written.substr(1, written.size() - 2);
+      c.values.push_back({key, written, tv, std::nan("")});
+    }
+    std::sort(c.values.begin(), c.values.end(), [](const auto& a, const auto& b) { return a.key < b.key; });
+    c.label = label_of(c.values);
+    conds.push_back(c);
+  };
+  if (!t.points.empty()) {
+    for (const auto& p : t.points) add(p);
+  } else {
+    std::vector<size_t> idx(t.condition_keys.size(), 0);
+    for (;;) {
+      std::vector<std::pair<std::string, std::string>> kv;
+      for (size_t k = 0; k < idx.size(); ++k)
+        kv.emplace_back(t.condition_keys[k], t.condition_toml[k][idx[k]]);
+      add(kv);
+      size_t k = idx.size();
+      while (k > 0 && ++idx[k - 1] == t.condition_toml[k - 1].size()) idx[--k] = 0;
+      if (k == 0) break;
+    }
+  }
+  for (const auto& [obs, sd] : t.noise) {
+    (void)sd;
+    if (!find_observable(obs))
+      throw DiagnoseError(
+          fmt::format("{}: [noise] {}: unknown observable (known: {})", t.path, obs, observable_names()));
+  }
+  {  // The model must be able to produce every observable asked for (an end-plate angle needs plates).
+    const app::Case c = app::parse_case_file(t.case_path, t.set);
+    for (const auto& [obs, sd] : t.noise) {
+      (void)sd;
+      if (find_observable(obs)->needs_plates && c.drum.periodic_slice)
+        throw DiagnoseError(fmt::format(
+            "{}: [noise] {}: the model cannot produce it: it is a periodic slice, which has no end plates",
+            t.path, obs));
+    }
+  }
+  try {
+    for (Condition& c : conds) book.want(c, truth, t.seeds);
+  } catch (const study::StudyError& e) {
+    throw DiagnoseError(e.what());
+  }
+  book.run();
+  if (const std::string why = book.failure(conds, truth, t.seeds); !why.empty())
+    throw std::runtime_error("a truth run failed: " + why);
+  fs::create_directories(o.out);
+  std::mt19937_64 rng(t.noise_seed);
+  std::string csv;
+  for (const auto& v : conds.front().values) csv += v.key + ",";
+  csv += "observable,value,sigma,n,note\n";
+  nlohmann::json truth_json;
+  truth_json["name"] = t.name;
+  truth_json["truth"] = t.truth;
+  truth_json["seeds"] = t.seeds;
+  truth_json["noise"] = t.noise;
+  truth_json["noise_seed"] = t.noise_seed;
+  truth_json["noise_rule"] =
+      "Gaussian with the given sd, truncated to the observable's physically possible range (redrawn)";
+  for (const Condition& c : conds) {
+    for (const auto& [obs, sd] : t.noise) {
+      // A quantity the truth does not have at this condition (liquid_free_fraction of a dry bed) is no
+      // measurement: no row, and truth.json says so.
+      if (!book.reports(c, truth, t.seeds, obs)) {
+        truth_json["not_reported"].push_back({{"condition", c.label}, {"observable", obs}});
+        continue;
+      }
+      const Prediction p = book.predict(c, truth, t.seeds, obs);
+      const double sigma = std::sqrt(sd * sd + p.se * p.se);
+      const double y = noisy_measurement(obs, p.mean, sd, rng);
+      std::string row;
+      for (const auto& v : c.values) row += "\"" + v.written + "\",";
+      csv += row + fmt::format("{},{:.9g},{:.6g},{},twin\n", obs, y, sigma, t.seeds.size());
+      truth_json["noiseless"].push_back(
+          {{"condition", c.label}, {"observable", obs}, {"mean", p.mean}, {"se", p.se}});
+    }
+  }
+  app::write_file_atomic((fs::path(o.out) / "observations.csv").string(), csv);
+  truth_json["device"] = book.device();
+  app::write_file_atomic((fs::path(o.out) / "truth.json").string(), truth_json.dump(2) + "\n");
+  return truth_json;
+}
+
+}  // namespace wetdem::diagnose

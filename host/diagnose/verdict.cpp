@@ -1,0 +1,88 @@
+#include "diagnose/verdict.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "diagnose/where.h"
+
+namespace wetdem::diagnose {
+
+bool clearly_worse(const Candidate& a, const Candidate& b, const VerdictRule& rule) {
+  const double n = double(std::max<size_t>(1, a.loco_cells.size()));
+  return b.loco - a.loco >= rule.tie_delta * std::max(1.0, a.loco / n);
+}
+
+Verdict decide(const std::vector<Cell>& cells, const std::vector<std::vector<Prediction>>& baselines,
+               const std::vector<Family>& families, const VerdictRule& rule) {
+  if (baselines.empty()) throw std::invalid_argument("decide: one baseline per refit setting, at least one");
+  Verdict v;
+  v.null_loco_cells = loco_null_cells(cells, baselines);
+  for (double x : v.null_loco_cells) v.null_loco += x;
+  v.null_refit = fit_null_refit(cells, baselines);
+  for (const Family& fam : families) {
+    if (fam.ems.empty() || fam.refit_of.size() != fam.ems.size() || fam.shape_of.size() != fam.ems.size())
+      throw std::invalid_argument("decide: candidate '" + fam.effect +
+                                  "' needs one member index per emulator");
+    Candidate c;
+    c.effect = fam.effect;
+    c.screen = fam.screen;
+    c.loco_cells = loco_cells(cells, fam.ems);
+    for (double x : c.loco_cells) c.loco += x;
+    const ProfileFit f = fit_profile(cells, fam.ems);
+    c.fit = f.fit;
+    c.member = f.member;
+    c.refit = fam.refit_of[f.member];
+    c.shape = fam.shape_of[f.member];
+    v.ranking.push_back(c);
+  }
+  std::stable_sort(v.ranking.begin(), v.ranking.end(),
+                   [](const Candidate& a, const Candidate& b) { return a.loco < b.loco; });
+  const std::vector<CellGap> g = where(cells, baselines.front(), rule.q);
+  const bool any = std::any_of(g.begin(), g.end(), [](const CellGap& x) { return x.significant; });
+  if (!v.ranking.empty())
+    v.held_out_shrink = v.null_loco > 0 ? 1.0 - v.ranking.front().loco / v.null_loco : 0.0;
+  // With refit, a gap the null closes at its re-fitted setting (no cell significant there, by the same rule)
+  // needs no effect: the analogue of no_gap for the re-fitted model.
+  const auto closed = [&] {
+    if (baselines.size() < 2 || v.null_refit == 0) return false;
+    const std::vector<CellGap> r = where(cells, baselines[v.null_refit], rule.q);
+    return std::none_of(r.begin(), r.end(), [](const CellGap& x) { return x.significant; });
+  };
+  const auto passes = [&](const Candidate& c) {
+    return c.loco <= rule.ratio * v.null_loco && v.null_loco - c.loco >= rule.min_drop;
+  };
+  if (!any) {
+    v.kind = "no_gap";
+  } else if (closed()) {
+    v.kind = "refit";
+  } else if (!v.ranking.empty() && passes(v.ranking.front())) {
+    v.kind = "effect";
+    v.effect = v.ranking.front().effect;
+    for (size_t i = 1; i < v.ranking.size(); ++i)
+      if (passes(v.ranking[i]) && !clearly_worse(v.ranking.front(), v.ranking[i], rule))
+        v.tied.push_back(v.ranking[i].effect);
+  } else {
+    v.kind = "unexplained";
+  }
+  return v;
+}
+
+Verdict decide(const std::vector<Cell>& cells, const std::vector<Prediction>& baseline,
+               const std::vector<Response>& responses, const std::vector<double>& screens,
+               const VerdictRule& rule) {
+  if (screens.size() != responses.size())
+    throw std::invalid_argument("decide: one screen score per response");
+  std::vector<Family> fams;
+  for (size_t i = 0; i < responses.size(); ++i)
+    fams.push_back({responses[i].effect, screens[i], {Emulator(baseline, responses[i])}, {0}, {0}});
+  return decide(cells, std::vector<std::vector<Prediction>>{baseline}, fams, rule);
+}
+
+void settle_verdict(Verdict& v, const std::vector<bool>& significant_after) {
+  if (v.kind != "effect") return;
+  if (std::any_of(significant_after.begin(), significant_after.end(), [](bool b) { return b; }))
+    v.kind = "partial";
+}
+
+}  // namespace wetdem::diagnose

@@ -1,0 +1,81 @@
+// Step 5 of the diagnosis (diagnosis.md §4): the verdict, from the held-out scores of the fitted candidates
+// and the null model, and after the fresh-seed check (shrink.h) whether the chosen effect explains the whole
+// gap or part of it. Pure statistics.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "diagnose/cells.h"
+#include "diagnose/emulator.h"
+#include "diagnose/fit.h"
+
+namespace wetdem::diagnose {
+
+// The verdict rule (docs/diagnosis.md, "Verdict"):
+//  no_gap      no cell significant at FDR q (Benjamini-Hochberg);
+//  refit       (with refit only) else, when the null at its re-fitted setting leaves no cell significant at
+//              FDR q: re-fitting closes the gap, no effect is chosen;
+//  effect      else, the candidate with the lowest held-out (LOCO) score when it beats the null by a clear
+//              margin: LOCO_best <= ratio x LOCO_null and LOCO_null - LOCO_best >= min_drop, and (after the
+//              fresh-seed runs at its fitted strength) no cell is left significant;
+//  partial     as effect, but cells stay significant after the fresh-seed runs: the effect explains part of
+//              the gap, the report names the cells it leaves;
+//  unexplained otherwise (the ranking is still reported).
+// Runner-up not clearly worse ("tied"): it also passes the effect margin against the null, and its held-out
+// χ² exceeds the best's by less than tie_delta x max(1, LOCO_best / n) over n cells. With Gaussian errors a
+// held-out χ² is -2 log of the held-out likelihood, so the difference is 2 log of the likelihood ratio of the
+// two models on data neither was fitted to: tie_delta = 4 asks for a ratio of e² ≈ 7 ("substantial" on
+// Jeffreys' scale); the factor max(1, χ²/n) widens it when even the best model leaves more scatter than the
+// error bars allow (the scale factor of the strength intervals, fit.h). Both are then reported, with the
+// measurement that would separate them (next_experiment.h).
+struct VerdictRule {
+  double q = 0.05;
+  double ratio = 0.5;
+  double min_drop = 4.0;
+  double tie_delta = 4.0;
+};
+
+// A candidate's family: one emulator per member (refit setting x shape), with the member's indices.
+struct Family {
+  std::string effect;
+  double screen = 0.0;
+  std::vector<Emulator> ems;
+  std::vector<size_t> refit_of, shape_of;  // per member
+};
+
+struct Candidate {
+  std::string effect;
+  double screen = 0.0;
+  double loco = 0.0;
+  std::vector<double> loco_cells;  // held-out z² per cell
+  StrengthFit fit;                 // on all cells, at the member fitted
+  size_t member = 0, refit = 0, shape = 0;
+};
+
+struct Verdict {
+  std::string kind;                // "no_gap", "effect", "partial", "refit", "unexplained"
+  std::string effect;              // the chosen effect for "effect" and "partial"
+  std::vector<std::string> tied;   // candidates not clearly worse than the chosen one
+  std::vector<Candidate> ranking;  // by LOCO score, best first
+  double null_loco = 0.0;
+  std::vector<double> null_loco_cells;
+  size_t null_refit = 0;         // the null's refit setting fitted on all cells (0 without refit)
+  double held_out_shrink = 0.0;  // 1 - LOCO_best / LOCO_null (the left-out predictions)
+};
+
+// Everything but the fresh-seed check: kind is "no_gap", "refit", "effect" (provisional) or "unexplained".
+Verdict decide(const std::vector<Cell>& cells, const std::vector<std::vector<Prediction>>& baselines,
+               const std::vector<Family>& families, const VerdictRule& rule = {});
+// One refit setting and one shape per candidate (tests, and the diagnosis without refit).
+Verdict decide(const std::vector<Cell>& cells, const std::vector<Prediction>& baseline,
+               const std::vector<Response>& responses, const std::vector<double>& screens,
+               const VerdictRule& rule = {});
+
+// Whether `b` is clearly worse than `a` on the held-out cells (the tie rule above).
+bool clearly_worse(const Candidate& a, const Candidate& b, const VerdictRule& rule);
+
+// The fresh-seed check: an `effect` whose runs leave significant cells becomes `partial`.
+void settle_verdict(Verdict& v, const std::vector<bool>& significant_after);
+
+}  // namespace wetdem::diagnose

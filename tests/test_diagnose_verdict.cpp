@@ -1,0 +1,216 @@
+// The honest verdict (docs/diagnosis.md, "Verdict"), on synthetic cells with known answers: an interval
+// widened by the scatter the fit leaves, open ends, extension past an edge within the physical range, a
+// second parameter fitted as a profile (absorption at another rate is still absorption), the tie rule and
+// `partial`.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "diagnose/effects.h"
+#include "diagnose/emulator.h"
+#include "diagnose/fit.h"
+#include "diagnose/next_experiment.h"
+#include "diagnose/twin.h"
+#include "diagnose/verdict.h"
+
+using namespace wetdem::diagnose;
+
+namespace {
+
+std::vector<Cell> cells_at(const std::vector<double>& phi, const std::vector<double>& y, double sigma) {
+  std::vector<Cell> c;
+  for (size_t i = 0; i < y.size(); ++i)
+    c.push_back({{{"liquid.content", phi[i]}}, "aor_deg_mean", y[i], sigma});
+  return c;
+}
+
+// A response linear in log10(s) from the anchor a decade below the weakest probe: base + slope (u -
+// u_anchor).
+Response linear(const std::string& name, const std::vector<double>& strengths,
+                const std::vector<double>& slope, double base, double se = 0.1) {
+  Response r;
+  r.effect = name;
+  r.strengths = strengths;
+  const double u0 = std::log10(strengths.front()) - 1.0;
+  for (double s : strengths) {
+    std::vector<Prediction> p;
+    for (double k : slope) p.push_back({base + k * (std::log10(s) - u0), se});
+    r.pred.push_back(p);
+  }
+  return r;
+}
+
+const std::vector<double> kPhi = {0.0, 0.025, 0.05, 0.075, 0.10};
+const std::vector<double> kSlope = {0.0, 0.5, 1.0, 2.0, 3.0};
+
+}  // namespace
+
+// Data scattered more than their error bars say: the interval widens by √(χ²_min/(n - 1)) in χ² terms.
+TEST(DiagnoseVerdict, IntervalWidensWithTheScatterTheFitLeaves) {
+  const Response r = linear("evaporation", {0.01, 0.1, 1.0}, kSlope, 30.0, 0.0);
+  const std::vector<Prediction> base(5, Prediction{30.0, 0.0});
+  const Emulator em(base, r);
+  const double u = std::log10(0.1) - (std::log10(0.01) - 1.0);  // s = 0.1: two decades above the anchor
+  std::vector<double> y, y_scattered;
+  const double jitter[] = {+1.0, -1.0, +1.0, -1.0, +1.0};
+  for (size_t k = 0; k < 5; ++k)
+    y.push_back(30.0 + kSlope[k] * u), y_scattered.push_back(y.back() + 3 * jitter[k]);
+  const StrengthFit tight = fit_strength(cells_at(kPhi, y, 0.5), em);
+  const StrengthFit loose = fit_strength(cells_at(kPhi, y_scattered, 0.5), em);
+  EXPECT_DOUBLE_EQ(tight.delta, 1.0);
+  EXPECT_GT(loose.delta, 5.0) << "chi2_min/(n-1) with every cell 6 sigma off";
+  EXPECT_NEAR(loose.delta, loose.chi2 / 4.0, 1e-12);
+  EXPECT_GT(std::log(loose.hi / loose.lo), 2.0 * std::log(tight.hi / tight.lo));
+  EXPECT_FALSE(tight.open_lo || tight.open_hi);
+}
+
+// A truth stronger than every probe: the fit sits at the top (open interval), next_edge_knot extends the
+// range by the probes' ratio, and stops at the physical limit, saying so.
+TEST(DiagnoseVerdict, EdgeOfTheProbesExtendsWithinThePhysicalRange) {
+  Response r = linear("cohesion", {1e-3, 3e-3, 1e-2}, kSlope, 30.0);
+  const std::vector<Prediction> base(5, Prediction{30.0, 0.1});
+  auto truth_at = [&](double s) {
+    std::vector<Prediction> p;
+    const double u0 = std::log10(1e-3) - 1.0;
+    for (double k : kSlope) p.push_back({30.0 + k * (std::log10(s) - u0), 0.1});
+    return p;
+  };
+  std::vector<double> y;
+  for (const Prediction& p : truth_at(0.05)) y.push_back(p.mean);
+  const std::vector<Cell> cells = cells_at(kPhi, y, 0.3);
+  StrengthFit f = fit_strength(cells, Emulator(base, r));
+  EXPECT_TRUE(f.at_hi);
+  EXPECT_TRUE(f.open_hi);
+  int limit = 0;
+  const double up = next_edge_knot(f, r, 1e-4, 0.1, &limit);
+  EXPECT_NEAR(up, 0.0333, 1e-4) << "a step of the probes' ratio (3.33)";
+  EXPECT_EQ(limit, 0);
+  add_knot(r, up, truth_at(up));
+  f = fit_strength(cells, Emulator(base, r));
+  const double up2 = next_edge_knot(f, r, 1e-4, 0.1, &limit);
+  EXPECT_NEAR(up2, 0.1, 1e-12) << "capped at the physical limit";
+  add_knot(r, up2, truth_at(up2));
+  f = fit_strength(cells, Emulator(base, r));
+  EXPECT_FALSE(f.at_hi);
+  EXPECT_NEAR(std::log10(f.strength), std::log10(0.05), 0.02);
+  EXPECT_EQ(next_edge_knot(f, r, 1e-4, 0.1, &limit), 0.0) << "inside the probes now";
+  // A truth beyond the physical range: the fit stays at the top and the extension stops there.
+  std::vector<double> y_far;
+  for (const Prediction& p : truth_at(0.5)) y_far.push_back(p.mean);
+  const StrengthFit g = fit_strength(cells_at(kPhi, y_far, 0.3), Emulator(base, r));
+  EXPECT_TRUE(g.at_hi);
+  EXPECT_EQ(next_edge_knot(g, r, 1e-4, 0.1, &limit), 0.0);
+  EXPECT_EQ(limit, +1);
+  // Below the weakest probe: extend down, floored at the lower end.
+  std::vector<double> y_weak;
+  for (const Prediction& p : truth_at(2e-4)) y_weak.push_back(p.mean);
+  const StrengthFit w = fit_strength(cells_at(kPhi, y_weak, 0.05), Emulator(base, r));
+  EXPECT_TRUE(w.at_lo);
+  EXPECT_NEAR(next_edge_knot(w, r, 1e-4, 0.1, &limit), 3e-4, 1e-12);
+}
+
+// Absorption whose second parameter (the rate) changes the fingerprint: responses at three rates; data made
+// at the slow rate are fitted there, at the right capacity, and the profile over the rate beats the default
+// rate alone by far (held out).
+TEST(DiagnoseVerdict, ASecondParameterIsFittedAsAProfile) {
+  // Fast absorption lowers the AoR at every content by the same amount; slow absorption only the wet cells
+  // late in the window, so the two rates leave different patterns.
+  const std::vector<double> fast = {0.0, 1.0, 2.0, 2.0, 2.0}, slow = {0.0, 0.0, 0.5, 1.5, 3.0};
+  const std::vector<Prediction> base(5, Prediction{30.0, 0.1});
+  const Response r_fast = linear("absorption", {0.01, 0.05, 0.2}, fast, 30.0);
+  const Response r_slow = linear("absorption", {0.01, 0.05, 0.2}, slow, 30.0);
+  const double u = std::log10(0.08) - (std::log10(0.01) - 1.0);
+  std::vector<double> y;
+  for (double k : slow) y.push_back(30.0 + k * u);
+  const std::vector<Cell> cells = cells_at(kPhi, y, 0.3);
+  const std::vector<Emulator> both = {Emulator(base, r_fast), Emulator(base, r_slow)};
+  const ProfileFit f = fit_profile(cells, both);
+  EXPECT_EQ(f.member, 1u) << "the slow rate";
+  EXPECT_NEAR(std::log10(f.fit.strength), std::log10(0.08), 0.01);
+  EXPECT_LT(loco_score(cells, both), 0.2 * loco_score(cells, std::vector<Emulator>{both[0]}));
+}
+
+// Two candidates that fit equally well are tied; a clearly worse one is not; the fresh-seed check turns an
+// effect that leaves cells significant into `partial`.
+TEST(DiagnoseVerdict, TieRuleAndPartial) {
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> noise(0.0, 0.3);
+  const std::vector<Prediction> base(5, Prediction{30.0, 0.1});
+  const Response a = linear("evaporation", {0.01, 0.1, 1.0}, kSlope, 30.0);
+  const Response twin_of_a = linear("absorption", {0.01, 0.1, 1.0}, kSlope, 30.0);  // the same fingerprint
+  const Response decoy = linear("cohesion", {0.01, 0.1, 1.0}, {3.0, 2.0, 1.0, 0.5, 0.0}, 30.0);
+  const double u = 2.5;
+  std::vector<double> y;
+  for (double k : kSlope) y.push_back(30.0 + k * u + noise(rng));
+  const std::vector<Cell> cells = cells_at(kPhi, y, 0.3);
+  Verdict v = decide(cells, base, {a, twin_of_a, decoy}, {1.0, 1.0, 0.1});
+  ASSERT_EQ(v.kind, "effect");
+  ASSERT_EQ(v.tied.size(), 1u);
+  EXPECT_TRUE(v.tied[0] == "evaporation" || v.tied[0] == "absorption");
+  EXPECT_NE(v.tied[0], v.effect);
+  EXPECT_TRUE(clearly_worse(v.ranking[0], v.ranking[2], VerdictRule{}));
+  // The rule: a held-out chi2 worse by tie_delta x max(1, chi2_best / n) is clearly worse.
+  Candidate best, other;
+  best.loco_cells.assign(5, 0.4);
+  best.loco = 2.0;
+  other.loco = 5.9;
+  EXPECT_FALSE(clearly_worse(best, other, VerdictRule{}));
+  other.loco = 6.0;
+  EXPECT_TRUE(clearly_worse(best, other, VerdictRule{}));
+  best.loco = 20.0;  // the best leaves 4x the scatter its error bars allow: the margin grows with it
+  other.loco = 30.0;
+  EXPECT_FALSE(clearly_worse(best, other, VerdictRule{}));
+  other.loco = 36.0;
+  EXPECT_TRUE(clearly_worse(best, other, VerdictRule{}));
+  const Verdict alone = decide(cells, base, {a, decoy}, {1.0, 0.1});
+  EXPECT_TRUE(alone.tied.empty());
+  Verdict p = alone;
+  settle_verdict(p, {false, false, true, false, false});
+  EXPECT_EQ(p.kind, "partial");
+  EXPECT_EQ(p.effect, alone.effect);
+  Verdict q = alone;
+  settle_verdict(q, std::vector<bool>(5, false));
+  EXPECT_EQ(q.kind, "effect");
+}
+
+// The next experiment proposes conditions beyond and between the table's, in the table's units, then another
+// speed and a longer run.
+TEST(DiagnoseVerdict, NextExperimentProposesConditionsBeyondTheTable) {
+  auto cond = [](const std::string& w, double si) {
+    Condition c;
+    c.values = {{"liquid.content", w, "\"" + w + "\"", si}};
+    c.label = "liquid.content=" + w;
+    return c;
+  };
+  const std::vector<Condition> table = {cond("0 %", 0.0), cond("5 %", 0.05), cond("10 %", 0.10)};
+  const std::vector<Condition> p = propose_conditions(table, table[2], 30.0, 3.0, 10);
+  std::vector<std::string> labels;
+  for (const Condition& c : p) labels.push_back(c.label);
+  ASSERT_GE(labels.size(), 5u);
+  EXPECT_EQ(labels[0], "liquid.content=15 %");
+  EXPECT_EQ(labels[1], "drum.rpm=60, liquid.content=10 %");
+  EXPECT_EQ(labels[2], "drum.rpm=15, liquid.content=10 %");
+  EXPECT_EQ(labels[3], "liquid.content=10 %, run.duration=6 s");
+  EXPECT_EQ(labels[4], "liquid.content=2.5 %");
+  EXPECT_EQ(propose_conditions(table, table[2], 30.0, 3.0, 2).size(), 2u);
+}
+
+// A twin's noise never leaves an observable's possible range: f_wet at 0 % liquid (mean 0) stays in [0, 1].
+TEST(DiagnoseVerdict, TwinNoiseStaysInsideThePossibleRange) {
+  std::mt19937_64 rng(5);
+  double sum = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const double y = noisy_measurement("f_wet_mean", 0.0, 0.02, rng);
+    ASSERT_GE(y, 0.0);
+    ASSERT_LE(y, 1.0);
+    sum += y;
+  }
+  EXPECT_NEAR(sum / 2000, 0.02 * std::sqrt(2.0 / 3.14159265358979323846), 0.002) << "half-normal mean";
+  for (int i = 0; i < 200; ++i) EXPECT_GE(noisy_measurement("surface_agglomerate_size", 1.0, 0.5, rng), 1.0);
+  // An unbounded observable is plain Gaussian: negative values occur.
+  bool negative = false;
+  for (int i = 0; i < 200; ++i)
+    negative = negative || noisy_measurement("surface_velocity_mps", 0.0, 0.1, rng) < 0;
+  EXPECT_TRUE(negative);
+}
