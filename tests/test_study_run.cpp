@@ -120,5 +120,42 @@ TEST_F(StudyRun, BatchedRunsAreBitwiseTheRunsOneByOne) {
   EXPECT_EQ(study::run_study(st, o).completed, 2u);
 }
 
+TEST_F(StudyRun, StoppedBatchResumesAsABatchAndEndsBitwise) {
+  // Issue 19: a `--batch 3` ensemble stopped as if killed leaves each run resumable; the next `study run`
+  // (here without --batch) resumes the three as the batch they were, and each ends bitwise where the run done
+  // on its own ends.
+  const std::string text = "name = \"grid\"\nbase = \"" + micro_case() +
+                           "\"\n[set]\n\"run.settle\" = \"0.04 s\"\n\"run.duration\" = \"0.06 s\"\n"
+                           "\"run.steady_state_start\" = \"0.02 s\"\n\"output.checkpoint_interval\" = 100\n"
+                           "[axes]\n\"liquid.content\" = [\"0 %\", \"2.5 %\", \"10 %\"]\n";
+  const std::string base = study_temp("batch_stop");
+  const auto s = study::parse_study_file(write_text(base + "/grid.toml", text));
+  for (const char* d : {"/one", "/batch"}) study::write_plan(base + d, s, study::expand(s));
+  study::ExecOptions o = in_process();
+  o.configure = [](const study::IndexEntry&, app::RunOptions& ro) { ro.context = &gpu(); };
+  EXPECT_EQ(study::run_study(base + "/one", o).completed, 3u);
+  o.batch = 3;
+  o.configure = [](const study::IndexEntry&, app::RunOptions& ro) {
+    ro.context = &gpu();
+    ro.stop_after_steps = 200;  // a checkpoint boundary
+  };
+  const study::ExecReport a = study::run_study(base + "/batch", o);
+  EXPECT_EQ(a.stopped, 3u);
+  const auto ix = study::read_index(base + "/batch");
+  for (size_t i = 0; i < 3; ++i)
+    EXPECT_EQ(study::run_state(base + "/batch/" + ix.runs[i].run_dir), study::RunState::Resumable) << i;
+  EXPECT_EQ(study::plan_batches(base + "/batch", {2, 0, 1}, 1).size(), 1u) << "the stopped batch stays whole";
+  o.batch = 1;
+  o.configure = [](const study::IndexEntry&, app::RunOptions& ro) { ro.context = &gpu(); };
+  const study::ExecReport b = study::run_study(base + "/batch", o);
+  EXPECT_EQ(b.completed, 3u);
+  for (size_t i = 0; i < 3; ++i) {
+    const nlohmann::json x = summary(base + "/one", i), y = summary(base + "/batch", i);
+    EXPECT_EQ(x["final_state_hash"], y["final_state_hash"]) << "run " << i;
+    EXPECT_EQ(y["ensemble"]["runs"], 3) << "run " << i;
+    EXPECT_EQ(y.value("resumed_from_step", 0u), 200u) << "run " << i;
+  }
+}
+
 }  // namespace
 }  // namespace wetdem::test

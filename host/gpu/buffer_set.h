@@ -49,6 +49,7 @@ struct GpuTable {
   uint64_t p_share, p_gain, p_full, p_offer;
   uint64_t own_scan, owners;
   uint64_t run_of;
+  uint64_t smp, smp_pairs;  // sampling (shaders/common/sample.glsl)
 };
 
 struct BufferSet {
@@ -75,11 +76,17 @@ struct BufferSet {
   // over pairs run one invocation per pair. One buffer: a rebuild writes it after the old list's last use.
   vk::Buffer own_scan, owners;
   vk::Buffer run_of;  // the run of each stable id (ensembles)
+  // Sampling (System::sample_runs, shaders/common/sample.glsl): the reduction words (a head and one block per
+  // run) and the compact list of bridged pairs, grown on demand.
+  vk::Buffer smp, smp_pairs;
+  uint32_t smp_pair_capacity() const { return smp_pair_capacity_; }
+  void grow_sample_pairs(uint32_t pairs);  // reallocates (contents lost) and rewrites the table
 
  private:
   void grow_scratch(uint32_t entries);
   uint32_t capacity_[2] = {0, 0};
   uint32_t scratch_capacity_ = 0;
+  uint32_t smp_pair_capacity_ = 0;
 };
 
 }  // namespace wetdem::gpu
