@@ -249,7 +249,8 @@ class Impl : public Commands {
       std::printf(
           "estimate: %zu runs in %zu batches of up to %zu, %.3g particle-steps: %.0f s (%.1f min) = set-up "
           "%.0f s "
-          "+ steps %.0f s + samples %.0f s (measured on the first steps of a freshly filled bed: a guide, not a "
+          "+ steps %.0f s + samples %.0f s (measured on the first steps of a freshly filled bed: a guide, "
+          "not a "
           "promise)\n",
           e.runs, e.batches, batch_, e.particle_steps, e.total_s(), e.total_s() / 60.0, e.setup_s, e.step_s,
           e.sample_s);
