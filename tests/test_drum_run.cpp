@@ -24,6 +24,14 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// A file's whole text (timeseries compared row for row).
+std::string read_text(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
 std::string temp_dir(const std::string& name) {
   const fs::path p = fs::temp_directory_path() / ("wetdem_test_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(p);
@@ -210,19 +218,13 @@ TEST_F(DrumRun, BatchRunsAreBitwiseTheirRunsAlone) {
   }
   const std::vector<app::RunResult> together = app::run_batch(batch, gpu());
   ASSERT_EQ(together.size(), sets.size());
-  auto read = [](const std::string& p) {
-    std::ifstream in(p);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-  };
   for (size_t r = 0; r < sets.size(); ++r) {
     ASSERT_TRUE(together[r].completed);
     EXPECT_EQ(alone[r].summary["final_state_hash"], together[r].summary["final_state_hash"]) << "run " << r;
     EXPECT_EQ(alone[r].summary["aor_deg_mean"], together[r].summary["aor_deg_mean"]) << "run " << r;
     EXPECT_EQ(together[r].summary["ensemble"]["runs"], 3);
     EXPECT_TRUE(together[r].summary["liquid_conserved"].get<bool>());
-    EXPECT_EQ(read(alone[r].dir + "/timeseries.csv"), read(together[r].dir + "/timeseries.csv"))
+    EXPECT_EQ(read_text(alone[r].dir + "/timeseries.csv"), read_text(together[r].dir + "/timeseries.csv"))
         << "run " << r;
   }
   EXPECT_NE(alone[0].summary["final_state_hash"], alone[2].summary["final_state_hash"]);
@@ -294,18 +296,12 @@ TEST_F(DrumRun, StoppedAndInterruptedBatchResumesBitwise) {
   }
   again[0].on_sample = nullptr;
   const std::vector<app::RunResult> resumed = app::run_batch(again, gpu());
-  auto read = [](const std::string& p) {
-    std::ifstream in(p);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-  };
   for (size_t r = 0; r < sets.size(); ++r) {
     ASSERT_TRUE(resumed[r].completed);
     EXPECT_EQ(whole[r].summary["final_state_hash"], resumed[r].summary["final_state_hash"]) << "run " << r;
     EXPECT_EQ(whole[r].summary["aor_deg_mean"], resumed[r].summary["aor_deg_mean"]) << "run " << r;
     EXPECT_GT(resumed[r].summary["resumed_from_step"].get<uint64_t>(), 700u) << "run " << r;
-    EXPECT_EQ(read(whole[r].dir + "/timeseries.csv"), read(resumed[r].dir + "/timeseries.csv"))
+    EXPECT_EQ(read_text(whole[r].dir + "/timeseries.csv"), read_text(resumed[r].dir + "/timeseries.csv"))
         << "run " << r;
     EXPECT_FALSE(fs::exists(resumed[r].dir + "/FAILED.txt"));
     EXPECT_FALSE(fs::exists(resumed[r].dir + "/" + app::kEnsembleMember));
@@ -356,13 +352,7 @@ TEST_F(DrumRun, ResumeReachesTheBitwiseSameFinalState) {
   for (const char* k : {"aor_deg_mean", "aor_sem_block", "f_wet_mean", "bridges_mean", "contacts_mean"})
     EXPECT_EQ(whole.summary[k], resumed.summary[k]) << k;
   // Both timeseries files hold the same rows.
-  auto read = [](const std::string& p) {
-    std::ifstream in(p);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-  };
-  EXPECT_EQ(read(base + "/whole/timeseries.csv"), read(base + "/split/timeseries.csv"));
+  EXPECT_EQ(read_text(base + "/whole/timeseries.csv"), read_text(base + "/split/timeseries.csv"));
   // A complete run cannot be resumed.
   EXPECT_THROW(app::run_case(again), app::CaseError);
   fs::remove_all(base);

@@ -91,17 +91,24 @@ TEST_F(StudyRun, FailedRunIsIsolated) {
   EXPECT_EQ(b.skipped_failed, 1u);
 }
 
+// A short micro study over three liquid contents of one seed (one dt, so one ensemble can hold them), with
+// `extra` lines in its [set], planned twice: BASE/one (run one by one) and BASE/batch (run as a batch).
+std::string three_contents_planned(const std::string& name, const std::string& extra) {
+  const std::string text = "name = \"grid\"\nbase = \"" + micro_case() +
+                           "\"\n[set]\n\"run.settle\" = \"0.04 s\"\n\"run.duration\" = \"0.06 s\"\n"
+                           "\"run.steady_state_start\" = \"0.02 s\"\n" +
+                           extra + "[axes]\n\"liquid.content\" = [\"0 %\", \"2.5 %\", \"10 %\"]\n";
+  const std::string base = study_temp(name);
+  const auto s = study::parse_study_file(write_text(base + "/grid.toml", text));
+  for (const char* d : {"/one", "/batch"}) study::write_plan(base + d, s, study::expand(s));
+  return base;
+}
+
 TEST_F(StudyRun, BatchedRunsAreBitwiseTheRunsOneByOne) {
   // Three liquid contents of one seed (one dt): `--batch 3` steps them as one ensemble, and every run's
   // summary is bitwise what the one-by-one executor writes; a study of two seeds (two dt) is split into
   // ensembles of what can share a System and still completes.
-  const std::string text = "name = \"grid\"\nbase = \"" + micro_case() +
-                           "\"\n[set]\n\"run.settle\" = \"0.04 s\"\n\"run.duration\" = \"0.06 s\"\n"
-                           "\"run.steady_state_start\" = \"0.02 s\"\n[axes]\n"
-                           "\"liquid.content\" = [\"0 %\", \"2.5 %\", \"10 %\"]\n";
-  const std::string base = study_temp("batch");
-  const auto s = study::parse_study_file(write_text(base + "/grid.toml", text));
-  for (const char* d : {"/one", "/batch"}) study::write_plan(base + d, s, study::expand(s));
+  const std::string base = three_contents_planned("batch", "");
   study::ExecOptions o = in_process();
   o.configure = [](const study::IndexEntry&, app::RunOptions& ro) { ro.context = &gpu(); };
   EXPECT_EQ(study::run_study(base + "/one", o).completed, 3u);
@@ -124,13 +131,7 @@ TEST_F(StudyRun, StoppedBatchResumesAsABatchAndEndsBitwise) {
   // Issue 19: a `--batch 3` ensemble stopped as if killed leaves each run resumable; the next `study run`
   // (here without --batch) resumes the three as the batch they were, and each ends bitwise where the run done
   // on its own ends.
-  const std::string text = "name = \"grid\"\nbase = \"" + micro_case() +
-                           "\"\n[set]\n\"run.settle\" = \"0.04 s\"\n\"run.duration\" = \"0.06 s\"\n"
-                           "\"run.steady_state_start\" = \"0.02 s\"\n\"output.checkpoint_interval\" = 100\n"
-                           "[axes]\n\"liquid.content\" = [\"0 %\", \"2.5 %\", \"10 %\"]\n";
-  const std::string base = study_temp("batch_stop");
-  const auto s = study::parse_study_file(write_text(base + "/grid.toml", text));
-  for (const char* d : {"/one", "/batch"}) study::write_plan(base + d, s, study::expand(s));
+  const std::string base = three_contents_planned("batch_stop", "\"output.checkpoint_interval\" = 100\n");
   study::ExecOptions o = in_process();
   o.configure = [](const study::IndexEntry&, app::RunOptions& ro) { ro.context = &gpu(); };
   EXPECT_EQ(study::run_study(base + "/one", o).completed, 3u);
