@@ -13,8 +13,6 @@ namespace fs = std::filesystem;
 
 namespace wetdem::diagnose {
 
-namespace {
-
 double chi2_of(const std::vector<CellGap>& g) {
   double s = 0;
   for (const CellGap& x : g)
@@ -31,6 +29,8 @@ size_t significant(const std::vector<CellGap>& g) {
 bool has_refit(const Report& r) {
   return !r.spec->refit.empty() && r.settings.size() > 1;
 }
+
+namespace {
 
 nlohmann::json num(double x) {
   return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
