@@ -14,6 +14,12 @@ namespace fs = std::filesystem;
 
 namespace wetdem::diagnose {
 
+std::string condition_label(const std::vector<study::AxisValue>& values) {
+  std::string s;
+  for (const auto& a : values) s += (s.empty() ? "" : ", ") + a.key + "=" + a.written;
+  return s;
+}
+
 std::string Variant::label() const {
   std::string l = effect.empty() ? "baseline" : fmt::format("{}@{:.6g}", effect, strength);
   if (!std::isnan(shape)) l += fmt::format("~{:.6g}", shape);

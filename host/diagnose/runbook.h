@@ -21,6 +21,9 @@ struct Condition {
   std::map<std::string, double> si;      // key -> SI value
 };
 
+// A condition's label from its keys as written: "liquid.content=5 %, drum.omega=3 rad/s".
+std::string condition_label(const std::vector<study::AxisValue>& values);
+
 // A model variant: the baseline (no effect) or one effect at one strength (and, for an effect with a second
 // parameter, one shape: effects.h), at a refit setting (refit.h).
 struct Variant {

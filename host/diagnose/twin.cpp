@@ -16,16 +16,6 @@ namespace fs = std::filesystem;
 
 namespace wetdem::diagnose {
 
-namespace {
-
-std::string label_of(const std::vector<study::AxisValue>& v) {
-  std::string s;
-  for (const auto& a : v) s += (s.empty() ? "" : ", ") + a.key + "=" + a.written;
-  return s;
-}
-
-}  // namespace
-
 double noisy_measurement(const std::string& observable, double mean, double sd, std::mt19937_64& rng) {
   const ObservableSpec* o = find_observable(observable);
   const double lo = o ? o->lo : -1e300, hi = o ? o->hi : 1e300;
@@ -60,7 +50,7 @@ nlohmann::json run_twin(const TwinSpec& t, const DiagnoseOptions& o) {
       c.values.push_back({key, written, tv, std::nan("")});
     }
     std::sort(c.values.begin(), c.values.end(), [](const auto& a, const auto& b) { return a.key < b.key; });
-    c.label = label_of(c.values);
+    c.label = condition_label(c.values);
     conds.push_back(c);
   };
   if (!t.points.empty()) {
