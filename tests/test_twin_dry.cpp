@@ -4,6 +4,7 @@
 
 #include "reference/reference.h"
 #include "support/gpu.h"
+#include "support/lockstep.h"
 #include "support/twin.h"
 #include "wetdem/system.h"
 
@@ -22,12 +23,7 @@ TEST_F(TwinDry, ForcesAndTorquesMatchReferenceEveryStep) {
   double worst_f = 0.0, worst_t = 0.0;
   size_t max_pairs = 0;
   for (int step = 0; step < 100; ++step) {
-    ref_sys.set_state(s);
-    gpu_sys.upload(s);
-    ref_sys.step();
-    gpu_sys.step(1);
-    SystemState r = ref_sys.state();
-    SystemState g = gpu_sys.download();
+    const auto [r, g] = step_both(ref_sys, gpu_sys, s);
     double ef = norm_scaled_error(g.p.f, r.p.f), et = norm_scaled_error(g.p.t, r.p.t);
     worst_f = std::max(worst_f, ef);
     worst_t = std::max(worst_t, et);

@@ -7,6 +7,7 @@
 
 #include "reference/reference.h"
 #include "support/gpu.h"
+#include "support/lockstep.h"
 #include "support/twin.h"
 #include "wetdem/system.h"
 
@@ -68,22 +69,13 @@ void run_twin(const SimParams& prm, int steps, size_t n, uint64_t min_formations
   uint64_t formations = 0, ruptures = 0, max_bridges = 0, wall_bridges = 0;
   double worst_f = 0.0;
   for (int step = 0; step < steps; ++step) {
-    ref_sys.set_state(s);
-    gpu_sys.upload(s);
-    ref_sys.step();
-    gpu_sys.step(1);
-    SystemState r = ref_sys.state();
-    SystemState g = gpu_sys.download();
+    const auto [r, g] = step_both(ref_sys, gpu_sys, s);
     ASSERT_EQ(r.total_liquid(), liquid0) << "reference liquid, step " << step;
     ASSERT_EQ(g.total_liquid(), liquid0) << "gpu liquid, step " << step;
     ASSERT_EQ(g.p.film, r.p.film) << "films, step " << step;
-    // Same bridges, same volumes, same flags (pairs with only springs are compared through forces).
-    std::vector<std::tuple<uint32_t, uint32_t, int64_t, uint32_t>> br, bg;
-    for (auto& p : r.pairs)
-      if (p.bridge > 0 || p.flags) br.emplace_back(p.id_i, p.id_j, p.bridge, p.flags);
-    for (auto& p : g.pairs)
-      if (p.bridge > 0 || p.flags) bg.emplace_back(p.id_i, p.id_j, p.bridge, p.flags);
-    ASSERT_EQ(bg, br) << "bridges, step " << step;
+    // Same bridges, same volumes, same flags.
+    const std::vector<BridgeRow> br = bridges_and_flags(r);
+    ASSERT_EQ(bridges_and_flags(g), br) << "bridges, step " << step;
     for (size_t k = 0; k < r.p.wall.size(); ++k) {
       ASSERT_EQ(g.p.wall[k].bridge, r.p.wall[k].bridge) << "wall bridge " << k << ", step " << step;
       ASSERT_EQ(g.p.wall[k].flags, r.p.wall[k].flags) << "wall flags " << k << ", step " << step;
@@ -126,23 +118,13 @@ TEST_F(TwinWet, SinksMatchReferenceEveryStep) {
   const int64_t liquid0 = s.total_liquid();
   uint64_t formations = 0, full = 0;
   for (int step = 0; step < 300; ++step) {
-    ref_sys.set_state(s);
-    gpu_sys.upload(s);
-    ref_sys.step();
-    gpu_sys.step(1);
-    SystemState r = ref_sys.state();
-    SystemState g = gpu_sys.download();
+    const auto [r, g] = step_both(ref_sys, gpu_sys, s);
     ASSERT_EQ(r.total_liquid(), liquid0) << "reference liquid, step " << step;
     ASSERT_EQ(g.total_liquid(), liquid0) << "gpu liquid, step " << step;
     ASSERT_EQ(g.p.film, r.p.film) << "films, step " << step;
     ASSERT_EQ(g.p.pore, r.p.pore) << "pores, step " << step;
     ASSERT_EQ(g.p.evaporated, r.p.evaporated) << "evaporated, step " << step;
-    std::vector<std::tuple<uint32_t, uint32_t, int64_t, uint32_t>> br, bg;
-    for (auto& p : r.pairs)
-      if (p.bridge > 0 || p.flags) br.emplace_back(p.id_i, p.id_j, p.bridge, p.flags);
-    for (auto& p : g.pairs)
-      if (p.bridge > 0 || p.flags) bg.emplace_back(p.id_i, p.id_j, p.bridge, p.flags);
-    ASSERT_EQ(bg, br) << "bridges, step " << step;
+    ASSERT_EQ(bridges_and_flags(g), bridges_and_flags(r)) << "bridges, step " << step;
     for (size_t k = 0; k < r.p.wall.size(); ++k)
       ASSERT_EQ(g.p.wall[k].bridge, r.p.wall[k].bridge) << "wall bridge " << k << ", step " << step;
     ASSERT_LT(norm_scaled_error(g.p.f, r.p.f), 1e-5) << "force, step " << step;
