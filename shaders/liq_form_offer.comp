@@ -5,7 +5,10 @@
 // forming contacts (pairs and walls) offers floor(V_f / k) to each. Wall bridges form here (film only).
 // The liquid sinks act first, on that film (params.h LiquidSinkParams): pore absorption, then evaporation of
 // the film, of the pair bridges this particle owns and of its wall bridges, credited to its own counter.
+// pc.arg0 & LQ_ATOMIC (the fused step): 4b added the overflow to p_gain already, no event slots to read;
+// LQ_GATED: the segment is read for forming contacts only on steps with formation candidates.
 #include "liquid.glsl"
+#include "modes.glsl"
 layout(local_size_x = 256) in;
 void main() {
   uint i = gl_GlobalInvocationID.x;
@@ -20,9 +23,14 @@ void main() {
   int64_t f = film.v[i] + Int64s(T().p_gain).v[i];
   uint k = 0u;
   uint b = off.v[i], c = cnt.v[i];
-  for (uint e = b; e < b + c; ++e) {
-    f += ev.v[e];  // this particle's part of the overflow of its bridge (4b)
-    if ((flags.v[mirror.v[e]] & FLAG_FORM) != 0u) k++;
+  if ((pc.arg0 & LQ_ATOMIC) == 0u) {
+    for (uint e = b; e < b + c; ++e) {
+      f += ev.v[e];  // this particle's part of the overflow of its bridge (4b)
+      if ((flags.v[mirror.v[e]] & FLAG_FORM) != 0u) k++;
+    }
+  } else if ((pc.arg0 & LQ_GATED) == 0u || (CTL().v[CTL_CAND_STEP] & CAND_FORM) != 0u) {
+    for (uint e = b; e < b + c; ++e)
+      if ((flags.v[mirror.v[e]] & FLAG_FORM) != 0u) k++;
   }
   Int64s wliq = Int64s(paddr(s, PF_WLIQ));
   Uints wfl = Uints(paddr(s, PF_WFLAGS));

@@ -67,6 +67,9 @@ void main() {
     if (vb > 0 && S >= rupture_gap(P.lpp, vb)) fl |= FLAG_RUPT;
     if (vb == 0 && (fl & FLAG_WIC) == 0u && delta >= 0.0) fl |= FLAG_FORM;
     if (vb == 0 && S > 0.0) fl &= ~FLAG_WIC;
+    // Candidates for the liquid gate of the fused step (gather_kick's last workgroup).
+    uint cand = ((fl & FLAG_RUPT) != 0u ? CAND_RUPT : 0u) | ((fl & FLAG_FORM) != 0u ? CAND_FORM : 0u);
+    if (cand != 0u) atomicOr(CTL().v[CTL_CAND_PAIR], cand);
   }
   stb.v[e] = vec4(st, 0.0);
   srb.v[e] = vec4(sr, 0.0);

@@ -27,6 +27,35 @@ BufferSet::BufferSet(vk::Context& c, uint32_t num_particles, uint32_t num_cells,
   p_gain = vk::Buffer(ctx, N * 8);
   p_full = vk::Buffer(ctx, N * 8);
   p_offer = vk::Buffer(ctx, N * 8);
+
+  VkDescriptorPoolSize ps{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 2};
+  VkDescriptorPoolCreateInfo pi{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+  pi.maxSets = 1;
+  pi.poolSizeCount = 1;
+  pi.pPoolSizes = &ps;
+  WETDEM_VK(vkCreateDescriptorPool(ctx.device(), &pi, nullptr, &pool_));
+  VkDescriptorSetLayout layout = ctx.set_layout();
+  VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+  ai.descriptorPool = pool_;
+  ai.descriptorSetCount = 1;
+  ai.pSetLayouts = &layout;
+  WETDEM_VK(vkAllocateDescriptorSets(ctx.device(), &ai, &descriptors));
+  VkDescriptorBufferInfo bi[2] = {{table_buf.handle(), 0, sizeof(GpuTable)},
+                                  {params.handle(), 0, sizeof(GpuParams)}};
+  VkWriteDescriptorSet w[2]{};
+  for (uint32_t k = 0; k < 2; ++k) {
+    w[k].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
+    w[k].dstSet = descriptors;
+    w[k].dstBinding = k;
+    w[k].descriptorCount = 1;
+    w[k].descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    w[k].pBufferInfo = &bi[k];
+  }
+  vkUpdateDescriptorSets(ctx.device(), 2, w, 0, nullptr);
+}
+
+BufferSet::~BufferSet() {
+  if (pool_) vkDestroyDescriptorPool(ctx.device(), pool_, nullptr);
 }
 
 void BufferSet::grow_scratch(uint32_t entries) {

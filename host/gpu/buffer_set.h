@@ -54,10 +54,14 @@ struct GpuTable {
 struct BufferSet {
   // `runs` parameter blocks (ensembles: one per run, docs/ensembles.md).
   BufferSet(vk::Context& ctx, uint32_t num_particles, uint32_t num_cells, uint32_t runs = 1);
+  ~BufferSet();
+  BufferSet(const BufferSet&) = delete;
+  BufferSet& operator=(const BufferSet&) = delete;
 
   // Reallocates pair set `set` (contents lost) and the per-entry scratch for at least `entries` entries.
   void grow_entries(uint32_t set, uint32_t entries);
   uint32_t capacity(uint32_t set) const { return capacity_[set]; }
+  uint32_t scratch_capacity() const { return scratch_capacity_; }  // entries of the per-entry scratch
   GpuTable table() const;
   void upload_table();
 
@@ -75,11 +79,15 @@ struct BufferSet {
   // over pairs run one invocation per pair. One buffer: a rebuild writes it after the old list's last use.
   vk::Buffer own_scan, owners;
   vk::Buffer run_of;  // the run of each stable id (ensembles)
+  // Descriptor set 0 of the kernels (vk::Context::pipeline_layout): the table and run 0's parameter block as
+  // uniform buffers. Bound once per command buffer; the table's contents change (regrowth), never its buffer.
+  VkDescriptorSet descriptors = VK_NULL_HANDLE;
 
  private:
   void grow_scratch(uint32_t entries);
   uint32_t capacity_[2] = {0, 0};
   uint32_t scratch_capacity_ = 0;
+  VkDescriptorPool pool_ = VK_NULL_HANDLE;
 };
 
 }  // namespace wetdem::gpu

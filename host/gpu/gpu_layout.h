@@ -95,18 +95,42 @@ enum : uint32_t {
   kStepsDone = 13,
   kOverflows = 14,
   kMirrorErrors = 15,
-  kEntryArgs = 16,  // uvec4: dispatch over the current list's entries
-  kBuildArgs = 20,  // uvec4: dispatch over the list being built (written after its scan)
-  kLostArgs = 24,   // uvec4: lost-bridge check over the old list (rebuild steps only)
-  kCapacity0 = 28,  // entry capacity of pair set 0 (kCapacity0 + 1: set 1)
-  kGateArgs = 32,   // kMaxGates uvec4 slots: rebuild-gated dispatch sizes
-  kMaxGates = 47,
+  kEntryArgs = 16,    // uvec4: dispatch over the current list's entries
+  kBuildArgs = 20,    // uvec4: dispatch over the list being built (written after its scan)
+  kLostArgs = 24,     // uvec4: lost-bridge check over the old list (rebuild steps only)
+  kCapacity0 = 28,    // entry capacity of pair set 0 (kCapacity0 + 1: set 1)
+  kLiquidSteps = 30,  // fused step: steps whose liquid passes ran (the gate was open)
+  kDrifted = 31,      // fused step: 1 while the particles hold x^(n+1), v^(n+1/2) (the next drift is done)
+  kGateArgs = 32,     // kMaxGates uvec4 slots: rebuild-gated dispatch sizes
+  kMaxGates = 40,
   kGateGroups = kGateArgs + 4 * kMaxGates,  // kMaxGates uints: nominal group counts of the gated slots
   kOwnerArgs = kGateGroups + kMaxGates,     // uvec3: dispatch over the current list's owner entries
   kOwnersNeeded = kOwnerArgs + 3,           // owner entries of the list being built (after its scan)
-  kWords = 272,                             // unchanged by the owner words: snapshots keep their size
+  // The fused step (ARCHITECTURE.md "Passes of a step"); see ctl.glsl.
+  kCandPair = kOwnersNeeded + 1,  // liquid event candidates flagged by pair_force
+  kCandWall,                      // ... by the walls in gather_kick
+  kCandStep,                      // both, for the liquid passes of this step
+  kDoneGroups,                    // workgroups of the current pass that finished (last-group test)
+  kLiqArgs,                       // 3 uvec3: sizes of the gated liquid passes 4b, 4c, 4d
+  kWords = 272,
 };
-static_assert(kOwnersNeeded < kWords);
+static_assert(kLiqArgs + 9 <= kWords);
 }  // namespace ctl
+
+// Push-constant mode bits of the passes the fused step records in several ways (shaders/common/modes.glsl).
+namespace mode {
+enum : uint32_t {
+  kGather = 1,           // gather_kick: pair results + walls, second half kick
+  kKickDrift = 2,        // gather_kick: first half kick of the next step and its drift
+  kShare = 4,            // gather_kick: liquid pass 4a
+  kFinish = 8,           // gather_kick: last workgroup gates the liquid passes / decides the rebuild
+  kSplit = 16,           // split rebuilds
+  kGate = 32,            // liquid passes closed on steps without event candidates
+  kSinks = 64,           // a liquid sink is on: 4c runs every step
+  kLiquid = 128,         // liquid passes follow
+  kUnlessDrifted = 256,  // a submit's first kick-drift: skip when already done
+};
+enum : uint32_t { kAtomic = 1, kGated = 2, kLqFinish = 4, kLqSplit = 8 };  // liquid passes 4b-4d
+}  // namespace mode
 
 }  // namespace wetdem::gpu

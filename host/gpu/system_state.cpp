@@ -152,7 +152,7 @@ void System::Impl::upload(const SystemState& s) {
 
   VkCommandBuffer cb = record([&](VkCommandBuffer r) {
     run(r, "rebuild_decide", 1);
-    record_rebuild(r);
+    record_rebuild(r, false);
   });
   submit(cb);
   vkFreeCommandBuffers(ctx.device(), ctx.pool(), 1, &cb);
@@ -290,9 +290,9 @@ std::vector<std::pair<uint32_t, uint32_t>> System::Impl::neighbour_pairs() {
 }
 
 namespace {
-// "WMDSNP03": 02 (pore, evaporated, capacity) + the radii the cell grid was sized from.
-constexpr uint64_t kSnapMagic = 0x3330504E53444D57ull;
-constexpr uint64_t kSnapMagicOld = 0x3230504E53444D57ull;
+// "WMDSNP04": 03 (02 + the radii the cell grid was sized from) with the control words of the fused step.
+constexpr uint64_t kSnapMagic = 0x3430504E53444D57ull;
+constexpr uint64_t kSnapMagicOld[] = {0x3230504E53444D57ull, 0x3330504E53444D57ull};  // 02, 03
 struct SnapHeader {
   uint64_t magic;
   uint32_t n, parity, entries, pad;
@@ -335,8 +335,11 @@ void System::Impl::restore(const std::vector<uint8_t>& blob) {
   SnapHeader hd;
   if (blob.size() < sizeof(hd)) throw std::invalid_argument("restore: snapshot too short");
   std::memcpy(&hd, blob.data(), sizeof(hd));
-  if (hd.magic == kSnapMagicOld)
-    throw std::invalid_argument("restore: a snapshot of an older wetdem (WMDSNP02); start the run afresh");
+  for (uint64_t old : kSnapMagicOld)
+    if (hd.magic == old)
+      throw std::invalid_argument(
+          fmt::format("restore: a snapshot of an older wetdem (WMDSNP0{}); start the run afresh",
+                      char((old >> 56) & 0xFF)));
   if (hd.magic != kSnapMagic) throw std::invalid_argument("restore: not a wetdem snapshot");
   if (hd.n != n)
     throw std::invalid_argument(fmt::format("restore: snapshot has {} particles, system {}", hd.n, n));
