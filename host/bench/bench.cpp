@@ -16,6 +16,8 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
+#include <sys/resource.h>
+
 #include "app/drum/scenarios.h"
 #include "app/run/resources.h"
 #include "app/run/session.h"
@@ -76,6 +78,26 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+// CPU seconds of this process, every thread (lavapipe's workers included): on a loaded machine the wall
+// clock moves with the other jobs, the CPU time much less.
+double process_cpu_s() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+         1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+// Wall and CPU seconds of `steps` steps.
+struct Timed {
+  double wall = 0, cpu = 0;
+};
+Timed time_steps(System& sys, uint64_t steps) {
+  const double c0 = process_cpu_s();
+  const auto t0 = std::chrono::steady_clock::now();
+  sys.step(steps);
+  return {seconds_since(t0), process_cpu_s() - c0};
+}
+
 nlohmann::json bench_case(vk::Context& ctx, const app::Case& c, const std::string& variant, const Options& o,
                           const bench::Log& log) {
   bench::Steady st = bench::reach_steady(ctx, c, o.steady, log);
@@ -93,8 +115,8 @@ nlohmann::json bench_case(vk::Context& ctx, const app::Case& c, const std::strin
   j["periodic_slice"] = prep.c.drum.periodic_slice;
 
   // Wall clock: the run's own session resumed from the steady state (the case's steps_per_submit).
-  double wall = 0;
-  uint64_t rebuilds = 0;
+  double wall = 0, cpu = 0;
+  uint64_t rebuilds = 0, liquid_steps = 0;
   Observables obs;
   SystemCounters ctr;
   DeviceMemory mem;
@@ -105,12 +127,13 @@ nlohmann::json bench_case(vk::Context& ctx, const app::Case& c, const std::strin
     System& sys = s.system();
     rotating_prm = sys.params();
     sys.step(warmup);  // records the command buffers; not timed
-    const uint64_t r0 = sys.counters().rebuilds;
-    const auto t0 = std::chrono::steady_clock::now();
-    sys.step(o.steps);
-    wall = seconds_since(t0);
+    const SystemCounters c0 = sys.counters();
+    const Timed t = time_steps(sys, o.steps);
+    wall = t.wall;
+    cpu = t.cpu;
     ctr = sys.counters();
-    rebuilds = ctr.rebuilds - r0;
+    rebuilds = ctr.rebuilds - c0.rebuilds;
+    liquid_steps = ctr.liquid_steps - c0.liquid_steps;
     obs = sys.observables();
     mem = sys.device_memory();
     context_bytes = double(ctx.device_bytes());  // this session's system is the only one alive
@@ -137,6 +160,10 @@ nlohmann::json bench_case(vk::Context& ctx, const app::Case& c, const std::strin
                  {"cache", st.cache_path}};
   j["particle_steps_per_s"] = pss;
   j["steps_per_s"] = double(o.steps) / wall;
+  j["cpu_s_per_step"] = cpu / double(o.steps);
+  j["cpu_particle_steps_per_s"] = double(n) * double(o.steps) / cpu;
+  j["dispatches_per_step"] = ctr.dispatches_per_step;
+  j["liquid_pass_fraction"] = double(liquid_steps) / double(o.steps);
   j["rebuilds"] = rebuilds;
   j["rebuild_interval_steps"] = interval ? nlohmann::json(*interval) : nlohmann::json(nullptr);
   j["contacts"] = obs.contacts;
@@ -196,14 +223,34 @@ nlohmann::json bench_case(vk::Context& ctx, const app::Case& c, const std::strin
     sys->step(warmup);
     return sys;
   };
+  // Levers (docs/benchmark.md "Levers"): the same steps from the same state with one SystemOptions switch
+  // turned back; rate and CPU time of each against the timed run's.
+  auto lever = [&](SystemOptions so) {
+    auto sys = replay(so);
+    const Timed tl = time_steps(*sys, o.steps);
+    const double r = double(n) * double(o.steps) / tl.wall;
+    return nlohmann::json{{"particle_steps_per_s", r},
+                          {"cpu_s_per_step", tl.cpu / double(o.steps)},
+                          {"dispatches_per_step", sys->counters().dispatches_per_step},
+                          {"speedup", pss / r},
+                          {"cpu_speedup", tl.cpu / cpu}};
+  };
   {
     SystemOptions so;
     so.split_rebuilds = false;
-    auto gated = replay(so);
-    const auto t0 = std::chrono::steady_clock::now();
-    gated->step(o.steps);
-    const double gated_pss = double(n) * double(o.steps) / seconds_since(t0);
-    j["gated_rebuilds"] = {{"particle_steps_per_s", gated_pss}, {"split_speedup", pss / gated_pss}};
+    j["gated_rebuilds"] = lever(so);
+    j["gated_rebuilds"]["split_speedup"] = j["gated_rebuilds"]["speedup"];
+  }
+  j["levers"] = nlohmann::json::object();
+  {
+    SystemOptions so;
+    so.fused_step = false;
+    j["levers"]["fused_step"] = lever(so);
+  }
+  if (prep.c.liquid.on()) {
+    SystemOptions so;
+    so.liquid_gate = false;
+    j["levers"]["liquid_gate"] = lever(so);
   }
 
   // Ensembles (docs/ensembles.md): k runs of this drum from its steady state, stepped together in one
@@ -296,6 +343,17 @@ void print_table(const nlohmann::json& runs) {
     fmt::print(" {} {} {:.2f}x;", j["case"].get<std::string>(), j["variant"].get<std::string>(),
                j["gated_rebuilds"]["split_speedup"].get<double>());
   fmt::print("\n");
+  fmt::print(
+      "levers, each against the timed run with that switch turned back (wall-clock / CPU-time speed-up):\n");
+  for (const auto& j : runs) {
+    fmt::print("  {} {}: {:.1f} dispatches/step, CPU {:.3g} ms/step, liquid passes on {:.0f} % of steps;",
+               j["case"].get<std::string>(), j["variant"].get<std::string>(),
+               j["dispatches_per_step"].get<double>(), 1e3 * j["cpu_s_per_step"].get<double>(),
+               100.0 * j["liquid_pass_fraction"].get<double>());
+    for (const auto& [name, l] : j["levers"].items())
+      fmt::print(" {} {:.2f}x / {:.2f}x;", name, l["speedup"].get<double>(), l["cpu_speedup"].get<double>());
+    fmt::print("\n");
+  }
 }
 
 }  // namespace
