@@ -16,6 +16,9 @@ void main() {
   C.v[CTL_OWNER_ARGS] = (C.v[CTL_OWNERS_NEEDED] + 255u) / 256u;
   C.v[CTL_OWNER_ARGS + 1u] = 1u;
   C.v[CTL_OWNER_ARGS + 2u] = 1u;
+  C.v[CTL_STEP_ARGS] = (PRM().num_particles + 255u) / 256u;  // reopened after a halted submit
+  C.v[CTL_STEP_ARGS + 1u] = 1u;
+  C.v[CTL_STEP_ARGS + 2u] = 1u;
   if (pc.arg0 != 0u) {
     C.v[CTL_STEPS] += 1u;
     C.v[CTL_REBUILD] = 0u;

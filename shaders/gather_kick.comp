@@ -24,24 +24,24 @@ layout(local_size_x = 256) in;
 void gather_kick(uint i, uint s, uint mode) {
   Params P = PRM_OF(i, s);
   Vec4s vel = Vec4s(paddr(s, PF_VEL)), omg = Vec4s(paddr(s, PF_OMG));
-  Vec4s force = Vec4s(paddr(s, PF_FORCE)), torque = Vec4s(paddr(s, PF_TORQUE));
+  Vec3s force = Vec3s(paddr(s, PF_FORCE)), torque = Vec3s(paddr(s, PF_TORQUE));
   vec4 pr = Vec4s(paddr(s, PF_PROPS)).v[i];  // radius, mass, inertia
   vec3 g = vec3(P.gravity[0], P.gravity[1], P.gravity[2]);
   const float hdt = 0.5 * P.dt;
   vec3 v = vel.v[i].xyz, w = omg.v[i].xyz, F, Tq;
   if ((mode & GK_GATHER) != 0u) {
     Uints nbr_off = Uints(paddr(s, PF_NOFFSET)), nbr_cnt = Uints(paddr(s, PF_NCOUNT));
-    Vec4s pf = Vec4s(T().pair_f), pt = Vec4s(T().pair_t);
+    Vec3s pf = Vec3s(T().pair_f), pt = Vec3s(T().pair_t);
     F = vec3(0.0);
     Tq = vec3(0.0);
     uint b = nbr_off.v[i], c = nbr_cnt.v[i];
     for (uint e = b; e < b + c; ++e) {
-      F += pf.v[e].xyz;  // a mirrored entry holds -F of its owner: x + (-y) is x - y exactly
-      Tq += pt.v[e].xyz;
+      F += pf.v[e];  // a mirrored entry holds -F of its owner: x + (-y) is x - y exactly
+      Tq += pt.v[e];
     }
     for (uint k = 0u; k < 3u; ++k) wall_contact(k, i, s, P, F, Tq);
-    force.v[i] = vec4(F, 0.0);
-    torque.v[i] = vec4(Tq, 0.0);
+    force.v[i] = F;
+    torque.v[i] = Tq;
     precise vec3 a = F / pr.y + g;
     precise vec3 al = Tq / pr.z;
     precise vec3 v1 = v + hdt * a;
@@ -50,14 +50,15 @@ void gather_kick(uint i, uint s, uint mode) {
     w = w1;
     if ((mode & GK_LIQUID) != 0u) {  // wall events of this step: candidates for the liquid gate
       Uints wfl = Uints(paddr(s, PF_WFLAGS));
-      uint wf = wfl.v[3u * i] | wfl.v[3u * i + 1u] | wfl.v[3u * i + 2u];
+      uint wf = 0u;
+      for (uint k = 0u; k < P.wall_slots; ++k) wf |= wfl.v[i * P.wall_slots + k];
       uint cand = ((wf & FLAG_RUPT) != 0u ? CAND_RUPT : 0u) | ((wf & FLAG_FORM) != 0u ? CAND_FORM : 0u);
       if (cand != 0u) atomicOr(CTL().v[CTL_CAND_WALL], cand);
     }
     if ((mode & GK_SHARE) != 0u) rupture_share(i, s, P, (CTL().v[CTL_CAND_PAIR] & CAND_RUPT) != 0u);
   } else {
-    F = force.v[i].xyz;
-    Tq = torque.v[i].xyz;
+    F = force.v[i];
+    Tq = torque.v[i];
   }
   // The next step's first half kick and drift: stored when folded here or run on its own; after a gather
   // it also gives the positions of the next force evaluation, where the list must hold every pair (the skin

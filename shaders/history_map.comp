@@ -13,7 +13,7 @@ void main() {
   Params P = PRM();
   if (i >= P.num_particles || halted()) return;
   uint s = parity(), t = 1u - s;  // s: old list, t: new list
-  Vec4s st_new = Vec4s(eaddr(t, EF_ST)), sr_new = Vec4s(eaddr(t, EF_SR));
+  Vec3s st_new = Vec3s(eaddr(t, EF_ST)), sr_new = Vec3s(eaddr(t, EF_SR));
   Int64s liq_new = Int64s(eaddr(t, EF_LIQ));
   Uints fl_new = Uints(eaddr(t, EF_FLAGS)), mir_new = Uints(eaddr(t, EF_MIRROR)), nbr_new = Uints(eaddr(t, EF_NBR));
   IVec4s pos_new = IVec4s(paddr(t, PF_POS)), pos_old = IVec4s(paddr(s, PF_POS));
@@ -24,7 +24,7 @@ void main() {
   uint ko = k + Uints(paddr(s, PF_NCOUNT)).v[io];
   int idk = k < ko ? pos_old.v[nbr_old.v[k]].w : 0;
   for (uint e = b; e < b + c; ++e) {
-    vec4 st = vec4(0.0), sr = vec4(0.0);
+    vec3 st = vec3(0.0), sr = vec3(0.0);
     int64_t liq = 0;
     uint fl = 0u;
     if (mir_new.v[e] == e) {
@@ -34,8 +34,8 @@ void main() {
         if (k < ko) idk = pos_old.v[nbr_old.v[k]].w;
       }
       if (k < ko && idk == idj) {
-        st = Vec4s(eaddr(s, EF_ST)).v[k];
-        sr = Vec4s(eaddr(s, EF_SR)).v[k];
+        st = Vec3s(eaddr(s, EF_ST)).v[k];
+        sr = Vec3s(eaddr(s, EF_SR)).v[k];
         liq = Int64s(eaddr(s, EF_LIQ)).v[k];
         uint fo = fl_old.v[k];
         fl = fo & FLAG_WIC;

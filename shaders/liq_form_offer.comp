@@ -35,7 +35,7 @@ void main() {
   Int64s wliq = Int64s(paddr(s, PF_WLIQ));
   Uints wfl = Uints(paddr(s, PF_WFLAGS));
   for (uint w = 0u; w < 3u; ++w)
-    if ((wfl.v[3u * i + w] & FLAG_FORM) != 0u) k++;
+    if (wall_present(w, P) && (wfl.v[wall_slot(i, w, P)] & FLAG_FORM) != 0u) k++;
   if (P.absorb_mode != 0u) {
     Int64s pore = Int64s(paddr(s, PF_PORE));
     int64_t room = Int64s(paddr(s, PF_PORECAP)).v[i] - pore.v[i];
@@ -58,8 +58,9 @@ void main() {
       }
     }
     for (uint w = 0u; w < 3u; ++w) {
-      int64_t d = mul_q64(wliq.v[3u * i + w], P.evap_q64);
-      wliq.v[3u * i + w] -= d;
+      if (!wall_present(w, P)) continue;
+      int64_t d = mul_q64(wliq.v[wall_slot(i, w, P)], P.evap_q64);
+      wliq.v[wall_slot(i, w, P)] -= d;
       lost += d;
     }
     Int64s(paddr(s, PF_EVAP)).v[i] += lost;
@@ -69,7 +70,8 @@ void main() {
   Int64s(T().p_full).v[i] = full;
   Int64s(T().p_offer).v[i] = offer;
   for (uint w = 0u; w < 3u; ++w) {
-    uint kk = 3u * i + w;
+    if (!wall_present(w, P)) continue;
+    uint kk = wall_slot(i, w, P);
     if ((wfl.v[kk] & FLAG_FORM) == 0u) continue;
     wfl.v[kk] = (wfl.v[kk] & ~FLAG_FORM) | FLAG_WIC;
     if (full >= P.lpw[w].v_min) {  // §5: a wall bridge needs V_f,i >= V_min

@@ -69,7 +69,7 @@ struct GpuParams {
   uint32_t runs;           // ensembles: runs in this system (1: a single run)
   uint32_t run_stride;     // bytes between the parameter blocks of consecutive runs (sizeof(GpuParams))
   uint32_t cells_per_run;  // each run has its own block of cells
-  uint32_t pad_runs;
+  uint32_t wall_slots;     // wall records per particle: one per wall the drum has (access.glsl wall_slot)
 };
 static_assert(sizeof(GpuParams) ==
               32 * 4 + 48 * 4 + 8 + 4 * 4 + 12 * 2 + 8 * 2 + 8 + 16 + 12 + 12 + 8 + 16 * 4 + 24 + 16);
@@ -112,9 +112,10 @@ enum : uint32_t {
   kCandStep,                      // both, for the liquid passes of this step
   kDoneGroups,                    // workgroups of the current pass that finished (last-group test)
   kLiqArgs,                       // 3 uvec3: sizes of the gated liquid passes 4b, 4c, 4d
+  kStepArgs = kLiqArgs + 9,       // uvec3: the per-particle passes of a step (zero after a halt)
   kWords = 272,
 };
-static_assert(kLiqArgs + 9 <= kWords);
+static_assert(kStepArgs + 3 <= kWords);
 }  // namespace ctl
 
 // Push-constant mode bits of the passes the fused step records in several ways (shaders/common/modes.glsl).

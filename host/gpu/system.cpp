@@ -128,11 +128,11 @@ void System::Impl::record_rebuild(VkCommandBuffer cb, bool end_step) {
   record_list_tail(cb, false, end_step);
 }
 
-// Candidates per particle that 6e keeps for 6g in the pair-force scratch (4 words per entry of capacity,
+// Candidates per particle that 6e keeps for 6g in the pair-force scratch (3 words per entry of capacity,
 // at least 16 entries per particle until a regrowth): up to 32, fewer when the scratch is smaller; a particle
 // with more is searched again by 6g.
 uint32_t System::Impl::keep_stride() const {
-  const uint64_t words = 4ull * B->scratch_capacity();
+  const uint64_t words = 3ull * B->scratch_capacity();
   return uint32_t(std::min<uint64_t>(32, words / std::max<uint32_t>(n, 1)));
 }
 
@@ -175,18 +175,20 @@ void System::Impl::record_list_tail(VkCommandBuffer cb, bool direct, bool end_st
 // gate; 4b-4d behind that gate, the last workgroup of 4d (or of the gather when the gate is closed) deciding
 // the rebuild; a batch's first step starts with the kick-drift on its own unless the step before did it.
 void System::Impl::record_step(VkCommandBuffer cb, bool split, bool first, bool last) {
-  const uint32_t gN = groups_for(n);
   namespace md = gpu::mode;
+  // Per-particle passes read their size from ctl too: after a split halt the rest of the submit is zero-sized
+  // (step_control.glsl close_step_passes) instead of launching workgroups that would only return.
+  const uint32_t sN = ctlw::kStepArgs;
   if (!fused) {
-    run(cb, "gather_kick", gN, md::kKickDrift);
+    run_indirect(cb, "gather_kick", sN, md::kKickDrift);
     run_indirect(cb, "pair_force", ctlw::kOwnerArgs);
-    run(cb, "gather_kick", gN, md::kGather);
+    run_indirect(cb, "gather_kick", sN, md::kGather);
     if (gp.liquid_on) {
-      run(cb, "liq_rupture_share", gN);
+      run_indirect(cb, "liq_rupture_share", sN);
       run_indirect(cb, "liq_rupture_apply", ctlw::kOwnerArgs);
-      run(cb, "liq_form_offer", gN);
+      run_indirect(cb, "liq_form_offer", sN);
       run_indirect(cb, "liq_form_apply", ctlw::kOwnerArgs);
-      run(cb, "liq_form_take", gN);
+      run_indirect(cb, "liq_form_take", sN);
     }
     // Split: ends the step, or halts it (and the rest of the command buffer) when it must rebuild; see
     // step().
@@ -196,7 +198,7 @@ void System::Impl::record_step(VkCommandBuffer cb, bool split, bool first, bool 
     run(cb, "end_step", 1);
     return;
   }
-  if (first) run(cb, "gather_kick", gN, md::kKickDrift | md::kUnlessDrifted);
+  if (first) run_indirect(cb, "gather_kick", sN, md::kKickDrift | md::kUnlessDrifted);
   run_indirect(cb, "pair_force", ctlw::kOwnerArgs);
   uint32_t m = md::kGather | md::kFinish | (last ? 0u : uint32_t(md::kKickDrift)) | (split ? md::kSplit : 0u);
   if (gp.liquid_on) {
@@ -204,7 +206,7 @@ void System::Impl::record_step(VkCommandBuffer cb, bool split, bool first, bool 
     for (const gpu::GpuParams& g : gps)
       if (g.absorb_mode != 0u || g.evap_on != 0u) m |= md::kSinks;
   }
-  run(cb, "gather_kick", gN, m);
+  run_indirect(cb, "gather_kick", sN, m);
   if (gp.liquid_on) {
     run_indirect(cb, "liq_rupture_apply", ctlw::kLiqArgs, md::kAtomic);
     run_indirect(cb, "liq_form_offer", ctlw::kLiqArgs + 3, md::kAtomic | md::kGated);

@@ -86,6 +86,9 @@ struct System::Impl {
   double shared_skin = 0.0, shared_range = 0.0;  // the rebuild schedule's skin, the list's bridge range
   void build_params();
   uint32_t cells = 0, key_bits = 1;
+  // Wall records per particle: one per wall the drum has (buffer_set.h); the slot of wall w, -1 if absent.
+  uint32_t drum_wall_slots() const;
+  int wall_slot[3] = {0, 1, 2};
   std::unique_ptr<BufferSet> B;
   std::map<std::string, std::unique_ptr<vk::Kernel>> kernels;
   std::unique_ptr<gpu::RadixSort> sort;

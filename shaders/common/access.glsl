@@ -83,6 +83,17 @@ Params PRM_OF(uint i, uint s) {
   if (kRuns == 1u) return PRM();
   return PRMR(run_of_id(IVec4s(paddr(s, PF_POS)).v[i].w));
 }
+// Per-particle wall records exist for the walls the drum has: the cylinder, and the end plates unless the
+// drum is a periodic slice. Wall w of particle i is record i * wall_slots + (its rank among those walls).
+uint walls_present(Params P) {
+  uint m = 1u;
+  if (P.period_ticks == 0) m |= (P.plate_present[0] != 0u ? 2u : 0u) | (P.plate_present[1] != 0u ? 4u : 0u);
+  return m;
+}
+bool wall_present(uint w, Params P) { return (walls_present(P) & (1u << w)) != 0u; }
+uint wall_slot(uint i, uint w, Params P) {
+  return i * P.wall_slots + uint(bitCount(walls_present(P) & ((1u << w) - 1u)));
+}
 bool halted() { return CTL().v[CTL_HALT] != 0u; }
 uint parity() { return CTL().v[CTL_PARITY]; }
 #endif

@@ -37,6 +37,7 @@
 #define CTL_CAND_STEP (CTL_CAND_WALL + 1)      // both, for the liquid passes of this step
 #define CTL_DONE_GROUPS (CTL_CAND_STEP + 1)    // workgroups of the current pass that finished (last-group test)
 #define CTL_LIQ_ARGS (CTL_DONE_GROUPS + 1)     // 3 uvec3: sizes of the gated liquid passes 4b, 4c, 4d
+#define CTL_STEP_ARGS (CTL_LIQ_ARGS + 9)      // uvec3: the per-particle passes of a step (zero after a halt)
 #define CAND_RUPT 1u
 #define CAND_FORM 2u
 #endif

@@ -49,7 +49,7 @@ struct Params {
   uint runs;           // ensembles: runs in this system (1: a single run)
   uint run_stride;     // bytes between the parameter blocks of consecutive runs
   uint cells_per_run;  // each run has its own block of cells: runs never see each other
-  uint pad_runs;
+  uint wall_slots;     // wall records per particle: one per wall the drum has (access.glsl wall_slot)
 };
 layout(buffer_reference, scalar, buffer_reference_align = 16) readonly buffer ParamsRef { Params d; };
 layout(set = 0, binding = 1, scalar) uniform ParamsU { Params d; } PRM0;

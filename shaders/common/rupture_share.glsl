@@ -16,8 +16,11 @@ void rupture_share(uint i, uint s, Params P, bool pairs) {
   int64_t recv_pp = 0, recv_w[3] = {0, 0, 0};
   uint npp = 0u, nw = 0u;
   bool wall_rupt = false;
-  for (uint w = 0u; w < 3u; ++w)
-    wall_rupt = wall_rupt || (wliq.v[3u * i + w] > 0 && (wfl.v[3u * i + w] & FLAG_RUPT) != 0u);
+  for (uint w = 0u; w < 3u; ++w) {
+    if (!wall_present(w, P)) continue;
+    uint k = wall_slot(i, w, P);
+    wall_rupt = wall_rupt || (wliq.v[k] > 0 && (wfl.v[k] & FLAG_RUPT) != 0u);
+  }
   if (pairs || wall_rupt) {
     Uints off = Uints(paddr(s, PF_NOFFSET)), cnt = Uints(paddr(s, PF_NCOUNT));
     Uints mirror = Uints(eaddr(s, EF_MIRROR)), flags = Uints(eaddr(s, EF_FLAGS));
@@ -33,7 +36,8 @@ void rupture_share(uint i, uint s, Params P, bool pairs) {
   }
   if (wall_rupt) {
     for (uint w = 0u; w < 3u; ++w) {
-      uint k = 3u * i + w;
+      if (!wall_present(w, P)) continue;
+      uint k = wall_slot(i, w, P);
       int64_t vb = wliq.v[k];
       if (vb <= 0) continue;
       if ((wfl.v[k] & FLAG_RUPT) != 0u) {
@@ -71,7 +75,8 @@ void rupture_share(uint i, uint s, Params P, bool pairs) {
     // Surviving wall bridges belong to this particle alone: apply their share and cap here (never handing
     // back more than the share, as 4b).
     for (uint w = 0u; w < 3u; ++w) {
-      uint k = 3u * i + w;
+      if (!wall_present(w, P)) continue;
+      uint k = wall_slot(i, w, P);
       int64_t vb = wliq.v[k];
       if (vb <= 0) continue;
       int64_t vn = vb + share_w;

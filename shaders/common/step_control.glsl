@@ -5,6 +5,15 @@
 #define WETDEM_STEP_CONTROL_GLSL
 #include "access.glsl"
 
+// A halted submit's remaining steps: every pass of a step is then sized to zero workgroups (its invocations
+// would only return), until the chain that the host runs next reopens them (flip).
+void close_step_passes() {
+  Uints C = CTL();
+  C.v[CTL_STEP_ARGS] = 0u;
+  C.v[CTL_OWNER_ARGS] = 0u;
+  for (uint k = 0u; k < 3u; ++k) C.v[CTL_LIQ_ARGS + 3u * k] = 0u;
+}
+
 // Decides whether this step ends with a neighbour-list rebuild, and opens or closes the gate: every gated
 // dispatch of the rebuild chain reads its size from ctl[CTL_GATE_ARGS + 4k]. split: the chain is not recorded
 // after this step; a rebuild step halts with CTL_HALT = 2 and the host submits the chain on its own
@@ -29,7 +38,10 @@ void decide_rebuild(bool split, bool count) {
   C.v[CTL_LOST_ARGS] = rebuild ? C.v[CTL_ENTRY_ARGS] : 0u;
   C.v[CTL_LOST_ARGS + 1u] = 1u;
   C.v[CTL_LOST_ARGS + 2u] = 1u;
-  if (split && rebuild) C.v[CTL_HALT] = CTL_HALT_FOR_REBUILD;
+  if (split && rebuild) {
+    C.v[CTL_HALT] = CTL_HALT_FOR_REBUILD;
+    close_step_passes();
+  }
   if (count && !rebuild) C.v[CTL_STEPS] += 1u;  // end_step: CTL_REBUILD is already 0
 }
 
