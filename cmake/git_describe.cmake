@@ -1,12 +1,31 @@
-# Run at every build (target wetdem_git_describe): writes OUT with the current `git describe`, touching it only
-# when the text changes, so outputs name the commit actually built (not the one CMake last configured) and an
-# unchanged tree recompiles nothing.
+# Run at every build (target wetdem_git_describe): writes OUT with the current `git describe` and the run
+# version, touching it only when the text changes, so outputs name the commit actually built (not the one
+# CMake last configured) and an unchanged tree recompiles nothing.
+#
+# The run version is a content hash of the sources that decide what a run computes: the shaders, the GPU
+# system, the core, the run driver and its observables, and the public headers (shaders/, host/vk, host/gpu,
+# host/core, host/app, include/). A run's identity in a study store (study_file.h, run_hash) uses it instead of
+# `git describe`, so a change to the study, diagnosis, command-line or script code, or a commit that touches none
+# of these files, does not invalidate every stored run; a change to any of them does.
 execute_process(COMMAND git describe --always --dirty --tags WORKING_DIRECTORY ${SRC}
                 OUTPUT_VARIABLE git OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_QUIET)
 if(NOT git)
   set(git "unknown")
 endif()
-set(text "#define WETDEM_GIT \"${git}\"\n")
+set(files)
+foreach(dir shaders host/vk host/gpu host/core host/app include)
+  file(GLOB_RECURSE found LIST_DIRECTORIES false RELATIVE ${SRC} ${SRC}/${dir}/*)
+  list(APPEND files ${found})
+endforeach()
+list(SORT files)
+set(all "")
+foreach(f ${files})
+  file(SHA1 ${SRC}/${f} h)
+  string(APPEND all "${f} ${h}\n")
+endforeach()
+string(SHA1 run "${all}")
+string(SUBSTRING "${run}" 0 12 run)
+set(text "#define WETDEM_GIT \"${git}\"\n#define WETDEM_RUN_SOURCES \"${run}\"\n")
 if(EXISTS ${OUT})
   file(READ ${OUT} old)
 endif()

@@ -11,6 +11,8 @@
 #                                                16 shards at once; one log per shard and a summary in $OUT
 #   scripts/device_run.sh bench ARGS...          wetdem_bench ARGS (JSON into $OUT)
 #   scripts/device_run.sh wetdem ARGS...         the wetdem CLI
+#   scripts/device_run.sh paper ARGS...          the paper pipeline, scripts/paper.sh ARGS (docs/paper.md); give
+#                                                --export "$OUT" to bring back what its figures need
 # Results go to $OUT (the device tool brings that folder back); elsewhere to ./device-out.
 set -uo pipefail
 cd "$(dirname "$0")/.."
@@ -57,5 +59,6 @@ case "$mode" in
     ;;
   bench) "$B/wetdem_bench" "$@" ;;
   wetdem) "$B/wetdem" "$@" ;;
-  *) echo "usage: $0 tests|bench|wetdem ..." >&2; exit 2 ;;
+  paper) WETDEM=$B/wetdem bash scripts/paper.sh "$@" ;;
+  *) echo "usage: $0 tests|bench|wetdem|paper ..." >&2; exit 2 ;;
 esac

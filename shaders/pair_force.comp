@@ -49,7 +49,9 @@ void main() {
     contact_force(P.pp, P.dt, n, delta, Rs, ms, vrel, wi - wj, st, sr, F, t);
   }
   Effects X = P.fx[0];
-  if (vb > 0) {  // capillary force after friction (§0 order, §4); a separated bridge pulls with theta_r
+  // Capillary force after friction (§0 order, §4); a separated bridge pulls with theta_r. Only inside the
+  // interaction range, as MercuryDPM: a V_max bridge does not pull in its rupture step (docs/closed-slice.md).
+  if (vb > 0 && S < P.lpp.range) {
     float Rh = 2.0 * pi.x * pj.x / (pi.x + pj.x);
     float f0 = (S > 0.0 ? X.f0r_per_Rh : P.lpp.f0_per_Rh) * Rh;
     float f = capillary_force(S, Rh, float(vb) * P.lpp.unit_m3, f0);
@@ -64,7 +66,9 @@ void main() {
     F -= X.adhesion * (pi.x * pj.x / (pi.x + pj.x)) * n;
   }
   if (P.lpp.enabled != 0u) {  // §5 event flags at the end-of-step positions
-    if (vb > 0 && S >= rupture_gap(P.lpp, vb)) fl |= FLAG_RUPT;
+    // S_c(V) <= S_c,max = range; the second test only guards float rounding of the two (a bridge never
+    // survives outside the range without pulling).
+    if (vb > 0 && (S >= rupture_gap(P.lpp, vb) || S >= P.lpp.range)) fl |= FLAG_RUPT;
     if (vb == 0 && (fl & FLAG_WIC) == 0u && delta >= 0.0) fl |= FLAG_FORM;
     if (vb == 0 && S > 0.0) fl &= ~FLAG_WIC;
     // Candidates for the liquid gate of the fused step (gather_kick's last workgroup).

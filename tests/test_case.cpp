@@ -203,6 +203,9 @@ INSTANTIATE_TEST_SUITE_P(
         Bad{{"run.seed=-3"}, "run.seed", "must be >= 0"},
         Bad{{"run.seed=1.5"}, "run.seed", "must be an integer"},
         Bad{{"run.dt=\"0 s\""}, "run.dt", "must be > 0"},
+        Bad{{"run.perturb=\"-1 nm\""}, "run.perturb", "must be >= 0"},
+        Bad{{"run.perturb=\"0.1 mm\""}, "run.perturb", "must be <= 1 um"},
+        Bad{{"run.perturb_seed=-1"}, "run.perturb_seed", "must be >= 0"},
         Bad{{"output.formats=[\"obj\"]"}, "output.formats", "\"gltf\" or \"vtk\""},
         Bad{{"output.checkpoint_interval=-1"}, "output.checkpoint_interval", "must be >= 0"},
         Bad{{"foo=1"}, "foo", "unknown key"}, Bad{{"drum=5"}, "drum", "must be a table"},
@@ -270,7 +273,8 @@ TEST(Case, EchoParsesBackToTheSameCase) {
   const std::vector<std::vector<std::string>> variants = {
       {},
       {"psd.tails=lognormal", "liquid.films=mean_volume", "run.dt=\"20 us\""},
-      {"drum.periodic_slice=true", "drum.slice_thickness=\"20 mm\"", "run.skin=\"0.1 mm\""}};
+      {"drum.periodic_slice=true", "drum.slice_thickness=\"20 mm\"", "run.skin=\"0.1 mm\""},
+      {"run.perturb=\"1 nm\"", "run.perturb_seed=11"}};
   for (size_t i = 0; i < variants.size(); ++i) {
     const Case a = parse_case_string(kValid, variants[i]);
     const Case b = parse_case_string(case_to_toml(a), {}, "echo");
@@ -284,6 +288,32 @@ TEST(Case, EchoParsesBackToTheSameCase) {
   EXPECT_NEAR(s.material.nu, 1.0 / 3.0, 1e-15);
   EXPECT_NEAR(s.material.E / (2.0 * (1.0 - s.material.nu * s.material.nu)), 5e8, 1e-3);
   EXPECT_EQ(case_to_json(s), case_to_json(parse_case_string(case_to_toml(s))));
+}
+
+// run.perturb moves every start by at most p along each axis (uniform, seeded): the same seed the same
+// starts, another seed other starts, radii and films untouched (the checkpoint's radii hash still matches).
+TEST(Case, PerturbMovesTheStartsWithinTheBoundReproducibly) {
+  const std::string path = std::string(WETDEM_SOURCE_DIR) + "/tests/cases/closed_slice_wet.toml";
+  const Prepared base = prepare_run(parse_case_file(path));
+  const double p = 1e-9;
+  const Prepared a = prepare_run(parse_case_file(path, {"run.perturb=\"1 nm\"", "run.perturb_seed=11"}));
+  const Prepared b = prepare_run(parse_case_file(path, {"run.perturb=\"1 nm\"", "run.perturb_seed=11"}));
+  const Prepared c = prepare_run(parse_case_file(path, {"run.perturb=\"1 nm\"", "run.perturb_seed=12"}));
+  ASSERT_EQ(a.state.p.size(), base.state.p.size());
+  double largest = 0;
+  for (size_t k = 0; k < a.state.p.size(); ++k) {
+    const glm::dvec3 d = a.state.p.x[k] - base.state.p.x[k];
+    for (int i = 0; i < 3; ++i) {
+      EXPECT_LE(std::fabs(d[i]), p * (1 + 1e-6)) << "particle " << k;
+      largest = std::max(largest, std::fabs(d[i]));
+    }
+    EXPECT_EQ(a.state.p.x[k], b.state.p.x[k]) << "same seed, same starts";
+  }
+  EXPECT_GT(largest, 0.9 * p) << "uniform in [-p, p]: the largest of ~5,500 draws is near p";
+  EXPECT_NE(a.state.p.x, c.state.p.x) << "another seed, other starts";
+  EXPECT_EQ(a.state.p.radius, base.state.p.radius);
+  EXPECT_EQ(a.state.p.film, base.state.p.film);
+  EXPECT_EQ(a.radii_hash, base.radii_hash);
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 // Bad diagnosis and twin input is refused before anything runs, with the file and the key (or row) named.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 
@@ -219,6 +220,30 @@ TEST(DiagnoseFiles, BadObservationTablesAreRefusedBeforeAnyRun) {
                 .find("carries no information"),
             std::string::npos);
   EXPECT_FALSE(fs::exists(d.p / "out" / "store" / "runs")) << "nothing may run on bad input";
+}
+
+// A twin's conditions as explicit points (a laboratory's table is rarely a full product).
+TEST(DiagnoseFiles, TwinPointsAreExplicitConditions) {
+  Dir d;
+  const std::string head = "case = \"" + kCase + "\"\nseeds = [7]\n[noise]\naor_deg_mean = 1\n";
+  const TwinSpec t = parse_twin_file(
+      d.write("t.toml", head + "[[points]]\n\"liquid.content\" = \"0 %\"\n\"drum.rpm\" = 30\n"
+                               "[[points]]\n\"liquid.content\" = \"10 %\"\n\"drum.rpm\" = 60\n"));
+  ASSERT_EQ(t.points.size(), 2u);
+  EXPECT_NE(std::find(t.points[1].begin(), t.points[1].end(),
+                      std::pair<std::string, std::string>{"liquid.content", "\"10 %\""}),
+            t.points[1].end());
+  EXPECT_TRUE(t.condition_keys.empty());
+  const auto err = [&](const std::string& body) {
+    return expect_error([&] { parse_twin_file(d.write("t.toml", head + body)); });
+  };
+  EXPECT_NE(err("[[points]]\n\"liquid.content\" = \"0 %\"\n[[points]]\n\"drum.rpm\" = 60\n")
+                .find("[[points]] #2: every point needs the same condition keys"),
+            std::string::npos);
+  EXPECT_NE(err("[[points]]\n\"liquid.content\" = \"0 %\"\n").find("at least two"), std::string::npos);
+  EXPECT_NE(err("[conditions]\n\"liquid.content\" = [\"0 %\", \"5 %\"]\n[[points]]\n\"drum.rpm\" = 60\n")
+                .find("give one of them"),
+            std::string::npos);
 }
 
 TEST(DiagnoseFiles, ProbesOutsideThePhysicalRangeAreRefused) {

@@ -24,6 +24,14 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// A file's whole text (timeseries compared row for row).
+std::string read_text(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
 std::string temp_dir(const std::string& name) {
   const fs::path p = fs::temp_directory_path() / ("wetdem_test_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(p);
@@ -210,19 +218,13 @@ TEST_F(DrumRun, BatchRunsAreBitwiseTheirRunsAlone) {
   }
   const std::vector<app::RunResult> together = app::run_batch(batch, gpu());
   ASSERT_EQ(together.size(), sets.size());
-  auto read = [](const std::string& p) {
-    std::ifstream in(p);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-  };
   for (size_t r = 0; r < sets.size(); ++r) {
     ASSERT_TRUE(together[r].completed);
     EXPECT_EQ(alone[r].summary["final_state_hash"], together[r].summary["final_state_hash"]) << "run " << r;
     EXPECT_EQ(alone[r].summary["aor_deg_mean"], together[r].summary["aor_deg_mean"]) << "run " << r;
     EXPECT_EQ(together[r].summary["ensemble"]["runs"], 3);
     EXPECT_TRUE(together[r].summary["liquid_conserved"].get<bool>());
-    EXPECT_EQ(read(alone[r].dir + "/timeseries.csv"), read(together[r].dir + "/timeseries.csv"))
+    EXPECT_EQ(read_text(alone[r].dir + "/timeseries.csv"), read_text(together[r].dir + "/timeseries.csv"))
         << "run " << r;
   }
   EXPECT_NE(alone[0].summary["final_state_hash"], alone[2].summary["final_state_hash"]);
@@ -239,6 +241,74 @@ TEST_F(DrumRun, BatchRunsAreBitwiseTheirRunsAlone) {
     EXPECT_NE(std::string(e.what()).find("run.dt"), std::string::npos) << e.what();
   }
   EXPECT_FALSE(fs::exists(base + "/bad0"));
+  fs::remove_all(base);
+}
+
+TEST_F(DrumRun, StoppedAndInterruptedBatchResumesBitwise) {
+  // Issue 19: a batch stopped as if killed (stop_after_steps: its checkpoint at the stop), resumed, then
+  // interrupted (SIGTERM's path: a checkpoint at the next step boundary, FAILED.txt "interrupted"), resumed
+  // again to the end, writes bitwise what the uninterrupted batch writes: final state hash, timeseries rows.
+  const std::string base = temp_dir("batch_resume");
+  const std::string case_path = write_case(base);
+  const std::vector<std::vector<std::string>> sets = {{}, {"liquid.content=0"}};
+  auto batch_in = [&](const std::string& tag) {
+    std::vector<app::RunOptions> b;
+    for (size_t r = 0; r < sets.size(); ++r) {
+      app::RunOptions o = options(case_path, base + "/" + tag + std::to_string(r));
+      o.overrides = sets[r];
+      o.overrides.push_back("run.duration=\"0.3 s\"");
+      o.overrides.push_back("run.steady_state_start=\"0.15 s\"");
+      b.push_back(o);
+    }
+    return b;
+  };
+  const std::vector<app::RunResult> whole = app::run_batch(batch_in("whole"), gpu());
+
+  std::vector<app::RunOptions> first = batch_in("split");
+  first[0].stop_after_steps = 700;  // past the checkpoint at 500, still settling (the switch is at ~650)
+  const std::vector<app::RunResult> stopped = app::run_batch(first, gpu());
+  for (size_t r = 0; r < sets.size(); ++r) {
+    EXPECT_FALSE(stopped[r].completed);
+    EXPECT_FALSE(fs::exists(stopped[r].dir + "/summary.json"));
+    EXPECT_TRUE(fs::exists(stopped[r].dir + "/" + app::kEnsembleMember));
+    EXPECT_EQ(app::ensemble_members(stopped[r].dir).size(), sets.size());
+  }
+  ASSERT_TRUE(fs::exists(base + "/split0/ensemble/checkpoint/system.bin"));
+
+  std::vector<app::RunOptions> again(sets.size());
+  for (size_t r = 0; r < sets.size(); ++r) {
+    again[r].resume_dir = base + "/split" + std::to_string(r);
+    again[r].quiet = true;
+    again[r].context = &gpu();
+  }
+  // Interrupted at the fourth sample after the resume (rotating by then).
+  int seen = 0;
+  again[0].on_sample = [&](const app::Sample&) {
+    if (++seen == 4) app::request_interrupt();
+  };
+  EXPECT_THROW(app::run_batch(again, gpu()), std::runtime_error);
+  app::clear_interrupt();
+  for (size_t r = 0; r < sets.size(); ++r) {
+    std::ifstream f(base + "/split" + std::to_string(r) + "/FAILED.txt");
+    std::string why;
+    std::getline(f, why);
+    EXPECT_EQ(why.rfind("interrupted at step", 0), 0u) << why;
+  }
+  again[0].on_sample = nullptr;
+  const std::vector<app::RunResult> resumed = app::run_batch(again, gpu());
+  for (size_t r = 0; r < sets.size(); ++r) {
+    ASSERT_TRUE(resumed[r].completed);
+    EXPECT_EQ(whole[r].summary["final_state_hash"], resumed[r].summary["final_state_hash"]) << "run " << r;
+    EXPECT_EQ(whole[r].summary["aor_deg_mean"], resumed[r].summary["aor_deg_mean"]) << "run " << r;
+    EXPECT_GT(resumed[r].summary["resumed_from_step"].get<uint64_t>(), 700u) << "run " << r;
+    EXPECT_EQ(read_text(whole[r].dir + "/timeseries.csv"), read_text(resumed[r].dir + "/timeseries.csv"))
+        << "run " << r;
+    EXPECT_FALSE(fs::exists(resumed[r].dir + "/FAILED.txt"));
+    EXPECT_FALSE(fs::exists(resumed[r].dir + "/" + app::kEnsembleMember));
+  }
+  EXPECT_FALSE(fs::exists(base + "/split0/ensemble"));
+  EXPECT_NE(whole[0].summary["final_state_hash"], whole[1].summary["final_state_hash"]);
+  // A resumed batch must name the checkpoint's runs in its order.
   fs::remove_all(base);
 }
 
@@ -282,13 +352,7 @@ TEST_F(DrumRun, ResumeReachesTheBitwiseSameFinalState) {
   for (const char* k : {"aor_deg_mean", "aor_sem_block", "f_wet_mean", "bridges_mean", "contacts_mean"})
     EXPECT_EQ(whole.summary[k], resumed.summary[k]) << k;
   // Both timeseries files hold the same rows.
-  auto read = [](const std::string& p) {
-    std::ifstream in(p);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-  };
-  EXPECT_EQ(read(base + "/whole/timeseries.csv"), read(base + "/split/timeseries.csv"));
+  EXPECT_EQ(read_text(base + "/whole/timeseries.csv"), read_text(base + "/split/timeseries.csv"));
   // A complete run cannot be resumed.
   EXPECT_THROW(app::run_case(again), app::CaseError);
   fs::remove_all(base);

@@ -86,9 +86,9 @@ TEST(ObserveWindow, TimeseriesRowAndCheckpointRoundTrip) {
   const std::string head = app::timeseries_header(), row = app::timeseries_row(s);
   EXPECT_NE(head.find(",aor_surface_deg,aor_plate_deg,aor_centre_deg,surface_velocity_mps,"
                       "flowing_layer_depth_m,agglomerate_size_mean,drum_to_agglomerate_ratio,"
-                      "liquid_free_fraction,surface_agglomerate_size\n"),
+                      "liquid_free_fraction,surface_size_ratio,surface_agglomerate_size\n"),
             std::string::npos);
-  EXPECT_NE(row.find(",30.5,,,,,2.25,,,\n"), std::string::npos) << row;  // no value: empty cell
+  EXPECT_NE(row.find(",30.5,,,,,2.25,,,,\n"), std::string::npos) << row;  // no value: empty cell
   s.interface = {0.01, std::nan(""), -0.002};
   const std::vector<app::Sample> back = app::samples_from_json(app::samples_to_json({s}));
   ASSERT_EQ(back.size(), 1u);

@@ -91,17 +91,24 @@ TEST_F(StudyRun, FailedRunIsIsolated) {
   EXPECT_EQ(b.skipped_failed, 1u);
 }
 
+// A short micro study over three liquid contents of one seed (one dt, so one ensemble can hold them), with
+// `extra` lines in its [set], planned twice: BASE/one (run one by one) and BASE/batch (run as a batch).
+std::string three_contents_planned(const std::string& name, const std::string& extra) {
+  const std::string text = "name = \"grid\"\nbase = \"" + micro_case() +
+                           "\"\n[set]\n\"run.settle\" = \"0.04 s\"\n\"run.duration\" = \"0.06 s\"\n"
+                           "\"run.steady_state_start\" = \"0.02 s\"\n" +
+                           extra + "[axes]\n\"liquid.content\" = [\"0 %\", \"2.5 %\", \"10 %\"]\n";
+  const std::string base = study_temp(name);
+  const auto s = study::parse_study_file(write_text(base + "/grid.toml", text));
+  for (const char* d : {"/one", "/batch"}) study::write_plan(base + d, s, study::expand(s));
+  return base;
+}
+
 TEST_F(StudyRun, BatchedRunsAreBitwiseTheRunsOneByOne) {
   // Three liquid contents of one seed (one dt): `--batch 3` steps them as one ensemble, and every run's
   // summary is bitwise what the one-by-one executor writes; a study of two seeds (two dt) is split into
   // ensembles of what can share a System and still completes.
-  const std::string text = "name = \"grid\"\nbase = \"" + micro_case() +
-                           "\"\n[set]\n\"run.settle\" = \"0.04 s\"\n\"run.duration\" = \"0.06 s\"\n"
-                           "\"run.steady_state_start\" = \"0.02 s\"\n[axes]\n"
-                           "\"liquid.content\" = [\"0 %\", \"2.5 %\", \"10 %\"]\n";
-  const std::string base = study_temp("batch");
-  const auto s = study::parse_study_file(write_text(base + "/grid.toml", text));
-  for (const char* d : {"/one", "/batch"}) study::write_plan(base + d, s, study::expand(s));
+  const std::string base = three_contents_planned("batch", "");
   study::ExecOptions o = in_process();
   o.configure = [](const study::IndexEntry&, app::RunOptions& ro) { ro.context = &gpu(); };
   EXPECT_EQ(study::run_study(base + "/one", o).completed, 3u);
@@ -118,6 +125,37 @@ TEST_F(StudyRun, BatchedRunsAreBitwiseTheRunsOneByOne) {
   const std::string st = tiny_study(base + "/seeds");
   o.batch = 2;
   EXPECT_EQ(study::run_study(st, o).completed, 2u);
+}
+
+TEST_F(StudyRun, StoppedBatchResumesAsABatchAndEndsBitwise) {
+  // Issue 19: a `--batch 3` ensemble stopped as if killed leaves each run resumable; the next `study run`
+  // (here without --batch) resumes the three as the batch they were, and each ends bitwise where the run done
+  // on its own ends.
+  const std::string base = three_contents_planned("batch_stop", "\"output.checkpoint_interval\" = 100\n");
+  study::ExecOptions o = in_process();
+  o.configure = [](const study::IndexEntry&, app::RunOptions& ro) { ro.context = &gpu(); };
+  EXPECT_EQ(study::run_study(base + "/one", o).completed, 3u);
+  o.batch = 3;
+  o.configure = [](const study::IndexEntry&, app::RunOptions& ro) {
+    ro.context = &gpu();
+    ro.stop_after_steps = 200;  // a checkpoint boundary
+  };
+  const study::ExecReport a = study::run_study(base + "/batch", o);
+  EXPECT_EQ(a.stopped, 3u);
+  const auto ix = study::read_index(base + "/batch");
+  for (size_t i = 0; i < 3; ++i)
+    EXPECT_EQ(study::run_state(base + "/batch/" + ix.runs[i].run_dir), study::RunState::Resumable) << i;
+  EXPECT_EQ(study::plan_batches(base + "/batch", {2, 0, 1}, 1).size(), 1u) << "the stopped batch stays whole";
+  o.batch = 1;
+  o.configure = [](const study::IndexEntry&, app::RunOptions& ro) { ro.context = &gpu(); };
+  const study::ExecReport b = study::run_study(base + "/batch", o);
+  EXPECT_EQ(b.completed, 3u);
+  for (size_t i = 0; i < 3; ++i) {
+    const nlohmann::json x = summary(base + "/one", i), y = summary(base + "/batch", i);
+    EXPECT_EQ(x["final_state_hash"], y["final_state_hash"]) << "run " << i;
+    EXPECT_EQ(y["ensemble"]["runs"], 3) << "run " << i;
+    EXPECT_EQ(y.value("resumed_from_step", 0u), 200u) << "run " << i;
+  }
 }
 
 }  // namespace

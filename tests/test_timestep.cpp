@@ -51,7 +51,7 @@ TEST(TimeStep, WarnsOnlyWhenTheStepIsTooLargeForTheStiffestBridge) {
   EXPECT_FALSE(capillary_timestep_warning(prm, s).has_value());
 }
 
-// Candidate effect `viscous`: c = dF_v/dv_n at S_min by hand and the explicit limit dt < 2 m*/(12 c).
+// Candidate effect `viscous`: c = dF_v/dv_n at S_min by hand and the explicit limit dt < 2 m*/(4 c).
 // eta = 0.1 Pa s, R* = 0.5 mm, S_min = 1e-5 m, V = 1e-12 m^3: x = V/(pi R* S^2) = 6.3662, 1 - 1/sqrt(1 + x) =
 // 0.631551, c = 6 pi 0.1 (0.5e-3)^2 / 1e-5 * 0.631551^2 = 1.8795e-2 kg/s.
 TEST(TimeStep, ViscousLimitByHandAndWarning) {
@@ -60,7 +60,7 @@ TEST(TimeStep, ViscousLimitByHandAndWarning) {
   EXPECT_NEAR(6.0 * 3.14159265358979 * 0.1 * 0.25e-6 / 1e-5 * b * b, 1.8795e-2, 1e-6);
   const double c = 6.0 * 3.14159265358979 * 0.1 * 0.25e-6 / 1e-5 * b * b;
   EXPECT_NEAR(viscous_damping_coefficient(0.1, 1e-5, 0.5e-3, 1e-12), c, 1e-12 * c);
-  EXPECT_NEAR(viscous_dt_limit(5e-6, 0.5e-3, 0.1, 1e-5, 1e-12), 2.0 * 5e-6 / (12.0 * c), 1e-12);
+  EXPECT_NEAR(viscous_dt_limit(5e-6, 0.5e-3, 0.1, 1e-5, 1e-12), 2.0 * 5e-6 / (4.0 * c), 1e-12);
 
   SimParams prm;
   prm.liquid_unit_m3 = 1e-21;

@@ -1,6 +1,6 @@
 #include "wetdem/version.h"
 
-#include "wetdem_git.h"  // generated at every build: #define WETDEM_GIT "<git describe>"
+#include "wetdem_git.h"  // generated at every build: WETDEM_GIT "<git describe>", WETDEM_RUN_SOURCES "<hash>"
 
 namespace wetdem {
 
@@ -10,6 +10,10 @@ const char* git_describe() {
 
 std::string code_version() {
   return std::string(WETDEM_VERSION) + "+" + WETDEM_GIT;
+}
+
+std::string run_version() {
+  return std::string(WETDEM_VERSION) + "+run-" + WETDEM_RUN_SOURCES;
 }
 
 }  // namespace wetdem

@@ -1,5 +1,7 @@
 #include "diagnose/baseline.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -13,6 +15,30 @@ void run_baseline(Procedure& p) {
     throw std::runtime_error("the calibrated model itself failed: " + why +
                              " (a diagnosis needs the model at every condition of the table)");
   p.baselines = {p.predict(base, p.base_seeds)};
+  // A cell the calibrated model does not report in any baseline run (the AoR drift of windows that cannot
+  // carry it) cannot be compared: it is left out, and the report says so.
+  std::vector<size_t> keep;
+  for (size_t k = 0; k < p.tab.cells.size(); ++k) {
+    if (std::isfinite(p.baselines[0][k].mean)) {
+      keep.push_back(k);
+      continue;
+    }
+    p.notes.push_back(fmt::format(
+        "baseline: the model does not report {} at {} in any baseline run; the cell "
+        "(line {}) is left out",
+        p.tab.cells[k].observable, p.tab.conditions[p.tab.cell_condition[k]].label, p.tab.cell_line[k]));
+  }
+  if (keep.size() < p.tab.cells.size()) {
+    Table t = p.tab;
+    t.cells.clear(), t.cell_condition.clear(), t.cell_line.clear();
+    for (size_t k : keep)
+      t.cells.push_back(p.tab.cells[k]), t.cell_condition.push_back(p.tab.cell_condition[k]),
+          t.cell_line.push_back(p.tab.cell_line[k]);
+    p.tab = t;
+    if (conditions_of(p.tab.cells, nullptr).size() < 2)
+      throw std::runtime_error("fewer than two conditions have cells the model reports: nothing to diagnose");
+    p.baselines = {p.predict(base, p.base_seeds)};
+  }
   p.seed1 = {p.predict(base, p.probe_seed)};
   const double r = double(p.base_seeds.size());
   p.spread.clear();

@@ -27,6 +27,7 @@ std::vector<std::string> conditions_of(const std::vector<Cell>& cells, std::vect
 }
 
 double z_score(const Cell& c, const Prediction& p) {
+  if (std::isnan(p.mean)) return std::nan("");  // no prediction (stage results may lack a cell)
   const double var = c.sigma * c.sigma + p.se * p.se;
   if (!(var > 0.0))
     throw std::invalid_argument("z_score: observation '" + c.observable + "' has no uncertainty");

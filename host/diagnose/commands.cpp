@@ -73,7 +73,9 @@ class Impl : public study::Commands {
     c->add_option("--out", o_.out, "output directory")->required();
     c->add_option("--store", o_.store, "run store to use and share (a study directory; default OUT/store)");
     c->add_option("--jobs", o_.jobs, "runs at a time (default 1)");
-    c->add_option("--batch", o_.batch, "runs handed to one process as ensembles (default 1)");
+    c->add_option("--batch", o_.batch,
+                  "runs handed to one process as ensembles (default 1; docs/ensembles.md)")
+        ->check(CLI::PositiveNumber);
     c->add_option("--device", o_.device, "device for every run (index, name substring, gpu, cpu)");
     c->add_flag("--quiet", o_.quiet, "no progress line");
     c->add_flag(

@@ -212,7 +212,8 @@ DiagnosisSpec parse_diagnosis_file(const std::string& path_in) {
 TwinSpec parse_twin_file(const std::string& path_in) {
   const std::string path = fs::absolute(path_in).lexically_normal().string();
   const toml::table root = load(path);
-  reject_unknown(root, path, {"name", "case", "set", "conditions", "truth", "seeds", "noise", "noise_seed"});
+  reject_unknown(root, path,
+                 {"name", "case", "set", "conditions", "points", "truth", "seeds", "noise", "noise_seed"});
   TwinSpec t;
   t.path = path;
   t.name = root["name"].value_or(fs::path(path).stem().string());
@@ -222,28 +223,58 @@ TwinSpec parse_twin_file(const std::string& path_in) {
   if (const auto* s = root["set"].as_table()) t.set = overrides_of(*s, path, "set");
   if (const auto* s = root["truth"].as_table()) t.truth = overrides_of(*s, path, "truth");
   const auto* c = root["conditions"].as_table();
-  if (!c || c->empty())
-    throw DiagnoseError(fmt::format("{}: [conditions]: at least one condition key", path));
-  size_t n = 1;
-  for (const auto& [k, v] : *c) {
-    const auto* a = v.as_array();
-    if (!a || a->empty())
-      throw DiagnoseError(fmt::format("{}: [conditions] {}: a non-empty array", path, k.str()));
-    t.condition_keys.emplace_back(k.str());
-    std::vector<std::string> vals;
-    for (const auto& x : *a) {
-      try {
-        vals.push_back(value_toml(x));
-      } catch (const DiagnoseError& e) {
-        throw DiagnoseError(fmt::format("{}: [conditions] {}: {}", path, k.str(), e.what()));
+  const auto* pts = root["points"].as_array();
+  if (c && pts) throw DiagnoseError(fmt::format("{}: [conditions] and [[points]]: give one of them", path));
+  if (pts) {
+    std::vector<std::string> keys;
+    for (size_t i = 0; i < pts->size(); ++i) {
+      const auto* p = (*pts)[i].as_table();
+      if (!p || p->empty())
+        throw DiagnoseError(fmt::format("{}: [[points]] #{}: a table of condition keys", path, i + 1));
+      std::vector<std::pair<std::string, std::string>> point;
+      std::vector<std::string> ks;
+      for (const auto& [k, v] : *p) {
+        try {
+          point.emplace_back(std::string(k.str()), value_toml(v));
+        } catch (const DiagnoseError& e) {
+          throw DiagnoseError(fmt::format("{}: [[points]] #{} {}: {}", path, i + 1, k.str(), e.what()));
+        }
+        ks.emplace_back(k.str());
       }
+      std::sort(ks.begin(), ks.end());
+      if (i == 0) keys = ks;
+      if (ks != keys)
+        throw DiagnoseError(fmt::format(
+            "{}: [[points]] #{}: every point needs the same condition keys as the first", path, i + 1));
+      t.points.push_back(point);
     }
-    n *= vals.size();
-    t.condition_toml.push_back(vals);
+    if (t.points.size() < 2)
+      throw DiagnoseError(
+          fmt::format("{}: [[points]]: at least two conditions (a held-out check needs them)", path));
+  } else {
+    if (!c || c->empty())
+      throw DiagnoseError(fmt::format("{}: [conditions]: at least one condition key (or [[points]])", path));
+    size_t n = 1;
+    for (const auto& [k, v] : *c) {
+      const auto* a = v.as_array();
+      if (!a || a->empty())
+        throw DiagnoseError(fmt::format("{}: [conditions] {}: a non-empty array", path, k.str()));
+      t.condition_keys.emplace_back(k.str());
+      std::vector<std::string> vals;
+      for (const auto& x : *a) {
+        try {
+          vals.push_back(value_toml(x));
+        } catch (const DiagnoseError& e) {
+          throw DiagnoseError(fmt::format("{}: [conditions] {}: {}", path, k.str(), e.what()));
+        }
+      }
+      n *= vals.size();
+      t.condition_toml.push_back(vals);
+    }
+    if (n < 2)
+      throw DiagnoseError(
+          fmt::format("{}: [conditions]: at least two conditions (a held-out check needs them)", path));
   }
-  if (n < 2)
-    throw DiagnoseError(
-        fmt::format("{}: [conditions]: at least two conditions (a held-out check needs them)", path));
   if (const auto* s = root["seeds"].as_array()) {
     for (const auto& x : *s) {
       const auto v = x.value<int64_t>();

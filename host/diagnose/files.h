@@ -45,9 +45,13 @@ DiagnosisSpec parse_diagnosis_file(const std::string& path);
 struct TwinSpec {
   std::string path, name;
   std::string case_path;
-  std::vector<std::string> set;                          // "key=toml" for every run (the common model)
+  std::vector<std::string> set;  // "key=toml" for every run (the common model)
+  // The conditions: [conditions] (keys with value lists, their Cartesian product in file order), or
+  // [[points]] (explicit conditions, each a table of key = value, all with the same keys): a laboratory's
+  // table is rarely a full product (speeds measured at some liquid contents only).
   std::vector<std::string> condition_keys;               // [conditions], Cartesian product in file order
   std::vector<std::vector<std::string>> condition_toml;  // per key: values as TOML
+  std::vector<std::vector<std::pair<std::string, std::string>>> points;  // [[points]]: (key, TOML) each
   std::vector<std::string> truth;       // "key=toml": what the real system has and the model lacks
   std::vector<uint64_t> seeds;          // truth seeds (distinct from the diagnosis's 1..2R)
   std::map<std::string, double> noise;  // observable -> measurement sd (also the table's sigma)

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "diagnose/fit.h"
+#include "diagnose/verdict.h"
 
 namespace wetdem::diagnose {
 
@@ -169,11 +170,28 @@ void run_fit(Procedure& p) {
       if (m != c.shapes.size() / 2) st.want({ci, fam.refit_of[pf.member], m, s, "shape"});
   }
   st.collect();
-  // Rounds: each candidate asks for at most one run per round; the rounds' runs go together.
+  // Rounds: each candidate in contention asks for at most one run per round; the rounds' runs go together.
+  // In contention: the best by held-out score, and every candidate that passes the effect margin against the
+  // null or is not clearly worse than the best (verdict.h): the runs go where they can change the verdict.
   const int rounds = p.d.refine + p.d.extend + 2;
   for (int round = 0; round < rounds; ++round) {
+    std::vector<Family> fams;
+    std::vector<size_t> of;
+    for (size_t ci = 0; ci < cands.size(); ++ci)
+      if (Family f = cands[ci].family(p.baselines); !f.ems.empty()) fams.push_back(f), of.push_back(ci);
+    if (fams.empty()) break;
+    const Verdict v = decide(p.tab.cells, p.baselines, fams, p.d.rule);
+    std::vector<bool> contend(cands.size(), false);
+    for (size_t r = 0; r < v.ranking.size(); ++r) {
+      const Candidate& c = v.ranking[r];
+      const bool passes = c.loco <= p.d.rule.ratio * v.null_loco && v.null_loco - c.loco >= p.d.rule.min_drop;
+      const bool close = !clearly_worse(v.ranking.front(), c, p.d.rule);
+      for (size_t i = 0; i < fams.size(); ++i)
+        if (fams[i].effect == c.effect) contend[of[i]] = r == 0 || passes || close;
+    }
     bool any = false;
-    for (size_t ci = 0; ci < cands.size(); ++ci) any = st.ask(ci, rounds - round) || any;
+    for (size_t ci = 0; ci < cands.size(); ++ci)
+      if (contend[ci]) any = st.ask(ci, rounds - round) || any;
     if (!any) break;
     st.collect();
   }

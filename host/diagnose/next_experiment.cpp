@@ -26,12 +26,6 @@ std::pair<double, std::string> split_number(const std::string& w) {
   return {x, w.substr(used)};
 }
 
-std::string label_of(const std::vector<study::AxisValue>& v) {
-  std::string s;
-  for (const auto& a : v) s += (s.empty() ? "" : ", ") + a.key + "=" + a.written;
-  return s;
-}
-
 Condition with_value(const Condition& base, const std::string& key, const std::string& written) {
   Condition c;
   bool found = false;
@@ -42,7 +36,7 @@ Condition with_value(const Condition& base, const std::string& key, const std::s
   }
   if (!found) c.values.push_back({key, written, toml_text_of_written(written), std::nan("")});
   std::sort(c.values.begin(), c.values.end(), [](const auto& a, const auto& b) { return a.key < b.key; });
-  c.label = label_of(c.values);
+  c.label = condition_label(c.values);
   return c;
 }
 

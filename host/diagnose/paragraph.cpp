@@ -12,22 +12,6 @@ namespace wetdem::diagnose {
 
 namespace {
 
-double chi2_of(const std::vector<CellGap>& g) {
-  double s = 0;
-  for (const CellGap& x : g) s += x.z * x.z;
-  return s;
-}
-
-size_t significant(const std::vector<CellGap>& g) {
-  size_t n = 0;
-  for (const CellGap& x : g) n += x.significant;
-  return n;
-}
-
-bool has_refit(const Report& r) {
-  return !r.spec->refit.empty() && r.settings.size() > 1;
-}
-
 // What the null model with refit leaves (only with refit and a fitted null): a sentence for the paragraph.
 std::string null_refit_sentence(const Report& r) {
   if (!has_refit(r) || r.null_refit_gaps.empty()) return "";

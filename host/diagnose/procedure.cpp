@@ -159,8 +159,14 @@ std::string Procedure::want(const Variant& v, const std::vector<uint64_t>& seeds
 
 std::vector<Prediction> Procedure::predict(const Variant& v, const std::vector<uint64_t>& seeds) const {
   std::vector<Prediction> p;
-  for (size_t k = 0; k < tab.cells.size(); ++k)
-    p.push_back(book.predict(tab.conditions[tab.cell_condition[k]], v, seeds, tab.cells[k].observable));
+  for (size_t k = 0; k < tab.cells.size(); ++k) {
+    const Condition& c = tab.conditions[tab.cell_condition[k]];
+    // A run may not report an observable (the AoR drift of a window that cannot carry it): NaN.
+    if (!book.reports(c, v, seeds, tab.cells[k].observable))
+      p.push_back({std::nan(""), std::nan("")});
+    else
+      p.push_back(book.predict(c, v, seeds, tab.cells[k].observable));
+  }
   return p;
 }
 
@@ -168,8 +174,14 @@ std::vector<Prediction> Procedure::probe(const Variant& v, size_t j) const {
   std::vector<Prediction> p = predict(v, probe_seed);
   const double r = double(base_seeds.size());
   for (size_t k = 0; k < p.size(); ++k) {
+    const double s = std::max(spread[k], std::isfinite(p[k].se) ? p[k].se : 0.0);
+    if (std::isnan(p[k].mean) || std::isnan(seed1[j][k].mean)) {
+      // The probe (or baseline seed 1) does not report this cell: no measured change, and a knot that carries
+      // almost no weight there.
+      p[k] = {baselines[j][k].mean, 3.0 * s * std::sqrt(2.0 + 1.0 / r)};
+      continue;
+    }
     p[k].mean = baselines[j][k].mean + (p[k].mean - seed1[j][k].mean);
-    const double s = std::max(spread[k], p[k].se);
     p[k].se = s * std::sqrt(2.0 + 1.0 / r);
   }
   return p;

@@ -105,7 +105,7 @@ class Procedure {
   std::string failure(const Variant& v, const std::vector<uint64_t>& seeds) const {
     return book.failure(tab.conditions, v, seeds);
   }
-  // Mean and SE over the seeds, per cell.
+  // Mean and SE over the seeds, per cell; NaN where no run of v reports the cell's observable.
   std::vector<Prediction> predict(const Variant& v, const std::vector<uint64_t>& seeds) const;
   // A single-seed probe at refit setting j as a knot of the emulator: common random numbers against seed 1
   // of the baseline at j, on top of that setting's replicate mean; its SE counts the run-to-run spread of the

@@ -13,11 +13,10 @@ namespace fs = std::filesystem;
 
 namespace wetdem::diagnose {
 
-namespace {
-
 double chi2_of(const std::vector<CellGap>& g) {
   double s = 0;
-  for (const CellGap& x : g) s += x.z * x.z;
+  for (const CellGap& x : g)
+    if (std::isfinite(x.z)) s += x.z * x.z;
   return s;
 }
 
@@ -30,6 +29,8 @@ size_t significant(const std::vector<CellGap>& g) {
 bool has_refit(const Report& r) {
   return !r.spec->refit.empty() && r.settings.size() > 1;
 }
+
+namespace {
 
 nlohmann::json num(double x) {
   return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);

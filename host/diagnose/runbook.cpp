@@ -14,6 +14,12 @@ namespace fs = std::filesystem;
 
 namespace wetdem::diagnose {
 
+std::string condition_label(const std::vector<study::AxisValue>& values) {
+  std::string s;
+  for (const auto& a : values) s += (s.empty() ? "" : ", ") + a.key + "=" + a.written;
+  return s;
+}
+
 std::string Variant::label() const {
   std::string l = effect.empty() ? "baseline" : fmt::format("{}@{:.6g}", effect, strength);
   if (!std::isnan(shape)) l += fmt::format("~{:.6g}", shape);
@@ -176,26 +182,32 @@ bool RunBook::reports(const Condition& c, const Variant& v, const std::vector<ui
 Prediction RunBook::predict(const Condition& c, const Variant& v, const std::vector<uint64_t>& seeds,
                             const std::string& observable) const {
   std::vector<double> x;
-  double own_se = 0.0;
+  double own2 = 0.0;  // Σ of the runs' own window SE², over the runs that report one
+  size_t owned = 0;
   for (uint64_t seed : seeds) {
     const nlohmann::json& s = summary_of(c, v, seed);
     if (!s.contains(observable) || !s[observable].is_number()) continue;  // flagged or absent in this run
     x.push_back(s[observable].get<double>());
     const std::string k = sem_key(observable, s);
-    if (!k.empty()) own_se = std::max(own_se, s[k].get<double>());
+    if (!k.empty()) own2 += s[k].get<double>() * s[k].get<double>(), ++owned;
   }
   if (x.empty())
     throw std::runtime_error(fmt::format("no run of {} at {} reports '{}'", v.label(), c.label, observable));
   Prediction p;
   for (double a : x) p.mean += a;
   p.mean /= double(x.size());
+  // Two estimates of the error of the mean: the spread between the seeds (sd/√n, one degree of freedom with
+  // two seeds, so often far too small by chance) and the runs' own window errors (from the autocorrelation of
+  // each window, √(mean SE²/n)). The larger is kept: a cell is never called significant because two seeds
+  // happened to agree.
+  const double within = owned ? std::sqrt(own2 / double(owned) / double(x.size())) : 0.0;
+  double between = 0.0;
   if (x.size() >= 2) {
     double ss = 0;
     for (double a : x) ss += (a - p.mean) * (a - p.mean);
-    p.se = std::sqrt(ss / double(x.size() - 1) / double(x.size()));
-  } else {
-    p.se = own_se;
+    between = std::sqrt(ss / double(x.size() - 1) / double(x.size()));
   }
+  p.se = std::max(between, within);
   return p;
 }
 

@@ -21,6 +21,9 @@ struct Condition {
   std::map<std::string, double> si;      // key -> SI value
 };
 
+// A condition's label from its keys as written: "liquid.content=5 %, drum.omega=3 rad/s".
+std::string condition_label(const std::vector<study::AxisValue>& values);
+
 // A model variant: the baseline (no effect) or one effect at one strength (and, for an effect with a second
 // parameter, one shape: effects.h), at a refit setting (refit.h).
 struct Variant {
@@ -55,8 +58,9 @@ class RunBook {
                      const std::vector<uint64_t>& seeds) const;
   // Steps the run of v at c would take (settle + duration over its dt), from the case alone.
   double steps(const Condition& c, const Variant& v) const;
-  // Replicate mean and SE of `observable` (a summary.json key) over the seeds (SE: sd/√n for n >= 2, else the
-  // run's own window SE when it reports one, else 0). Throws when a run is missing or never reports it.
+  // Replicate mean and SE of `observable` (a summary.json key) over the seeds: SE = max(sd/√n, √(mean own
+  // SE²/n)), the runs' own window errors a floor under the spread of few seeds. Throws when a run is missing
+  // or never reports it.
   Prediction predict(const Condition& c, const Variant& v, const std::vector<uint64_t>& seeds,
                      const std::string& observable) const;
   // Whether any of these runs reports `observable` as a number (e.g. liquid_free_fraction is null in a dry

@@ -12,16 +12,6 @@
 
 namespace wetdem::diagnose {
 
-namespace {
-
-std::string label_of(const std::vector<study::AxisValue>& v) {
-  std::string s;
-  for (const auto& a : v) s += (s.empty() ? "" : ", ") + a.key + "=" + a.written;
-  return s;
-}
-
-}  // namespace
-
 Table read_table(const std::string& path) {
   std::vector<study::Observation> rows;
   try {
@@ -40,7 +30,7 @@ Table read_table(const std::string& path) {
     std::vector<study::AxisValue> v;
     for (const auto& [k, w] : r.conditions) v.push_back({k, w, toml_text_of_written(w), std::nan("")});
     std::sort(v.begin(), v.end(), [](const auto& a, const auto& b) { return a.key < b.key; });
-    const std::string label = label_of(v);
+    const std::string label = condition_label(v);
     if (!r.measured) {
       t.not_measured.push_back(fmt::format("line {}: {} at {}", r.line, r.observable, label));
       continue;

@@ -16,16 +16,6 @@ namespace fs = std::filesystem;
 
 namespace wetdem::diagnose {
 
-namespace {
-
-std::string label_of(const std::vector<study::AxisValue>& v) {
-  std::string s;
-  for (const auto& a : v) s += (s.empty() ? "" : ", ") + a.key + "=" + a.written;
-  return s;
-}
-
-}  // namespace
-
 double noisy_measurement(const std::string& observable, double mean, double sd, std::mt19937_64& rng) {
   const ObservableSpec* o = find_observable(observable);
   const double lo = o ? o->lo : -1e300, hi = o ? o->hi : 1e300;
@@ -50,23 +40,32 @@ nlohmann::json run_twin(const TwinSpec& t, const DiagnoseOptions& o) {
   Variant truth;
   truth.effect = "truth";
   truth.overrides = t.truth;
-  // The Cartesian product of the conditions, in file order (last key fastest).
+  // The conditions: the explicit [[points]], or the Cartesian product of [conditions] (last key fastest).
   std::vector<Condition> conds;
-  std::vector<size_t> idx(t.condition_keys.size(), 0);
-  for (;;) {
+  const auto add = [&](const std::vector<std::pair<std::string, std::string>>& kv) {
     Condition c;
-    for (size_t k = 0; k < idx.size(); ++k) {
-      const std::string& tv = t.condition_toml[k][idx[k]];
+    for (const auto& [key, tv] : kv) {
       std::string written = tv;
       if (written.size() >= 2 && written.front() == '"') written = written.substr(1, written.size() - 2);
-      c.values.push_back({t.condition_keys[k], written, tv, std::nan("")});
+      c.values.push_back({key, written, tv, std::nan("")});
     }
     std::sort(c.values.begin(), c.values.end(), [](const auto& a, const auto& b) { return a.key < b.key; });
-    c.label = label_of(c.values);
+    c.label = condition_label(c.values);
     conds.push_back(c);
-    size_t k = idx.size();
-    while (k > 0 && ++idx[k - 1] == t.condition_toml[k - 1].size()) idx[--k] = 0;
-    if (k == 0) break;
+  };
+  if (!t.points.empty()) {
+    for (const auto& p : t.points) add(p);
+  } else {
+    std::vector<size_t> idx(t.condition_keys.size(), 0);
+    for (;;) {
+      std::vector<std::pair<std::string, std::string>> kv;
+      for (size_t k = 0; k < idx.size(); ++k)
+        kv.emplace_back(t.condition_keys[k], t.condition_toml[k][idx[k]]);
+      add(kv);
+      size_t k = idx.size();
+      while (k > 0 && ++idx[k - 1] == t.condition_toml[k - 1].size()) idx[--k] = 0;
+      if (k == 0) break;
+    }
   }
   for (const auto& [obs, sd] : t.noise) {
     (void)sd;

@@ -31,7 +31,9 @@ std::vector<CellGap> where(const std::vector<Cell>& cells, const std::vector<Pre
   for (size_t k = 0; k < cells.size(); ++k) {
     g[k].gap = cells[k].y - pred[k].mean;
     g[k].z = z_score(cells[k], pred[k]);
-    g[k].p = p[k] = std::erfc(std::fabs(g[k].z) / std::sqrt(2.0));
+    // A prediction the runs could not make (NaN: the model does not report the observable there) is no
+    // evidence of a gap.
+    g[k].p = p[k] = std::isfinite(g[k].z) ? std::erfc(std::fabs(g[k].z) / std::sqrt(2.0)) : 1.0;
   }
   const std::vector<bool> sig = benjamini_hochberg(p, q);
   for (size_t k = 0; k < cells.size(); ++k) g[k].significant = sig[k];

@@ -13,6 +13,7 @@ BufferSet::BufferSet(vk::Context& c, uint32_t num_particles, uint32_t num_cells,
   ctl = vk::Buffer(ctx, ctl::kWords * 4);
   params = vk::Buffer(ctx, uint64_t(std::max<uint32_t>(runs, 1)) * sizeof(GpuParams));
   run_of = vk::Buffer(ctx, N * 4);
+  smp = vk::Buffer(ctx, uint64_t(smp::kHead + smp::kRun * std::max<uint32_t>(runs, 1)) * 4);
   table_buf = vk::Buffer(ctx, sizeof(GpuTable));
   for (int s = 0; s < 2; ++s)
     for (uint32_t f = 0; f < kNumParticleFields; ++f)
@@ -77,6 +78,13 @@ void BufferSet::grow_entries(uint32_t set, uint32_t entries) {
   grow_scratch(entries);
 }
 
+void BufferSet::grow_sample_pairs(uint32_t pairs) {
+  if (pairs <= smp_pair_capacity_) return;
+  smp_pairs = vk::Buffer(ctx, uint64_t(std::max<uint32_t>(pairs, 1)) * 16);
+  smp_pair_capacity_ = pairs;
+  upload_table();
+}
+
 GpuTable BufferSet::table() const {
   GpuTable t{};
   t.ctl = ctl.address();
@@ -102,6 +110,8 @@ GpuTable BufferSet::table() const {
   t.own_scan = own_scan.address();
   t.owners = owners.address();
   t.run_of = run_of.address();
+  t.smp = smp.address();
+  t.smp_pairs = smp_pairs.address();
   return t;
 }
 

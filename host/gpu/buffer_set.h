@@ -72,6 +72,7 @@ struct GpuTable {
   uint64_t p_share, p_gain, p_full, p_offer;
   uint64_t own_scan, owners;
   uint64_t run_of;
+  uint64_t smp, smp_pairs;  // sampling (shaders/common/sample.glsl)
 };
 
 struct BufferSet {
@@ -110,12 +111,18 @@ struct BufferSet {
   // Descriptor set 0 of the kernels (vk::Context::pipeline_layout): the table and run 0's parameter block as
   // uniform buffers. Bound once per command buffer; the table's contents change (regrowth), never its buffer.
   VkDescriptorSet descriptors = VK_NULL_HANDLE;
+  // Sampling (System::sample_runs, shaders/common/sample.glsl): the reduction words (a head and one block per
+  // run) and the compact list of bridged pairs, grown on demand.
+  vk::Buffer smp, smp_pairs;
+  uint32_t smp_pair_capacity() const { return smp_pair_capacity_; }
+  void grow_sample_pairs(uint32_t pairs);  // reallocates (contents lost) and rewrites the table
 
  private:
   void grow_scratch(uint32_t entries);
   uint32_t capacity_[2] = {0, 0};
   uint32_t scratch_capacity_ = 0;
   VkDescriptorPool pool_ = VK_NULL_HANDLE;
+  uint32_t smp_pair_capacity_ = 0;
 };
 
 }  // namespace wetdem::gpu

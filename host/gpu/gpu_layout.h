@@ -133,5 +133,36 @@ enum : uint32_t {
 };
 enum : uint32_t { kAtomic = 1, kGated = 2, kLqFinish = 4, kLqSplit = 8 };  // liquid passes 4b-4d
 }  // namespace mode
+// Sampling words (System::sample_runs), mirror of shaders/common/sample.glsl.
+namespace smp {
+enum : uint32_t {
+  kPairs = 0,     // bridged pairs the pass wrote to the compact list (may exceed the capacity)
+  kCapacity = 1,  // entries of the compact list
+  kHead = 4,      // words before run 0's block
+  kRun = 32,      // words per run
+  // Within a run's block (int64: two words, low first).
+  kMass = 0,
+  kMx = 2,
+  kMy = 4,
+  kMz = 6,
+  kKe = 8,
+  kFilms = 10,
+  kPores = 12,
+  kEvap = 14,
+  kWallLiq = 16,
+  kPairLiq = 18,
+  kContacts = 20,
+  kBridges = 21,
+  kTouchBridged = 22,
+  kWallContacts = 23,
+  kWallBridges = 24,
+  kNonFinite = 25,
+  kMaxOverlap = 26,  // float bits
+  kMaxMass = 27,     // float bits
+  kMaxKe = 28,       // float bits
+  kExtent = 29,      // float, written by the host: the drum's half extent max(R, L/2)
+};
+inline constexpr int kMassBits = 34, kKeBits = 36;  // fixed-point scales (sample.glsl)
+}  // namespace smp
 
 }  // namespace wetdem::gpu

@@ -159,6 +159,10 @@ struct System::Impl {
   void upload(const SystemState& s);
   SystemState download();
   std::vector<std::pair<uint32_t, uint32_t>> neighbour_pairs();
+  // ---- sampling (system_sample.cpp) --------------------------------------------------------------------
+  std::vector<RunSample> sample_runs();
+  std::unique_ptr<vk::Staging> smp_staging;  // kept: a sample every few thousand steps reuses it
+  uint64_t smp_staging_bytes = 0;
   // ---- snapshots -------------------------------------------------------------------------------------
   std::vector<uint8_t> snapshot();
   void restore(const std::vector<uint8_t>& blob);

@@ -18,7 +18,7 @@ DeviceMemory System::device_memory() const {
   for (const vk::Buffer* f : {&b.pair_f, &b.pair_t, &b.partner, &b.owners}) m.entry_scratch += f->size();
   if (b.event_slots) m.entry_scratch += b.ev.size();
   m.grid = b.cell_start.size() + b.cell_end.size();
-  m.control = b.ctl.size() + b.params.size() + b.table_buf.size();
+  m.control = b.ctl.size() + b.params.size() + b.table_buf.size() + b.smp.size() + b.smp_pairs.size();
   return m;
 }
 

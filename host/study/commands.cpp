@@ -10,9 +10,11 @@
 #include <fstream>
 
 #include "app/drum/psd.h"
+#include "app/output/summary.h"
 #include "study/calibrate.h"
 #include "study/collect.h"
 #include "study/executor.h"
+#include "study/probe.h"
 #include "study/refine.h"
 #include "study/slurm.h"
 
@@ -53,6 +55,17 @@ class Impl : public Commands {
     plan_->add_option("--throughput", throughput_,
                       "particle-steps per second for the estimate (default: the "
                       "mean of the study's completed runs)");
+    plan_->add_flag(
+        "--probe", probe_,
+        "measure this device on the study's first batch (a few hundred steps) and estimate from it");
+    plan_->add_option("--batch", batch_, "runs per ensemble, as study run --batch (default 1)")
+        ->check(CLI::PositiveNumber);
+    plan_->add_option("--probe-steps", probe_steps_, "steps timed by --probe (default 200)");
+    plan_->add_option("--device", device_, "device for --probe");
+    plan_->add_option("--budget", budget_,
+                      "seconds available: say which batches fit and how long the rest takes");
+    plan_->add_option("--json", json_, "write the probe and the estimate to this file");
+    plan_->add_option("--reuse", reuse_, "count runs complete in this study directory (same hash) as done");
 
     run_ = study_->add_subcommand("run", "run what is missing; progress line with ETA");
     run_->add_option("study", file_, "study file (TOML)")->required();
@@ -65,6 +78,9 @@ class Impl : public Commands {
                      "default 1)")
         ->check(CLI::PositiveNumber);
     run_->add_flag("--retry-failed", retry_, "rerun runs that failed (FAILED.txt) before");
+    run_->add_option("--reuse", reuse_,
+                     "another study directory: its complete runs with the same hash (same resolved case, "
+                     "seed and code version) are copied, not recomputed (repeatable)");
     run_->add_flag("--no-collect", no_collect_, "do not collect when the runs are done");
     run_->add_flag("--calibrate", calibrate_after_,
                    "calibrate after collecting (the study has observations)");
@@ -95,6 +111,11 @@ class Impl : public Commands {
     slurm_->add_option("--time", so_.time, "time limit per task (Slurm format, e.g. 02:00:00)");
     slurm_->add_option("--gpus-per-task", so_.gpus_per_task, "GPUs per task (default: none requested)");
     slurm_->add_option("--max-parallel", so_.max_parallel, "at most K tasks at once (%K)");
+    slurm_
+        ->add_option("--batch", so_.batch,
+                     "one task per batch of up to K runs stepped together as an ensemble (run-batch; "
+                     "the batches of study run --batch K)")
+        ->check(CLI::PositiveNumber);
     slurm_->add_option("--device", so_.device, "device for every run");
     slurm_->add_flag("--retry-failed", so_.retry_failed, "include runs that failed before");
     slurm_->add_flag("--submit", submit_, "submit with sbatch");
@@ -171,7 +192,7 @@ class Impl : public Commands {
     size_t done = 0;
     for (const PlannedRun& r : runs) {
       const auto [n, steps] = size_of(r.resolved);
-      const RunState st = run_state((fs::path(dir) / "runs" / r.hash).string());
+      const RunState st = state_with_reuse(dir, r.hash);
       std::string vals;
       for (const AxisValue& a : r.values) vals += (vals.empty() ? "" : ", ") + a.key + " = " + a.written;
       std::printf("%5zu %5zu %6llu %-16s %-10s %9.0f %9.0f  %s\n", r.index, r.point,
@@ -184,6 +205,7 @@ class Impl : public Commands {
     }
     std::printf("%zu of %zu runs complete; %.3g particle-steps to compute (%.3g in all)\n", done, runs.size(),
                 ps_todo, ps_all);
+    if (probe_) return probe_and_estimate(s, runs, dir);
     if (tp > 0)
       std::printf(
           "estimated cost: %.3g s of device time at %.3g particle-steps/s (%s); excludes start-up, "
@@ -197,6 +219,66 @@ class Impl : public Commands {
     return 0;
   }
 
+  // A run's state in DIR, or complete when a --reuse directory holds it complete (study run copies it).
+  RunState state_with_reuse(const std::string& dir, const std::string& hash) const {
+    const RunState st = run_state((fs::path(dir) / "runs" / hash).string());
+    if (st == RunState::Complete) return st;
+    for (const std::string& other : reuse_)
+      if (run_state((fs::path(other) / "runs" / hash).string()) == RunState::Complete)
+        return RunState::Complete;
+    return st;
+  }
+
+  // --probe: the device measured on the first batch of the runs still to compute, then the estimate.
+  int probe_and_estimate(const StudySpec& s, const std::vector<PlannedRun>& runs, const std::string& dir) {
+    std::vector<PlannedRun> todo;
+    for (const PlannedRun& r : runs)
+      if (state_with_reuse(dir, r.hash) != RunState::Complete) todo.push_back(r);
+    nlohmann::json j = {
+        {"study", s.name}, {"runs", runs.size()}, {"to_compute", todo.size()}, {"batch", batch_}};
+    if (todo.empty()) {
+      std::printf("nothing to compute: every run is complete\n");
+    } else {
+      const ProbeResult p = probe(todo, batch_, probe_steps_, device_);
+      const Estimate e = estimate(todo, batch_, p);
+      std::printf(
+          "probe on %s: %zu runs (%zu particles) stepped together, %llu steps at %.3g ms per step: %.3g "
+          "particle-steps/s; a sample of the batch %.3g ms; set-up %.3g s per run\n",
+          p.device.c_str(), p.runs, p.particles, (unsigned long long)p.steps, 1e3 * p.step_s,
+          p.particle_steps_per_s, 1e3 * p.sample_s, p.setup_s_per_run);
+      std::printf(
+          "estimate: %zu runs in %zu batches of up to %zu, %.3g particle-steps: %.0f s (%.1f min) = set-up "
+          "%.0f s "
+          "+ steps %.0f s + samples %.0f s (measured on the first steps of a freshly filled bed: a guide, "
+          "not a "
+          "promise)\n",
+          e.runs, e.batches, batch_, e.particle_steps, e.total_s(), e.total_s() / 60.0, e.setup_s, e.step_s,
+          e.sample_s);
+      if (budget_ > 0) {
+        double t = 0;
+        size_t fit = 0;
+        for (double b : e.batch_s) {
+          if (t + b > budget_) break;
+          t += b, ++fit;
+        }
+        if (fit == e.batches)
+          std::printf("budget %.0f s: everything fits (%.0f s)\n", budget_, e.total_s());
+        else
+          std::printf(
+              "budget %.0f s: does NOT fit: the %zu runs take %.0f s (%.1f min); %zu of %zu batches fit "
+              "(%.0f s); "
+              "the rest needs %.0f s more\n",
+              budget_, e.runs, e.total_s(), e.total_s() / 60.0, fit, e.batches, t, e.total_s() - t);
+        j["budget_s"] = budget_;
+        j["batches_in_budget"] = fit;
+      }
+      j["probe"] = to_json(p);
+      j["estimate"] = to_json(e);
+    }
+    if (!json_.empty()) app::write_file_atomic(json_, j.dump(2) + "\n");
+    return 0;
+  }
+
   static void on_signal(int s) {
     request_study_interrupt();
     std::signal(s, SIG_DFL);
@@ -207,6 +289,20 @@ class Impl : public Commands {
     const std::vector<PlannedRun> runs = expand(s);  // every override validated before anything runs
     const std::string dir = dir_.empty() ? default_dir(s) : dir_;
     write_plan(dir, s, runs);
+    // Runs another study already computed: the same hash is the same computation (study_file.h), copied.
+    for (const std::string& other : reuse_) {
+      size_t copied = 0;
+      for (const PlannedRun& r : runs) {
+        const fs::path from = fs::path(other) / "runs" / r.hash, to = fs::path(dir) / "runs" / r.hash;
+        if (run_state(to.string()) == RunState::Complete || run_state(from.string()) != RunState::Complete)
+          continue;
+        fs::remove_all(to);
+        fs::create_directories(to.parent_path());
+        fs::copy(from, to, fs::copy_options::recursive);
+        ++copied;
+      }
+      std::printf("reused %zu complete runs of %s\n", copied, other.c_str());
+    }
     for (int sig : {SIGINT, SIGTERM}) std::signal(sig, on_signal);
     ExecOptions eo;
     eo.jobs = jobs_;
@@ -280,8 +376,12 @@ class Impl : public Commands {
                   s.name.c_str(), dir.c_str());
       return 0;
     }
-    std::printf("wrote %s: %zu array tasks (%s)\n", sc.path.c_str(), sc.indices.size(),
-                array_spec(sc.indices).c_str());
+    if (sc.batches.empty())
+      std::printf("wrote %s: %zu array tasks (%s)\n", sc.path.c_str(), sc.indices.size(),
+                  array_spec(sc.indices).c_str());
+    else
+      std::printf("wrote %s: %zu array tasks, one per batch of up to %zu runs\n", sc.path.c_str(),
+                  sc.batches.size(), so_.batch);
     if (!submit_) {
       std::printf("%s\n", sc.sbatch_line.c_str());
       return 0;
@@ -323,11 +423,14 @@ class Impl : public Commands {
 
   CLI::App *study_ = nullptr, *plan_ = nullptr, *run_ = nullptr, *one_ = nullptr, *batch_cmd_ = nullptr,
            *slurm_ = nullptr, *collect_ = nullptr, *cal_ = nullptr;
-  std::string file_, dir_, device_;
-  double throughput_ = 0;
+  std::string file_, dir_, device_, json_;
+  double throughput_ = 0, budget_ = 0;
+  uint64_t probe_steps_ = 200;
+  bool probe_ = false;
   int jobs_ = 1;
   size_t index_ = 0, refine_ = 0, batch_ = 1;
   std::vector<size_t> indices_;
+  std::vector<std::string> reuse_;
   bool retry_ = false, no_collect_ = false, calibrate_after_ = false, quiet_ = false, submit_ = false,
        no_figures_ = false;
   SlurmOptions so_;

@@ -62,7 +62,50 @@ std::string first_line(const fs::path& p) {
   return l;
 }
 
+// The study indices of the runs of the batch (stopped with a checkpoint) that run `index` belongs to, in the
+// batch's order; empty when it belongs to none. A batch member outside the study cannot be resumed from it.
+std::vector<size_t> batch_of(const std::string& dir, const StudyIndex& ix, size_t index) {
+  const std::vector<std::string> members =
+      app::ensemble_members((fs::path(dir) / ix.runs[index].run_dir).string());
+  std::vector<size_t> out;
+  for (const std::string& m : members) {
+    bool found = false;
+    for (const IndexEntry& e : ix.runs)
+      if (fs::exists(fs::path(dir) / e.run_dir) && fs::equivalent(fs::path(dir) / e.run_dir, m)) {
+        out.push_back(e.index);
+        found = true;
+        break;
+      }
+    if (!found)
+      throw StudyError(fmt::format(
+          "{}: run {} was stepped in a batch with {}, which is not a run of this study", dir, index, m));
+  }
+  return out;
+}
+
 }  // namespace
+
+std::vector<std::vector<size_t>> plan_batches(const std::string& dir, const std::vector<size_t>& todo,
+                                              size_t batch) {
+  const StudyIndex ix = read_index(dir);
+  std::vector<std::vector<size_t>> out;
+  std::vector<bool> taken(ix.runs.size(), false);
+  for (size_t i : todo) {
+    if (i >= ix.runs.size() || taken[i]) continue;
+    const std::vector<size_t> b = batch_of(dir, ix, i);
+    if (b.empty()) continue;
+    for (size_t m : b) taken[m] = true;
+    out.push_back(b);
+  }
+  std::vector<size_t> cur;
+  for (size_t i : todo) {
+    if (i >= ix.runs.size() || taken[i]) continue;
+    cur.push_back(i);
+    if (cur.size() >= std::max<size_t>(1, batch)) out.push_back(cur), cur.clear();
+  }
+  if (!cur.empty()) out.push_back(cur);
+  return out;
+}
 
 void request_study_interrupt() {
   g_stop = 1;
@@ -85,6 +128,8 @@ OneResult run_one(const std::string& dir, size_t index, const std::string& devic
   OneResult r;
   const RunState st = run_state(run_dir.string());
   if (st == RunState::Complete) return r.skipped = true, r;
+  if (!app::ensemble_members(run_dir.string()).empty())  // stopped inside a batch: resumes with it
+    return run_batch_of(dir, {index}, device, quiet, configure)[0];
   const std::string case_file = (fs::path(dir) / e.case_file).string();
   // The hash names what the run computes: refuse to compute something else under it.
   const app::Case c = app::parse_case_file(case_file);
@@ -125,12 +170,69 @@ std::vector<OneResult> run_batch_of(
   // Fresh runs, grouped by what they must share to be stepped together (their prepared dt, drum, schedule).
   std::map<std::string, std::vector<size_t>> groups;  // key -> positions in `indices`
   std::vector<app::RunOptions> opts(indices.size());
+  // Batches stopped with a checkpoint: resumed whole, once, before anything else.
+  std::vector<std::vector<size_t>> resumed;
+  std::map<size_t, std::pair<size_t, size_t>> in_resumed;  // study index -> (batch, position)
   for (size_t q = 0; q < indices.size(); ++q) {
     const size_t index = indices[q];
     if (index >= ix.runs.size())
       throw StudyError(fmt::format("{}: no run {} (the study has {} runs)", dir, index, ix.runs.size()));
+    if (in_resumed.count(index) ||
+        run_state((fs::path(dir) / ix.runs[index].run_dir).string()) == RunState::Complete)
+      continue;
+    const std::vector<size_t> b = batch_of(dir, ix, index);
+    if (b.empty()) continue;
+    for (size_t m = 0; m < b.size(); ++m) in_resumed[b[m]] = {resumed.size(), m};
+    resumed.push_back(b);
+  }
+  std::unique_ptr<vk::Context> own;
+  auto context_for = [&](const app::RunOptions& ro) {
+    if (ro.context) return ro.context;
+    if (!own) {
+      vk::ContextOptions co;
+      co.device = device;
+      co.quiet = true;
+      own = std::make_unique<vk::Context>(co);
+    }
+    return own.get();
+  };
+  std::vector<std::vector<OneResult>> resumed_res(resumed.size());
+  for (size_t b = 0; b < resumed.size(); ++b) {
+    std::vector<app::RunOptions> batch;
+    for (size_t index : resumed[b]) {
+      const IndexEntry& e = ix.runs[index];
+      const app::Case c = app::parse_case_file((fs::path(dir) / e.case_file).string());
+      if (run_hash(c, e.seed) != e.hash)
+        throw StudyError(fmt::format("{}: run {} was planned by wetdem {} (hash {}); this is {}: plan again",
+                                     dir, index, ix.code_version, e.hash, code_version()));
+      app::RunOptions ro;
+      ro.device = device;
+      ro.quiet = true;
+      ro.progress_tty = 0;
+      ro.resume_dir = (fs::path(dir) / e.run_dir).string();
+      if (configure) configure(e, ro);
+      batch.push_back(ro);
+    }
+    resumed_res[b].assign(batch.size(), OneResult{});
+    for (OneResult& o : resumed_res[b]) o.resumed = true;
+    try {
+      const std::vector<app::RunResult> rr = app::run_batch(batch, *context_for(batch[0]));
+      for (size_t m = 0; m < rr.size(); ++m) {
+        resumed_res[b][m].completed = rr[m].completed;
+        if (!rr[m].completed) resumed_res[b][m].error = "stopped before the end (resumable)";
+      }
+    } catch (const std::exception& ex) {
+      for (OneResult& o : resumed_res[b]) o.error = ex.what();
+    }
+  }
+  for (size_t q = 0; q < indices.size(); ++q) {
+    const size_t index = indices[q];
     const IndexEntry& e = ix.runs[index];
     const fs::path run_dir = fs::path(dir) / e.run_dir;
+    if (const auto it = in_resumed.find(index); it != in_resumed.end()) {
+      res[q] = resumed_res[it->second.first][it->second.second];
+      continue;
+    }
     const RunState st = run_state(run_dir.string());
     if (st == RunState::Complete) {
       res[q].skipped = true;
@@ -166,23 +268,15 @@ std::vector<OneResult> run_batch_of(
     }
     groups[key].push_back(q);
   }
-  std::unique_ptr<vk::Context> own;
   for (const auto& [key, members] : groups) {
     std::vector<app::RunOptions> batch;
     for (size_t q : members) batch.push_back(opts[q]);
-    vk::Context* ctx = batch[0].context;
-    if (!ctx) {
-      if (!own) {
-        vk::ContextOptions co;
-        co.device = device;
-        co.quiet = true;
-        own = std::make_unique<vk::Context>(co);
-      }
-      ctx = own.get();
-    }
     try {
-      const std::vector<app::RunResult> rr = app::run_batch(batch, *ctx);
-      for (size_t m = 0; m < members.size(); ++m) res[members[m]].completed = rr[m].completed;
+      const std::vector<app::RunResult> rr = app::run_batch(batch, *context_for(batch[0]));
+      for (size_t m = 0; m < members.size(); ++m) {
+        res[members[m]].completed = rr[m].completed;
+        if (!rr[m].completed) res[members[m]].error = "stopped before the end (resumable)";
+      }
     } catch (const std::exception& ex) {
       for (size_t q : members) res[q].error = ex.what();
     }
@@ -211,6 +305,13 @@ ExecReport run_study(const std::string& dir, const ExecOptions& opt) {
     }
   }
   const size_t todo = queue.size();
+  const size_t batch = std::max<size_t>(1, opt.batch);
+  // The processes' work: batches stopped with a checkpoint first, whole, then `batch` runs at a time.
+  std::deque<std::vector<size_t>> batches;
+  for (auto& b : plan_batches(dir, std::vector<size_t>(queue.begin(), queue.end()), batch))
+    batches.push_back(b);
+  queue.clear();
+  size_t queued = todo;
   const bool tty = isatty(STDOUT_FILENO);
   size_t running = 0, finished = 0;
   double finished_wall = 0;
@@ -226,7 +327,7 @@ ExecReport run_study(const std::string& dir, const ExecOptions& opt) {
     const std::string line = fmt::format(
         "study {}: {}/{} done ({} already), {} running, {} failed, {} queued | elapsed {}, ETA {}", ix.name,
         rep.already_complete + rep.completed, rep.total, rep.already_complete, running,
-        rep.failed + rep.skipped_failed, queue.size(), hms(el), final_line ? "-" : eta);
+        rep.failed + rep.skipped_failed, queued, hms(el), final_line ? "-" : eta);
     if (line == last && !final_line) return;
     last = line;
     if (tty)
@@ -258,17 +359,17 @@ ExecReport run_study(const std::string& dir, const ExecOptions& opt) {
   };
   progress(false);
 
-  const size_t batch = std::max<size_t>(1, opt.batch);
   if (opt.exe.empty()) {
-    while (!queue.empty() && !g_stop) {
-      std::vector<size_t> take;
-      while (!queue.empty() && take.size() < batch) take.push_back(queue.front()), queue.pop_front();
+    while (!batches.empty() && !g_stop) {
+      const std::vector<size_t> take = batches.front();
+      batches.pop_front();
+      queued -= take.size();
       rep.started += take.size(), running = take.size();
       progress(false);
       const auto ts = Clock::now();
       std::vector<OneResult> r(take.size());
       try {
-        if (batch > 1)
+        if (take.size() > 1 || batch > 1)
           r = run_batch_of(dir, take, opt.device, true, opt.configure);
         else
           r[0] = run_one(dir, take[0], opt.device, true, opt.configure);
@@ -283,26 +384,28 @@ ExecReport run_study(const std::string& dir, const ExecOptions& opt) {
   } else {
     std::map<pid_t, std::pair<std::vector<size_t>, Clock::time_point>> live;
     bool signalled = false;
-    while (!queue.empty() || !live.empty()) {
+    while (!batches.empty() || !live.empty()) {
       if (g_stop) {
-        queue.clear();
+        batches.clear();
+        queued = 0;
         // A run stops at its next step boundary on SIGTERM; its last checkpoint stays for the next `study
         // run`.
         if (!signalled)
           for (const auto& [pid, v] : live) ::kill(pid, SIGTERM);
         signalled = true;
       }
-      while (!g_stop && !queue.empty() && live.size() < size_t(std::max(1, opt.jobs))) {
-        std::vector<size_t> take;
-        while (!queue.empty() && take.size() < batch) take.push_back(queue.front()), queue.pop_front();
+      while (!g_stop && !batches.empty() && live.size() < size_t(std::max(1, opt.jobs))) {
+        const std::vector<size_t> take = batches.front();
+        batches.pop_front();
+        queued -= take.size();
+        const bool as_batch = take.size() > 1 || batch > 1;
         std::string idx;
         for (size_t q : take) idx += (idx.empty() ? "" : ",") + std::to_string(q);
         // One process per run (run-one), or per batch of runs stepped together (run-batch).
         const std::string log =
-            (fs::path(dir) / "logs" / fmt::format("{}-{}.log", batch > 1 ? "batch" : "run", take[0]))
-                .string();
+            (fs::path(dir) / "logs" / fmt::format("{}-{}.log", as_batch ? "batch" : "run", take[0])).string();
         std::vector<std::string> args = {
-            opt.exe, "study", batch > 1 ? "run-batch" : "run-one", dir, "--index", idx, "--quiet"};
+            opt.exe, "study", as_batch ? "run-batch" : "run-one", dir, "--index", idx, "--quiet"};
         if (!opt.device.empty()) args.insert(args.end(), {"--device", opt.device});
         std::fflush(stdout);
         const pid_t pid = ::fork();
@@ -322,7 +425,7 @@ ExecReport run_study(const std::string& dir, const ExecOptions& opt) {
         for (const auto& [p, v] : live) running += v.first.size();
         progress(false);
       }
-      if (queue.empty() && live.empty()) break;
+      if (batches.empty() && live.empty()) break;
       int status = 0;
       const pid_t pid = ::waitpid(-1, &status, WNOHANG);
       if (pid <= 0) {
@@ -343,7 +446,8 @@ ExecReport run_study(const std::string& dir, const ExecOptions& opt) {
         if (!ok) {
           why = (WIFSIGNALED(status) ? fmt::format("killed by signal {}", WTERMSIG(status))
                                      : fmt::format("exit {}", WEXITSTATUS(status))) +
-                fmt::format(" (see logs/{}-{}.log)", batch > 1 ? "batch" : "run", done_runs[0]);
+                fmt::format(" (see logs/{}-{}.log)", done_runs.size() > 1 || batch > 1 ? "batch" : "run",
+                            done_runs[0]);
           const std::string l = first_line(fs::path(dir) / e.run_dir / "FAILED.txt");
           if (!l.empty()) why = l;
         }

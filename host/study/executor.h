@@ -19,19 +19,26 @@ struct OneResult {
   std::string error;       // why it failed or stopped
 };
 
-// Runs run `index` of the study in DIR in this process: skips a complete run, resumes one with a checkpoint,
-// restarts a partial one. `configure` may adjust the RunOptions (tests: stop_after_steps, on_sample,
-// context).
+// Runs run `index` of the study in DIR in this process: skips a complete run, resumes one with a checkpoint
+// (a run stopped inside a batch resumes with its batch: run_batch_of), restarts a partial one. `configure`
+// may adjust the RunOptions (tests: stop_after_steps, on_sample, context).
 OneResult run_one(const std::string& dir, size_t index, const std::string& device, bool quiet,
                   const std::function<void(const IndexEntry&, app::RunOptions&)>& configure = {});
 
 // Runs `indices` of the study in DIR in this process as ensembles (docs/ensembles.md): complete runs are
-// skipped, runs with a checkpoint resume alone (run_one); the fresh ones are grouped by what an ensemble's
-// runs must share (dt, drum, schedule) and each group is stepped together in one System (app::run_batch),
-// each run bitwise what it computes alone. One result per index, in order.
+// skipped, runs with their own checkpoint resume alone (run_one), runs of a batch stopped with a checkpoint
+// resume with that batch (all its runs, also those not in `indices`); the fresh ones are grouped by what an
+// ensemble's runs must share (dt, drum, schedule) and each group is stepped together in one System
+// (app::run_batch), each run bitwise what it computes alone. One result per index, in order.
 std::vector<OneResult> run_batch_of(
     const std::string& dir, const std::vector<size_t>& indices, const std::string& device, bool quiet,
     const std::function<void(const IndexEntry&, app::RunOptions&)>& configure = {});
+
+// How the runs `todo` (indices, in order) are handed out: first every batch stopped with a checkpoint (all
+// its runs, in the order they were stepped: app/run/ensemble.h), then the others `batch` at a time. Used by
+// run_study and `study slurm --batch` alike, so a cluster runs the same ensembles.
+std::vector<std::vector<size_t>> plan_batches(const std::string& dir, const std::vector<size_t>& todo,
+                                              size_t batch);
 
 struct ExecOptions {
   int jobs = 1;

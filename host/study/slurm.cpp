@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <stdexcept>
@@ -44,12 +45,33 @@ SlurmScript write_slurm(const std::string& dir, const SlurmOptions& opt) {
     s.indices.push_back(e.index);
   }
   if (s.indices.empty()) return s;
+  // Batches: the same ones `study run --batch` would step (and any batch stopped with a checkpoint, whole).
+  std::vector<std::vector<size_t>> b = plan_batches(d.string(), s.indices, opt.batch);
+  const bool batched =
+      opt.batch > 1 || std::any_of(b.begin(), b.end(), [](const auto& v) { return v.size() > 1; });
+  if (batched) {
+    s.batches = b;
+    s.indices.clear();
+    for (size_t t = 0; t < b.size(); ++t) s.indices.push_back(t);
+  }
   fs::create_directories(d / "slurm" / "logs");
   const std::string exe = opt.exe.empty() ? self_exe() : opt.exe;
   std::string t = "#!/bin/bash\n";
-  t += fmt::format("# wetdem study {}: one array task per missing run ({} of {}), written by wetdem {}.\n",
-                   ix.name, s.indices.size(), ix.runs.size(), code_version());
-  t += "# Each task runs one run of DIR/index.json; tasks are independent. Collect when the array is done:\n";
+  if (batched) {
+    size_t runs = 0;
+    for (const auto& v : s.batches) runs += v.size();
+    t += fmt::format(
+        "# wetdem study {}: one array task per batch of up to {} runs ({} tasks, {} of {} runs), written by "
+        "wetdem {}.\n",
+        ix.name, opt.batch, s.batches.size(), runs, ix.runs.size(), code_version());
+    t += "# Each task steps its runs as one ensemble (README \"Ensembles\"); tasks are independent. A task\n"
+         "# stopped by its time limit leaves a checkpoint: submit again and it resumes. Collect when done:\n";
+  } else {
+    t += fmt::format("# wetdem study {}: one array task per missing run ({} of {}), written by wetdem {}.\n",
+                     ix.name, s.indices.size(), ix.runs.size(), code_version());
+    t += "# Each task runs one run of DIR/index.json; tasks are independent. Collect when the array is "
+         "done:\n";
+  }
   t += fmt::format("#   {} study collect {}\n", exe, d.string());
   t += fmt::format("#SBATCH --job-name=wetdem-{}\n", ix.name);
   std::string arr = array_spec(s.indices);
@@ -61,8 +83,20 @@ SlurmScript write_slurm(const std::string& dir, const SlurmOptions& opt) {
   if (!opt.time.empty()) t += fmt::format("#SBATCH --time={}\n", opt.time);
   if (opt.gpus_per_task > 0) t += fmt::format("#SBATCH --gpus-per-task={}\n", opt.gpus_per_task);
   t += "set -eu\n";
-  t += fmt::format("exec {} study run-one {} --index \"$SLURM_ARRAY_TASK_ID\" --quiet{}\n", sq(exe),
-                   sq(d.string()), opt.device.empty() ? "" : " --device " + sq(opt.device));
+  if (batched) {
+    t += "BATCHES=(";
+    for (const auto& v : s.batches) {
+      std::string idx;
+      for (size_t i : v) idx += (idx.empty() ? "" : ",") + std::to_string(i);
+      t += " " + idx;
+    }
+    t += " )\n";
+    t += fmt::format("exec {} study run-batch {} --index \"${{BATCHES[$SLURM_ARRAY_TASK_ID]}}\" --quiet{}\n",
+                     sq(exe), sq(d.string()), opt.device.empty() ? "" : " --device " + sq(opt.device));
+  } else {
+    t += fmt::format("exec {} study run-one {} --index \"$SLURM_ARRAY_TASK_ID\" --quiet{}\n", sq(exe),
+                     sq(d.string()), opt.device.empty() ? "" : " --device " + sq(opt.device));
+  }
   s.path = (d / "slurm" / "study.sbatch").string();
   app::write_file_atomic(s.path, t);
   fs::permissions(s.path, fs::perms::owner_exec | fs::perms::group_exec, fs::perm_options::add);

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "app/output/summary.h"
+#include "app/run/ensemble.h"
 
 namespace wetdem::study {
 
@@ -157,7 +158,9 @@ RunState run_state(const std::string& run_dir, std::string* reason) {
   const fs::path d(run_dir);
   if (fs::exists(d / "summary.json")) return RunState::Complete;
   if (!fs::exists(d)) return RunState::Missing;
-  const bool ckpt = fs::exists(d / "checkpoint") || fs::exists(d / "checkpoint.old");
+  // Its own checkpoint, or that of the batch it was stepped in (app/run/ensemble.h).
+  const bool ckpt = fs::exists(d / "checkpoint") || fs::exists(d / "checkpoint.old") ||
+                    !app::ensemble_members(run_dir).empty();
   if (fs::exists(d / "FAILED.txt")) {
     std::string why = slurp(d / "FAILED.txt");
     while (!why.empty() && (why.back() == '\n' || why.back() == '\r')) why.pop_back();

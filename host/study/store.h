@@ -43,8 +43,9 @@ nlohmann::json index_to_json(const StudyIndex& ix);
 enum class RunState { Missing, Partial, Resumable, Interrupted, Failed, Complete };
 const char* state_name(RunState s);
 // Partial: a folder without summary or checkpoint (killed before its first checkpoint): restarts fresh.
-// Resumable: checkpoint, no summary (stopped); Interrupted: FAILED.txt saying "interrupted" + checkpoint;
-// Failed: FAILED.txt with another reason (in *reason). Complete: summary.json.
+// Resumable: checkpoint (its own, or its batch's: app/run/ensemble.h), no summary (stopped); Interrupted:
+// FAILED.txt saying "interrupted" + checkpoint; Failed: FAILED.txt with another reason (in *reason).
+// Complete: summary.json.
 RunState run_state(const std::string& run_dir, std::string* reason = nullptr);
 
 }  // namespace wetdem::study

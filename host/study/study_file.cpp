@@ -87,7 +87,7 @@ std::string override_of(const AxisValue& v) {
 }
 
 std::string code_version() {
-  return wetdem::code_version();
+  return wetdem::run_version();
 }
 
 std::string run_hash(const app::Case& c, uint64_t seed, const std::string& version) {

@@ -75,6 +75,18 @@ struct DeviceMemory {
   }
 };
 
+// What a drum sample needs, computed on the device and brought back in one transfer (System::sample_runs).
+struct RunSample {
+  // The reductions of compute_observables (its CPU reference): touching, bridged and wall pairs, f_wet, the
+  // largest overlap, liquid in films, bridges, pores and evaporated (exact integers), the centre of mass and
+  // the kinetic energy (fixed-point sums on the run's own scales: ~1e-10 relative; NaN energy when a
+  // particle's energy or position is not finite).
+  Observables obs;
+  // A slim state in the run's stable ids: p.x, p.v, p.radius and p.mass, and in `pairs` the bridged pairs
+  // (ids and volume; springs and flags not read). Every other particle array is empty. Time and step set.
+  SystemState bed;
+};
+
 class System {
  public:
   System(vk::Context& ctx, const SimParams& prm, size_t num_particles, SystemOptions opt = {});
@@ -121,6 +133,9 @@ class System {
   std::vector<std::pair<uint32_t, uint32_t>> neighbour_pairs();
 
   Observables observables();
+  // One per run, for drum samples: the device's reductions and the slim state a camera needs (RunSample).
+  // Deterministic; each run of an ensemble gets bitwise what it gets alone.
+  std::vector<RunSample> sample_runs();
   EventCounts read_events();  // formations/ruptures since the last call
   SystemCounters counters() const;
   std::vector<PassTiming> pass_timings() const;

@@ -50,6 +50,7 @@ layout(set = 0, binding = 0, scalar) uniform Table {
   uint64_t p_share, p_gain, p_full, p_offer;
   uint64_t own_scan, owners;  // owner entries per particle (scanned) and the owner list of the current set
   uint64_t run_of;            // ensembles: the run of each stable id (uint); unused with one run
+  uint64_t smp, smp_pairs;    // sampling: reductions per run and the compact list of bridged pairs (sample.glsl)
 } TBL;
 
 layout(push_constant) uniform Push {

@@ -74,7 +74,7 @@ void wall_contact(uint w, uint i, uint s, Params P, inout vec3 F, inout vec3 Tq)
     contact_force(P.pw[w], P.dt, n, delta, r, pr.y, vrel, wi - wom3, st, sr, Fw, t);
   }
   Effects X = P.fx[1u + w];
-  if (vb > 0) {
+  if (vb > 0 && S < L.range) {  // only inside the interaction range (pair_force.comp)
     float Rh = 2.0 * r;
     float f0 = (S > 0.0 ? X.f0r_per_Rh : L.f0_per_Rh) * Rh;  // hysteresis: theta_r once separated
     Fw -= capillary_force(S, Rh, float(vb) * L.unit_m3, f0) * n;
@@ -85,7 +85,7 @@ void wall_contact(uint w, uint i, uint s, Params P, inout vec3 F, inout vec3 Tq)
   }
   if (delta > 0.0 && X.adhesion > 0.0) Fw -= X.adhesion * r * n;  // `cohesion`, R* = r
   if (L.enabled != 0u) {
-    if (vb > 0 && S >= rupture_gap(L, vb)) fl |= FLAG_RUPT;
+    if (vb > 0 && (S >= rupture_gap(L, vb) || S >= L.range)) fl |= FLAG_RUPT;
     if (vb == 0 && (fl & FLAG_WIC) == 0u && delta >= 0.0) fl |= FLAG_FORM;
     if (vb == 0 && S > 0.0) fl &= ~FLAG_WIC;
   }

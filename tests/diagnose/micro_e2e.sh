@@ -1,36 +1,28 @@
 #!/usr/bin/env bash
 # End to end on the micro drum, through the CLI: a twin whose liquid was poorly mixed in (40 % of the particles
-# wetted, withheld) is diagnosed as `effect: spread` with a held-out shrink >= 50 %, and a null twin (noise only) gets no effect. Both share one
-# run store, so the null's baseline and screen runs are the first diagnosis's. The diagnosis runs with each
-# twin's truth.json moved away (it must not need it).
+# wetted, withheld) is diagnosed as `effect: spread` with a held-out shrink >= 50 %, and a null twin (noise only)
+# gets no effect. Both share one run store, so the null's baseline and screen runs are the first diagnosis's.
+# The diagnosis runs with each twin's truth.json moved away (it must not need it).
 # usage: micro_e2e.sh WETDEM SOURCE_DIR
-set -euo pipefail
-W=$1
-SRC=$2
-D=$(mktemp -d)
-trap 'rm -rf "$D"' EXIT
-J() { /usr/bin/python3 -c "import json,sys; j=json.load(open(sys.argv[1])); print(eval(sys.argv[2]))" "$@"; }
+source "$(dirname "$0")/lib.sh" "$@"
 
-t0=$(date +%s)
 "$W" twin "$SRC/assets/diagnosis/micro/twin_spread.toml" --out "$D/ts" --store "$D/store" --quiet
 # A dry condition has no liquid_free_fraction: the twin writes no row for it and says so in truth.json.
-[ "$(J "$D/ts/truth.json" '[x["observable"] for x in j["not_reported"]]')" = "['liquid_free_fraction']" ] ||
-  { echo "FAIL: the dry liquid_free_fraction cell"; exit 1; }
+expect "$D/ts/truth.json" '[x["observable"] for x in j["not_reported"]] == ["liquid_free_fraction"]' \
+  "the dry liquid_free_fraction cell"
 grep -q '"0 %",liquid_free_fraction' "$D/ts/observations.csv" && { echo "FAIL: a row for an unreported cell"; exit 1; }
 mv "$D/ts/truth.json" "$D/truth-spread.json"
 "$W" diagnose "$SRC/tests/diagnose/micro_ci.toml" --observations "$D/ts/observations.csv" --out "$D/ds" \
   --store "$D/store" --quiet --no-figures
-v=$(J "$D/ds/diagnosis.json" 'j["verdict"], j["effect"], round(j["held_out_shrink"] or 0, 3)')
-echo "withheld spread: $v"
-[ "$(J "$D/ds/diagnosis.json" 'j["verdict"]')" = effect ] || { echo "FAIL: verdict is not effect"; cat "$D/ds/report.md"; exit 1; }
-[ "$(J "$D/ds/diagnosis.json" 'j["effect"]')" = spread ] || { echo "FAIL: wrong effect"; cat "$D/ds/report.md"; exit 1; }
-[ "$(J "$D/ds/diagnosis.json" 'j["held_out_shrink"] >= 0.5')" = True ] || { echo "FAIL: shrink < 0.5"; exit 1; }
+echo "withheld spread: $(J "$D/ds/diagnosis.json" 'j["verdict"], j["effect"], round(j["held_out_shrink"] or 0, 3)')"
+expect "$D/ds/diagnosis.json" 'j["verdict"] == "effect"' "verdict is not effect" "$D/ds/report.md"
+expect "$D/ds/diagnosis.json" 'j["effect"] == "spread"' "wrong effect" "$D/ds/report.md"
+expect "$D/ds/diagnosis.json" 'j["held_out_shrink"] >= 0.5' "shrink < 0.5"
 
 "$W" twin "$SRC/assets/diagnosis/micro/twin_null.toml" --out "$D/tn" --store "$D/store" --quiet
 mv "$D/tn/truth.json" "$D/truth-null.json"
 "$W" diagnose "$SRC/tests/diagnose/micro_ci.toml" --observations "$D/tn/observations.csv" --out "$D/dn" \
   --store "$D/store" --quiet --no-figures
-v=$(J "$D/dn/diagnosis.json" 'j["verdict"], j["effect"], j["runs_computed"]')
-echo "null: $v"
-[ "$(J "$D/dn/diagnosis.json" 'j["verdict"] != "effect"')" = True ] || { echo "FAIL: a null twin got an effect"; cat "$D/dn/report.md"; exit 1; }
-echo "micro diagnosis e2e: $(( $(date +%s) - t0 )) s"
+echo "null: $(J "$D/dn/diagnosis.json" 'j["verdict"], j["effect"], j["runs_computed"]')"
+expect "$D/dn/diagnosis.json" 'j["verdict"] != "effect"' "a null twin got an effect" "$D/dn/report.md"
+echo "micro diagnosis e2e: $(($(date +%s) - t0)) s"

@@ -4,25 +4,19 @@
 # V_max re-fitted (micro_refit_ci.toml), the verdict is `refit`: the null at V_max = 2 % leaves no cell
 # significant, and no effect is chosen. The twin's truth.json is moved away before the diagnosis.
 # usage: micro_refit_e2e.sh WETDEM SOURCE_DIR
-set -euo pipefail
-W=$1
-SRC=$2
-D=$(mktemp -d)
-trap 'rm -rf "$D"' EXIT
-J() { /usr/bin/python3 -c "import json,sys; j=json.load(open(sys.argv[1])); print(eval(sys.argv[2]))" "$@"; }
+source "$(dirname "$0")/lib.sh" "$@"
 
-t0=$(date +%s)
 "$W" twin "$SRC/assets/diagnosis/micro/twin_vmax.toml" --out "$D/tv" --store "$D/store" --quiet
 mv "$D/tv/truth.json" "$D/truth-vmax.json"
 "$W" diagnose "$SRC/tests/diagnose/micro_refit_ci.toml" --observations "$D/tv/observations.csv" --out "$D/dv" \
   --store "$D/store" --quiet --no-figures
-echo "V_max twin: $(J "$D/dv/diagnosis.json" 'j["verdict"], j["effect"], j["null_refit"]["label"], j["runs"]')"
-[ "$(J "$D/dv/diagnosis.json" 'sum(c["significant"] for c in j["cells"]) > 0')" = True ] ||
-  { echo "FAIL: no gap against the calibrated model (the twin does not test refit)"; exit 1; }
-[ "$(J "$D/dv/diagnosis.json" 'j["verdict"]')" = refit ] || { echo "FAIL: verdict is not refit"; cat "$D/dv/report.md"; exit 1; }
-[ "$(J "$D/dv/diagnosis.json" 'j["null_refit"]["values"]["liquid.v_max"]')" = 0.02 ] ||
-  { echo "FAIL: the null's V_max is not 2 %"; exit 1; }
-[ "$(J "$D/dv/diagnosis.json" 'len(j["refit"]["settings"]) == 2 and all("refit" in r for r in j["ranking"])')" = True ] ||
-  { echo "FAIL: refit settings not reported"; exit 1; }
+R="$D/dv/diagnosis.json"
+echo "V_max twin: $(J "$R" 'j["verdict"], j["effect"], j["null_refit"]["label"], j["runs"]')"
+expect "$R" 'sum(c["significant"] for c in j["cells"]) > 0' \
+  "no gap against the calibrated model (the twin does not test refit)"
+expect "$R" 'j["verdict"] == "refit"' "verdict is not refit" "$D/dv/report.md"
+expect "$R" 'j["null_refit"]["values"]["liquid.v_max"] == 0.02' "the null's V_max is not 2 %"
+expect "$R" 'len(j["refit"]["settings"]) == 2 and all("refit" in r for r in j["ranking"])' \
+  "refit settings not reported"
 grep -q "Gap closed by re-fitting" "$D/dv/report.md" || { echo "FAIL: report paragraph"; exit 1; }
-echo "micro refit e2e: $(( $(date +%s) - t0 )) s"
+echo "micro refit e2e: $(($(date +%s) - t0)) s"

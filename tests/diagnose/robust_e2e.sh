@@ -7,35 +7,31 @@
 #  3. dt lowered to the damper's limit (default) with max_cost = 3: the costly strengths are not run, the range
 #     is cut there, the diagnosis completes.
 # usage: robust_e2e.sh WETDEM SOURCE_DIR
-set -euo pipefail
-W=$1
-SRC=$2
-D=$(mktemp -d)
-trap 'rm -rf "$D"' EXIT
-J() { /usr/bin/python3 -c "import json,sys; j=json.load(open(sys.argv[1])); print(eval(sys.argv[2]))" "$@"; }
-t0=$(date +%s)
+source "$(dirname "$0")/lib.sh" "$@"
 "$W" twin "$SRC/assets/diagnosis/micro/twin_spread.toml" --out "$D/ts" --store "$D/store" --quiet
+diagnose() {  # diagnose SPEC OUT
+  "$W" diagnose "$SRC/tests/diagnose/$1" --observations "$D/ts/observations.csv" --out "$D/$2" \
+    --store "$D/store" --quiet --no-figures
+}
 
-"$W" diagnose "$SRC/tests/diagnose/robust_dt.toml" --observations "$D/ts/observations.csv" --out "$D/d1" \
-  --store "$D/store" --quiet --no-figures
+diagnose robust_dt.toml d1
 echo "explicit dt: $(J "$D/d1/diagnosis.json" 'j["verdict"], j["effect"], len(j["notes"])')"
-[ "$(J "$D/d1/diagnosis.json" 'j["effect"]')" = spread ] || { echo "FAIL: effect"; cat "$D/d1/report.md"; exit 1; }
-[ "$(J "$D/d1/diagnosis.json" 'any("failed" in n and "viscous" in n for n in j["notes"])')" = True ] ||
-  { echo "FAIL: the failed viscous runs are not listed"; cat "$D/d1/report.md"; exit 1; }
+expect "$D/d1/diagnosis.json" 'j["effect"] == "spread"' "effect" "$D/d1/report.md"
+expect "$D/d1/diagnosis.json" 'any("failed" in n and "viscous" in n for n in j["notes"])' \
+  "the failed viscous runs are not listed" "$D/d1/report.md"
 grep -q "Runs that could not be made" "$D/d1/report.md" || { echo "FAIL: report section"; exit 1; }
 
-"$W" diagnose "$SRC/tests/diagnose/robust_dt.toml" --observations "$D/ts/observations.csv" --out "$D/d2" \
-  --store "$D/store" --quiet --no-figures
-[ "$(J "$D/d2/diagnosis.json" 'j["runs_computed"]')" = 0 ] || { echo "FAIL: reran"; exit 1; }
-[ "$(J "$D/d2/diagnosis.json" 'j["verdict"] == json.load(open(sys.argv[1].replace("d2", "d1")))["verdict"]')" = True ] ||
-  { echo "FAIL: the second diagnosis on the same store differs"; exit 1; }
+diagnose robust_dt.toml d2
+expect "$D/d2/diagnosis.json" 'j["runs_computed"] == 0' "reran"
+expect "$D/d2/diagnosis.json" 'j["verdict"] == json.load(open(sys.argv[1].replace("d2", "d1")))["verdict"]' \
+  "the second diagnosis on the same store differs"
 
-"$W" diagnose "$SRC/tests/diagnose/robust_cost.toml" --observations "$D/ts/observations.csv" --out "$D/d3" \
-  --store "$D/store" --quiet --no-figures
+diagnose robust_cost.toml d3
 echo "cost cut: $(J "$D/d3/diagnosis.json" 'j["verdict"], j["effect"], [n for n in j["notes"] if "viscous" in n][:2]')"
-[ "$(J "$D/d3/diagnosis.json" 'j["effect"]')" = spread ] || { echo "FAIL: effect (cost)"; cat "$D/d3/report.md"; exit 1; }
-[ "$(J "$D/d3/diagnosis.json" 'any("not run" in n and "max_cost" in n for n in j["notes"])')" = True ] ||
-  { echo "FAIL: the costly strength is not listed"; cat "$D/d3/report.md"; exit 1; }
-[ "$(J "$D/d3/diagnosis.json" 'not any("failed" in n for n in j["notes"] if "viscous@0.01" in n or "viscous@0.003" in n)')" = True ] ||
-  { echo "FAIL: a viscous run at the damper's limit failed"; cat "$D/d3/report.md"; exit 1; }
-echo "robust runs e2e: $(( $(date +%s) - t0 )) s"
+expect "$D/d3/diagnosis.json" 'j["effect"] == "spread"' "effect (cost)" "$D/d3/report.md"
+expect "$D/d3/diagnosis.json" 'any("not run" in n and "max_cost" in n for n in j["notes"])' \
+  "the costly strength is not listed" "$D/d3/report.md"
+expect "$D/d3/diagnosis.json" \
+  'not any("failed" in n for n in j["notes"] if "viscous@0.01" in n or "viscous@0.003" in n)' \
+  "a viscous run at the damper's limit failed" "$D/d3/report.md"
+echo "robust runs e2e: $(($(date +%s) - t0)) s"

@@ -140,8 +140,11 @@ PairForce evaluate_contact(const ContactParams& cp, const LiquidParams& lp, doub
     h.spring_t = glm::dvec3(0.0);
     h.spring_r = glm::dvec3(0.0);
   }
-  // §4 capillary force, after friction; never enters the Coulomb limits above.
-  if (h.bridge > 0) {
+  // §4 capillary force, after friction; never enters the Coulomb limits above. Only inside the interaction
+  // range, as MercuryDPM (its neighbour search no longer sees a pair with S >= S_c,max): a V_max bridge
+  // (S_c = S_c,max) does not pull in the step in which it ruptures; a smaller bridge (S_c < S_c,max) does
+  // (docs/closed-slice.md).
+  if (h.bridge > 0 && gap < range) {
     // Hysteresis: a separated bridge (gap > 0) is receding and pulls with cos(theta_r).
     const double f0 = pull_off_force(k.R_h, lp.gamma, gap > 0.0 ? lp.theta_r() : lp.theta);
     const double volume = double(h.bridge) * liquid_unit_m3;

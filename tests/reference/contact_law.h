@@ -76,8 +76,8 @@ struct ContactHistory {
 // Everything of §1-§4 for one contact, in the order of §0 (normal, sliding, rolling, capillary):
 // - while delta > 0: Hertz; springs updated only where mu > 0;
 // - springs kept while the gap S = -delta < range (interaction range of §4, 0 when dry), zeroed otherwise;
-// - capillary force whenever the bridge holds liquid, whatever the gap (rupture is the event pass' job),
-//   with cos(theta_r) instead of cos(theta) once separated (hysteresis);
+// - capillary force while the bridge holds liquid and the gap is below range (rupture itself is the event
+//   pass' job), with cos(theta_r) instead of cos(theta) once separated (hysteresis);
 // - candidate effects after it: lubrication on a bridged contact (viscous), JKR adhesion while delta > 0.
 // Returns the force on i and the torques T_i = t + r_ci x F, T_j = -t - r_cj x F.
 PairForce evaluate_contact(const ContactParams& cp, const LiquidParams& lp, double liquid_unit_m3,

@@ -2,7 +2,8 @@
 # The real-Slurm test of `wetdem study slurm`: starts a single-node Slurm on this host (munged + slurmctld +
 # slurmd, generated slurm.conf in a temp dir, no cgroups; ../shared/guides/slurm-local.md), submits a micro study
 # as a job array, waits, collects, runs the same study locally and checks that every run's summary is identical
-# (runs are deterministic) apart from timing fields and paths.
+# (runs are deterministic) apart from timing fields and paths. Then the same study with --batch 2 (one array
+# task per batch, each stepped as one ensemble: issue 19): again identical, apart from the "ensemble" record.
 # Usage: study_slurm.sh WETDEM_BINARY SOURCE_DIR. Exit 77 (skipped, reason printed) without root or Slurm.
 set -eu
 WETDEM=$1
@@ -80,21 +81,31 @@ base = "$SRC/assets/studies/micro/micro_case.toml"
 "liquid.content" = ["0 %", "5 %", "10 %"]
 TOML
 
-"$WETDEM" study slurm "$D/s.toml" --out "$D/slurm_study" --submit | tee "$D/submit.txt"
-JID=$(sed -n 's/^submitted job \([0-9]*\).*/\1/p' "$D/submit.txt")
-[ -n "$JID" ] || { echo "FAIL: no job id"; exit 1; }
-for i in $(seq 1 600); do [ -z "$(squeue -h -j "$JID" 2>/dev/null)" ] && break; sleep 0.5; done
-[ -z "$(squeue -h -j "$JID" 2>/dev/null)" ] || { echo "FAIL: the array did not finish in 300 s"; exit 1; }
-"$WETDEM" study collect "$D/slurm_study" --no-figures
+submit() {  # study dir, extra flags...
+  local out=$1; shift
+  "$WETDEM" study slurm "$D/s.toml" --out "$out" --submit "$@" | tee "$D/submit.txt"
+  JID=$(sed -n 's/^submitted job \([0-9]*\).*/\1/p' "$D/submit.txt")
+  [ -n "$JID" ] || { echo "FAIL: no job id"; exit 1; }
+  for i in $(seq 1 600); do [ -z "$(squeue -h -j "$JID" 2>/dev/null)" ] && break; sleep 0.5; done
+  [ -z "$(squeue -h -j "$JID" 2>/dev/null)" ] || { echo "FAIL: the array did not finish in 300 s"; exit 1; }
+  "$WETDEM" study collect "$out" --no-figures
+}
+submit "$D/slurm_study"
+submit "$D/slurm_batch" --batch 2
+grep -q 'run-batch' "$D/slurm_batch/slurm/study.sbatch" || { echo "FAIL: --batch wrote no run-batch task"; exit 1; }
+grep -q 'BATCHES=( 0,1 2 )' "$D/slurm_batch/slurm/study.sbatch" || { echo "FAIL: batches are not 0,1 and 2"; exit 1; }
 "$WETDEM" study run "$D/s.toml" --out "$D/local_study" --no-collect
 
-# Same runs (same hashes), identical summaries apart from timing and paths.
-/usr/bin/python3 - "$D/slurm_study" "$D/local_study" <<'PY'
+# Same runs (same hashes), identical summaries apart from timing and paths (and the batch's record).
+for A in "$D/slurm_study" "$D/slurm_batch"; do
+/usr/bin/python3 - "$A" "$D/local_study" <<'PY'
 import json, os, sys
 a, b = sys.argv[1], sys.argv[2]
 ia, ib = json.load(open(a + "/index.json")), json.load(open(b + "/index.json"))
 assert [r["hash"] for r in ia["runs"]] == [r["hash"] for r in ib["runs"]], "different plans"
 skip = {"wall_time_s", "particle_steps_per_s", "case_source"}
+if os.path.basename(a) == "slurm_batch":  # the batch's record and its shared neighbour-list schedule
+    skip |= {"ensemble", "neighbour_list"}
 for r in ia["runs"]:
     sa = json.load(open(os.path.join(a, r["run_dir"], "summary.json")))
     sb = json.load(open(os.path.join(b, r["run_dir"], "summary.json")))
@@ -102,10 +113,11 @@ for r in ia["runs"]:
     db = {k: v for k, v in sb.items() if k not in skip}
     diff = [k for k in set(da) | set(db) if da.get(k) != db.get(k)]
     assert not diff, "run %d: summaries differ in %s" % (r["index"], diff)
-    print("run %d (%s): identical, final state %s, AoR %s" % (r["index"], r["hash"], sa["final_state_hash"],
-                                                              sa["aor_deg_mean"]))
+    print("%s run %d (%s): identical, final state %s, AoR %s" % (os.path.basename(a), r["index"], r["hash"],
+                                                                 sa["final_state_hash"], sa["aor_deg_mean"]))
 PY
+done
 stop
 trap - EXIT
 rm -rf "$D"
-echo "PASS: Slurm array equals the local study"
+echo "PASS: Slurm arrays (one run per task, and --batch 2) equal the local study"

@@ -366,6 +366,16 @@ void read_run(Section s, Case& c) {
     r.dt_rayleigh_fraction = q->v;
   }
   if (auto q = s.quantity("skin", Dim::Length)) require_positive(*q), r.skin = q->v;
+  if (auto q = s.quantity("perturb", Dim::Length)) {
+    require_nonnegative(*q);
+    // Far below any overlap or gap of the fill: it only moves the start, it never makes a contact.
+    if (!(q->v <= 1e-6)) fail(*q, "must be <= 1 um (it moves the starts, not the fill)");
+    r.perturb = q->v;
+  }
+  if (auto seed = s.integer("perturb_seed")) {
+    if (*seed < 0) throw CaseError(s.key("perturb_seed"), fmt::format("must be >= 0, got {}", *seed));
+    r.perturb_seed = uint64_t(*seed);
+  }
   if (auto n = s.integer("steps_per_submit")) {
     if (*n < 1 || *n > 100000)
       throw CaseError(s.key("steps_per_submit"), fmt::format("must be in [1, 100000], got {}", *n));

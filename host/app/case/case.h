@@ -96,6 +96,11 @@ struct RunSpec {
   double dt_rayleigh_fraction = 0.2;
   std::optional<double> skin;  // m; default 0.3 * smallest radius
   uint32_t steps_per_submit = 200;
+  // Starts moved by up to `perturb` (m) along each axis, uniform, drawn with perturb_seed (0 = unmoved):
+  // the spread of a run's outcome over starts that differ by far less than anything measurable
+  // (docs/closed-slice.md).
+  double perturb = 0;
+  uint64_t perturb_seed = 1;
 };
 
 struct OutputSpec {
@@ -147,10 +152,10 @@ struct Derived {
   // Candidate effects, as they enter SimParams.
   double lubrication_cutoff = 0;     // S_min (m): given, or 1 % of the mean radius
   double surface_energy_scaled = 0;  // l w (J/m^2)
-  double dt_viscous_limit = 0;  // 2 m*/(12 c) at S_min, smallest particles, V_max bridge (0: viscous off)
+  double dt_viscous_limit = 0;       // 2 m*/(4 c) at S_min, smallest particles, V_max bridge (0: viscous off)
   std::vector<std::string> notes;
 };
-// The explicit stability limit 2 m*/(12 c) of the lubrication damper (candidate effect `viscous`) for the
+// The explicit stability limit 2 m*/(4 c) of the lubrication damper (candidate effect `viscous`) for the
 // smallest particle radius r_min and the mean solid volume (S_min: the case's, else 1 % of the mean radius;
 // a bridge of V_max; against a wall too when wall bridges are on). 0 when viscosity is off.
 double case_viscous_dt_limit(const Case& c, double r_min, double mean_solid_volume);

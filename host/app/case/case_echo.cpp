@@ -117,6 +117,10 @@ toml::table to_table(const Case& c) {
   else
     run.insert("dt_rayleigh_fraction", r.dt_rayleigh_fraction);
   if (r.skin) run.insert("skin_m", *r.skin);
+  if (r.perturb > 0) {
+    run.insert("perturb_m", r.perturb);
+    run.insert("perturb_seed", int64_t(r.perturb_seed));
+  }
   root.insert("run", std::move(run));
 
   toml::array formats;

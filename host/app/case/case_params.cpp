@@ -193,8 +193,9 @@ SimParams make_sim_params(const Case& c, const std::vector<double>& radii, Deriv
     }
   }
   if (l.on() && l.viscosity > 0) {
-    // Explicit stability of the lubrication damper (docs/model.md "Candidate effects"): dt < 2 m*/(12 c) at S_min
-    // for the two smallest particles with a bridge of V_max, or the smallest against a wall with bridges.
+    // Explicit stability of the lubrication damper (docs/model.md "Candidate effects"): dt < 2 m*/(4 c) at
+    // S_min for the two smallest particles with a bridge of V_max, or the smallest against a wall with
+    // bridges.
     d.dt_viscous_limit = case_viscous_dt_limit(c, d.r_min, d.mean_solid_volume);
     // The damper's limit bounds the time step as the Rayleigh fraction does: a default dt above it is
     // lowered to it (so every strength of the candidate runs, at a cost in steps); an explicit run.dt above
@@ -202,17 +203,17 @@ SimParams make_sim_params(const Case& c, const std::vector<double>& radii, Deriv
     if (d.dt >= d.dt_viscous_limit) {
       if (c.run.dt) {
         d.notes.push_back(fmt::format(
-            "run.dt = {:.4g} s exceeds the viscous limit 2 m*/(12 c) = {:.4g} s of the lubrication damping "
+            "run.dt = {:.4g} s exceeds the viscous limit 2 m*/(4 c) = {:.4g} s of the lubrication damping "
             "at S_min = {:.4g} m (explicit damping unstable); lower run.dt or raise "
             "liquid.lubrication_cutoff",
             d.dt, d.dt_viscous_limit, d.lubrication_cutoff));
       } else {
         d.notes.push_back(fmt::format(
-            "dt lowered from {:.4g} s ({}) to the viscous limit 2 m*/(12 c) = {:.4g} s of the lubrication "
+            "dt lowered from {:.4g} s ({}) to the viscous limit 2 m*/(4 c) = {:.4g} s of the lubrication "
             "damping at S_min = {:.4g} m: {:.3g}x the steps",
             d.dt, d.dt_reason, d.dt_viscous_limit, d.lubrication_cutoff, d.dt / d.dt_viscous_limit));
         d.dt = d.dt_viscous_limit;
-        d.dt_reason = "viscous limit 2 m*/(12 c) of the lubrication damping";
+        d.dt_reason = "viscous limit 2 m*/(4 c) of the lubrication damping";
       }
     }
   }

@@ -25,6 +25,7 @@ const std::vector<UnitDef>& units() {
       {Dim::Length, {"cm"}, "cm", 1e-2},
       {Dim::Length, {"mm"}, "mm", 1e-3},
       {Dim::Length, {"um", "\xc2\xb5m", "\xce\xbcm", "micron"}, "um", 1e-6},  // µ (micro sign), μ (mu)
+      {Dim::Length, {"nm"}, "nm", 1e-9},                                      // run.perturb
       {Dim::Pressure, {"Pa"}, "Pa", 1.0},
       {Dim::Pressure, {"kPa"}, "kPa", 1e3},
       {Dim::Pressure, {"MPa"}, "MPa", 1e6},

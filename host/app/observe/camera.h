@@ -23,6 +23,7 @@ struct CameraSample {
   double agglomerate_size_mean = kNone;      // mass-weighted mean particles per bridge cluster
   double drum_to_agglomerate_ratio = kNone;  // D / equivalent diameter of the mean cluster
   double liquid_free_fraction = kNone;       // (films + bridges) / liquid put in at the start
+  double surface_size_ratio = kNone;         // mean radius of the surface layer / mean radius of the bed
   double surface_agglomerate_size = kNone;   // mass-weighted mean particles per clump on the free surface
 };
 
@@ -42,11 +43,16 @@ inline constexpr CameraField kCameraFields[] = {
     {"agglomerate_size_mean", &CameraSample::agglomerate_size_mean, false},
     {"drum_to_agglomerate_ratio", &CameraSample::drum_to_agglomerate_ratio, false},
     {"liquid_free_fraction", &CameraSample::liquid_free_fraction, false},
+    {"surface_size_ratio", &CameraSample::surface_size_ratio, false},
     {"surface_agglomerate_size", &CameraSample::surface_agglomerate_size, false},
 };
 
 // liquid_start: liquid put in at the start (units); ≤ 0 leaves liquid_free_fraction NaN.
 CameraSample observe_camera(const SystemState& s, const SimParams& prm, int64_t liquid_start);
+// The same with the free liquid (films + pair and wall bridges, units) given: from the device's reductions
+// (System::sample_runs), whose slim state has positions, velocities, radii, masses and bridged pairs only.
+CameraSample observe_camera(const SystemState& s, const SimParams& prm, int64_t liquid_start,
+                            int64_t free_liquid_units);
 
 // Films + pair bridges + wall bridges (units): the liquid that is free to bridge (not in pores, not
 // evaporated).

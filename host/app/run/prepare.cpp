@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <filesystem>
+#include <random>
 
 #include "app/drum/fill.h"
 #include "app/drum/psd.h"
@@ -66,6 +67,16 @@ Prepared prepare_run(const Case& c) {
   SystemState& s = p.state;
   s.p.resize(n);
   for (size_t k = 0; k < n; ++k) set_sphere(s.p, k, fill.x[k], fill.radius[k], c.material.density);
+  if (c.run.perturb > 0) {
+    // run.perturb: every start moved by a uniform offset in [-p, p]^3, particle by particle in id order, x
+    // then y then z (as the MercuryDPM driver in ../shared/peer/mercurydpm/ does).
+    std::mt19937_64 rng(c.run.perturb_seed);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    for (size_t k = 0; k < n; ++k) {
+      const double dx = u(rng), dy = u(rng), dz = u(rng);
+      s.p.x[k] += c.run.perturb * glm::dvec3(dx, dy, dz);
+    }
+  }
   s.p.film = initial_films(c, fill.radius, p.prm.liquid_unit_m3);
   for (double r : fill.radius) p.diameters.push_back(2.0 * r);
   p.radii_hash = bytes_hash(fill.radius.data(), fill.radius.size() * sizeof(double));

@@ -67,7 +67,7 @@ ResourceEstimate estimate_resources(const Case& c) {
   e.dt_reason = c.run.dt ? "run.dt" : fmt::format("{} x Rayleigh time of r_min", c.run.dt_rayleigh_fraction);
   // The lubrication damper lowers a default dt to its stability limit (make_sim_params).
   if (const double lim = case_viscous_dt_limit(c, e.r_min, vbar); !c.run.dt && lim > 0 && e.dt >= lim)
-    e.dt = lim, e.dt_reason = "viscous limit 2 m*/(12 c) of the lubrication damping";
+    e.dt = lim, e.dt_reason = "viscous limit 2 m*/(4 c) of the lubrication damping";
   e.steps = std::round((c.run.settle + c.run.duration) / e.dt);
   e.particle_steps = e.particles * e.steps;
   // n ∝ fill × D² × L / l³: the particle size factor is the strongest lever; name the drum key instead when

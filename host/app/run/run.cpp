@@ -43,6 +43,10 @@ bool interrupt_requested() {
   return g_interrupt != 0;
 }
 
+void clear_interrupt() {
+  g_interrupt = 0;
+}
+
 RunResult run_case(const RunOptions& opt) {
   RunLog log(opt.quiet);
   // Prepare and fill: everything that depends only on the input, before any file or device.

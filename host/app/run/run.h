@@ -73,6 +73,7 @@ Prepared prepare_run(const Case& c);
 // The run fails with "interrupted" (FAILED.txt, no summary.json); its last checkpoint stays for --resume.
 void request_interrupt();
 bool interrupt_requested();  // ... and whether one was asked for (run_batch polls it too)
+void clear_interrupt();      // forgets it (tests, and a driver that has handled it)
 
 // Resolves a case like `wetdem run` does (file + overrides, or a run folder's case.toml for --resume).
 Case resolve_case(const RunOptions& opt);

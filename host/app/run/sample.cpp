@@ -13,10 +13,13 @@
 
 namespace wetdem::app {
 
-Sample take_sample(const SystemState& st, const SampleContext& x, bool& dt_warned,
+namespace {
+
+// The sample from the reductions `o` and a state `st` holding at least positions, velocities, radii, masses
+// and the bridged pairs (the slim state of System::sample_runs, or a whole one).
+Sample make_sample(const Observables& o, const SystemState& st, const SampleContext& x, bool& dt_warned,
                    const std::function<void(const std::string&)>& log) {
   const Prepared& prep = *x.prep;
-  const Observables o = compute_observables(st, *x.prm);
   // physics.md §6: warn (once) when dt is too large for the stiffest bridge present.
   if (!dt_warned)
     if (auto w = capillary_timestep_warning_present(*x.prm, st)) {
@@ -44,12 +47,25 @@ Sample take_sample(const SystemState& st, const SampleContext& x, bool& dt_warne
   s.bridges = o.bridges;
   s.f_wet = o.f_wet;
   s.kinetic_energy = o.kinetic_energy;
-  s.camera = observe::observe_camera(st, prep.prm, x.liquid_start);  // diagnosis.md §2
+  // diagnosis.md §2; the free liquid (films + bridges) from the reductions
+  s.camera = observe::observe_camera(st, prep.prm, x.liquid_start, o.liquid_films + o.liquid_bridges);
   s.interface = observe::interface_profile(st, prep.prm.drum.radius, prep.prm.drum.length);
   s.liquid_films = o.liquid_films, s.liquid_bridges = o.liquid_bridges;  // liquid accounting
   s.liquid_pores = o.liquid_pores, s.liquid_evaporated = o.liquid_evaporated;
   s.liquid_unit_m3 = prep.prm.liquid_unit_m3;
   return s;
+}
+
+}  // namespace
+
+Sample take_sample(const RunSample& rs, const SampleContext& x, bool& dt_warned,
+                   const std::function<void(const std::string&)>& log) {
+  return make_sample(rs.obs, rs.bed, x, dt_warned, log);
+}
+
+Sample take_sample(const SystemState& st, const SampleContext& x, bool& dt_warned,
+                   const std::function<void(const std::string&)>& log) {
+  return make_sample(compute_observables(st, *x.prm), st, x, dt_warned, log);
 }
 
 }  // namespace wetdem::app

@@ -24,6 +24,11 @@ struct SampleContext {
 
 // Throws std::runtime_error on a blow-up (kinetic energy not finite), lost bridges or escaped particles.
 // `dt_warned`: the capillary time-step warning is logged once per run.
+// From what System::sample_runs brings back: the device's reductions and the slim state (what runs use).
+Sample take_sample(const RunSample& rs, const SampleContext& x, bool& dt_warned,
+                   const std::function<void(const std::string&)>& log);
+// From a whole downloaded state, the reductions made on the host (compute_observables): the CPU reference of
+// the above (tests compare the two).
 Sample take_sample(const SystemState& st, const SampleContext& x, bool& dt_warned,
                    const std::function<void(const std::string&)>& log);
 

@@ -80,7 +80,7 @@ const Sample& DrumSession::sample() {
   x.time = time();
   x.liquid_start = liquid_start_;
   x.counters = sys_->counters();
-  samples_.push_back(take_sample(sys_->download(), x, dt_warned_, log_));
+  samples_.push_back(take_sample(sys_->sample_runs()[0], x, dt_warned_, log_));
   return samples_.back();
 }
 

@@ -1,0 +1,17 @@
+# Shared by the diagnosis end-to-end scripts (sourced: `source "$(dirname "$0")/lib.sh" "$@"`): the arguments
+# WETDEM SOURCE_DIR, a scratch folder $D removed on exit, and two helpers on a JSON file:
+#   J FILE EXPR                  prints EXPR evaluated with j = the file's JSON (python syntax)
+#   expect FILE EXPR WHY [SHOW]  fails with "FAIL: WHY" (and prints SHOW, e.g. the report) unless EXPR is True
+set -euo pipefail
+W=$1
+SRC=$2
+D=$(mktemp -d)
+trap 'rm -rf "$D"' EXIT
+J() { /usr/bin/python3 -c "import json,sys; j=json.load(open(sys.argv[1])); print(eval(sys.argv[2]))" "$@"; }
+expect() {
+  [ "$(J "$1" "$2")" = True ] && return 0
+  echo "FAIL: $3"
+  [ -n "${4:-}" ] && cat "$4"
+  exit 1
+}
+t0=$(date +%s)

@@ -1,0 +1,58 @@
+// `study plan --probe` (issue 19): the estimate of a study from a probe's rates, by hand; and plan_batches,
+// the batches `study run --batch` and `study slurm --batch` hand out.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "app/run/resources.h"
+#include "study/executor.h"
+#include "study/probe.h"
+#include "support/study_files.h"
+
+namespace wetdem::test {
+namespace {
+
+std::vector<study::PlannedRun> five_runs(const std::string& dir) {
+  const std::string text =
+      "name = \"p\"\nbase = \"" + micro_case() +
+      "\"\n[axes]\n\"liquid.content\" = [\"0 %\", \"2.5 %\", \"5 %\", \"7.5 %\", \"10 %\"]\n";
+  return study::expand(study::parse_study_file(write_text(dir + "/p.toml", text)));
+}
+
+TEST(StudyProbe, EstimateIsTheProbedRatesTimesEachBatchsWork) {
+  const auto runs = five_runs(study_temp("probe"));
+  study::ProbeResult p;
+  p.particles = 1000;
+  p.step_s = 0.02;   // 2e-5 s per particle-step
+  p.sample_s = 0.1;  // 1e-4 s per particle and sample
+  p.setup_s_per_run = 0.5;
+  const study::Estimate e = study::estimate(runs, 2, p);
+  EXPECT_EQ(e.batches, 3u);  // 2 + 2 + 1
+  EXPECT_EQ(e.runs, 5u);
+  // By hand: every run has the micro case's particles, steps and samples; a batch's time is its particles x
+  // steps x 2e-5 s + particles x samples x 1e-4 s + 0.5 s per run.
+  const app::ResourceEstimate r = app::estimate_resources(runs[0].resolved);
+  const app::Case& c = runs[0].resolved;
+  const double samples = std::floor((c.run.settle + c.run.duration) / c.run.sample_interval) + 1.0;
+  const double per_run = r.particles * r.steps * 2e-5 + r.particles * samples * 1e-4;
+  EXPECT_NEAR(e.total_s(), 5 * per_run + 5 * 0.5, 1e-9 * e.total_s());
+  ASSERT_EQ(e.batch_s.size(), 3u);
+  EXPECT_NEAR(e.batch_s[0], 2 * per_run + 1.0, 1e-9 * e.batch_s[0]);
+  EXPECT_NEAR(e.batch_s[2], per_run + 0.5, 1e-9 * e.batch_s[2]);
+  EXPECT_NEAR(e.particle_steps, 5 * r.particles * r.steps, 1e-9 * e.particle_steps);
+}
+
+TEST(StudyProbe, PlanBatchesTakesTheQueueKAtATime) {
+  const std::string dir = study_temp("batches");
+  const auto runs = five_runs(dir);
+  const auto s = study::parse_study_file(dir + "/p.toml");
+  study::write_plan(dir + "/st", s, runs);
+  const auto b = study::plan_batches(dir + "/st", {4, 0, 1, 3}, 3);
+  ASSERT_EQ(b.size(), 2u);
+  EXPECT_EQ(b[0], (std::vector<size_t>{4, 0, 1}));
+  EXPECT_EQ(b[1], (std::vector<size_t>{3}));
+  EXPECT_EQ(study::plan_batches(dir + "/st", {0, 1}, 1).size(), 2u);
+}
+
+}  // namespace
+}  // namespace wetdem::test
