@@ -3,7 +3,7 @@
 // Rebuild 6f (one invocation): after the scan, size the new list. More entries than capacity: halt the
 // submit (every later pass returns at once or is sized to zero); the host grows the buffers and finishes
 // this rebuild.
-#include "access.glsl"
+#include "step_control.glsl"
 layout(local_size_x = 1) in;
 void main() {
   Uints C = CTL();
@@ -15,6 +15,7 @@ void main() {
     // Close the gates: sort and scan kernels do not read the halt flag, and the sorted keys, permutation and
     // counts of this rebuild must survive untouched until the host has grown the buffers and finished it.
     for (uint k = 0u; k < CTL_MAX_GATES; ++k) C.v[CTL_GATE_ARGS + 4u * k] = 0u;
+    close_step_passes();
     return;
   }
   C.v[CTL_BUILD_ARGS] = (need + 255u) / 256u;

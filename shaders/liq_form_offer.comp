@@ -5,7 +5,10 @@
 // forming contacts (pairs and walls) offers floor(V_f / k) to each. Wall bridges form here (film only).
 // The liquid sinks act first, on that film (params.h LiquidSinkParams): pore absorption, then evaporation of
 // the film, of the pair bridges this particle owns and of its wall bridges, credited to its own counter.
+// pc.arg0 & LQ_ATOMIC (the fused step): 4b added the overflow to p_gain already, no event slots to read;
+// LQ_GATED: the segment is read for forming contacts only on steps with formation candidates.
 #include "liquid.glsl"
+#include "modes.glsl"
 layout(local_size_x = 256) in;
 void main() {
   uint i = gl_GlobalInvocationID.x;
@@ -20,14 +23,19 @@ void main() {
   int64_t f = film.v[i] + Int64s(T().p_gain).v[i];
   uint k = 0u;
   uint b = off.v[i], c = cnt.v[i];
-  for (uint e = b; e < b + c; ++e) {
-    f += ev.v[e];  // this particle's part of the overflow of its bridge (4b)
-    if ((flags.v[mirror.v[e]] & FLAG_FORM) != 0u) k++;
+  if ((pc.arg0 & LQ_ATOMIC) == 0u) {
+    for (uint e = b; e < b + c; ++e) {
+      f += ev.v[e];  // this particle's part of the overflow of its bridge (4b)
+      if ((flags.v[mirror.v[e]] & FLAG_FORM) != 0u) k++;
+    }
+  } else if ((pc.arg0 & LQ_GATED) == 0u || (CTL().v[CTL_CAND_STEP] & CAND_FORM) != 0u) {
+    for (uint e = b; e < b + c; ++e)
+      if ((flags.v[mirror.v[e]] & FLAG_FORM) != 0u) k++;
   }
   Int64s wliq = Int64s(paddr(s, PF_WLIQ));
   Uints wfl = Uints(paddr(s, PF_WFLAGS));
   for (uint w = 0u; w < 3u; ++w)
-    if ((wfl.v[3u * i + w] & FLAG_FORM) != 0u) k++;
+    if (wall_present(w, P) && (wfl.v[wall_slot(i, w, P)] & FLAG_FORM) != 0u) k++;
   if (P.absorb_mode != 0u) {
     Int64s pore = Int64s(paddr(s, PF_PORE));
     int64_t room = Int64s(paddr(s, PF_PORECAP)).v[i] - pore.v[i];
@@ -50,8 +58,9 @@ void main() {
       }
     }
     for (uint w = 0u; w < 3u; ++w) {
-      int64_t d = mul_q64(wliq.v[3u * i + w], P.evap_q64);
-      wliq.v[3u * i + w] -= d;
+      if (!wall_present(w, P)) continue;
+      int64_t d = mul_q64(wliq.v[wall_slot(i, w, P)], P.evap_q64);
+      wliq.v[wall_slot(i, w, P)] -= d;
       lost += d;
     }
     Int64s(paddr(s, PF_EVAP)).v[i] += lost;
@@ -61,7 +70,8 @@ void main() {
   Int64s(T().p_full).v[i] = full;
   Int64s(T().p_offer).v[i] = offer;
   for (uint w = 0u; w < 3u; ++w) {
-    uint kk = 3u * i + w;
+    if (!wall_present(w, P)) continue;
+    uint kk = wall_slot(i, w, P);
     if ((wfl.v[kk] & FLAG_FORM) == 0u) continue;
     wfl.v[kk] = (wfl.v[kk] & ~FLAG_FORM) | FLAG_WIC;
     if (full >= P.lpw[w].v_min) {  // §5: a wall bridge needs V_f,i >= V_min

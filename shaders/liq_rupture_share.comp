@@ -1,81 +1,13 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Liquid pass 4a (per particle), §5 two-phase rule, phase 1: sum the halves this particle receives from its
-// ruptured pairs (the lower id gets floor(V_b/2)) and its ruptured wall bridges, and decide the share each
-// of its surviving bridges gets: d_c * received / N (pair ruptures over surviving pair bridges, wall ruptures
-// over surviving pair and wall bridges). Remainders and the (1 - d_c) part stay for the film (p_gain).
-#include "liquid.glsl"
+// Liquid pass 4a (per particle) on its own: the step recorded pass by pass (SystemOptions::fused_step off)
+// and the events of an upload. The fused step runs the same function inside gather_kick.
+#include "rupture_share.glsl"
 layout(local_size_x = 256) in;
 void main() {
   uint i = gl_GlobalInvocationID.x;
   Params P = PRM();
   if (i >= P.num_particles || halted()) return;
   uint s = parity();
-  P = PRM_OF(i, s);
-  Uints off = Uints(paddr(s, PF_NOFFSET)), cnt = Uints(paddr(s, PF_NCOUNT));
-  Uints mirror = Uints(eaddr(s, EF_MIRROR)), flags = Uints(eaddr(s, EF_FLAGS));
-  Int64s liq = Int64s(eaddr(s, EF_LIQ));
-  int64_t recv_pp = 0, recv_w[3] = {0, 0, 0};
-  uint npp = 0u, nw = 0u;
-  uint b = off.v[i], c = cnt.v[i];
-  for (uint e = b; e < b + c; ++e) {
-    uint o = mirror.v[e];
-    int64_t vb = liq.v[o];
-    if (vb <= 0) continue;
-    if ((flags.v[o] & FLAG_RUPT) != 0u) recv_pp += (o == e) ? vb / 2 : vb - vb / 2;
-    else npp++;
-  }
-  Int64s wliq = Int64s(paddr(s, PF_WLIQ));
-  Uints wfl = Uints(paddr(s, PF_WFLAGS));
-  for (uint w = 0u; w < 3u; ++w) {
-    uint k = 3u * i + w;
-    int64_t vb = wliq.v[k];
-    if (vb <= 0) continue;
-    if ((wfl.v[k] & FLAG_RUPT) != 0u) {
-      recv_w[w] = vb;
-      wliq.v[k] = 0;
-      wfl.v[k] &= ~(FLAG_RUPT | FLAG_WIC);
-      atomicAdd(CTL().v[CTL_RUPTURES], 1u);
-    } else {
-      nw++;
-    }
-  }
-  int64_t gain = 0, share_pp = 0, share_w = 0;
-  if (recv_pp > 0) {
-    if (npp > 0u) {
-      share_pp = mul_q16(recv_pp, P.lpp.dc_q16) / int64_t(npp);
-      gain += recv_pp - share_pp * int64_t(npp);
-    } else {
-      gain += recv_pp;
-    }
-  }
-  // Each ruptured wall bridge is shared on its own (its wall's d_c) over surviving pair and wall bridges.
-  uint nt = npp + nw;
-  for (uint w = 0u; w < 3u; ++w) {
-    if (recv_w[w] == 0) continue;
-    if (nt > 0u) {
-      int64_t per = mul_q16(recv_w[w], P.lpw[w].dc_q16) / int64_t(nt);
-      share_w += per;
-      gain += recv_w[w] - per * int64_t(nt);
-    } else {
-      gain += recv_w[w];
-    }
-  }
-  if (share_w > 0) {
-    // Surviving wall bridges belong to this particle alone: apply their share and cap here.
-    for (uint w = 0u; w < 3u; ++w) {
-      uint k = 3u * i + w;
-      int64_t vb = wliq.v[k];
-      if (vb <= 0) continue;
-      int64_t vn = vb + share_w;
-      int64_t cap = P.lpw[w].v_max;
-      if (vn > cap) {
-        gain += vn - cap;
-        vn = cap;
-      }
-      wliq.v[k] = vn;
-    }
-  }
-  Int64s(T().p_share).v[i] = share_pp + share_w;
-  Int64s(T().p_gain).v[i] = gain;
+  rupture_share(i, s, PRM_OF(i, s), true);
 }

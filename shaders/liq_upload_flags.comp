@@ -50,7 +50,7 @@ void main() {
     if (L.enabled == 0u ||
         !wall_geometry(w, pos.v[i].xyz, fi.xyz, floatBitsToInt(pi.w), fi.w, P, delta, n, wom))
       continue;
-    uint k = 3u * i + w;
+    uint k = wall_slot(i, w, P);
     float S = -delta;
     int64_t vb = wliq.v[k];
     uint fl = wfl.v[k] & FLAG_WIC;

@@ -17,7 +17,7 @@ void main() {
   uint i = Uints(eaddr(s, EF_SELF)).v[e], j = Uints(eaddr(s, EF_NBR)).v[e];
   IVec4s pos = IVec4s(paddr(s, PF_POS));
   Vec4s vel = Vec4s(paddr(s, PF_VEL)), omg = Vec4s(paddr(s, PF_OMG)), props = Vec4s(paddr(s, PF_PROPS));
-  Vec4s stb = Vec4s(eaddr(s, EF_ST)), srb = Vec4s(eaddr(s, EF_SR));
+  Vec3s stb = Vec3s(eaddr(s, EF_ST)), srb = Vec3s(eaddr(s, EF_SR));
   Int64s liq = Int64s(eaddr(s, EF_LIQ));
   Uints flags = Uints(eaddr(s, EF_FLAGS));
 
@@ -30,7 +30,7 @@ void main() {
   float delta = pair_overlap_ticks(D, fi.xyz - fj.xyz, floatBitsToInt(pi.w) + floatBitsToInt(pj.w), fi.w + fj.w, n,
                                    dist) * P.h;
   float S = -delta;
-  vec3 st = stb.v[e].xyz, sr = srb.v[e].xyz;
+  vec3 st = stb.v[e], sr = srb.v[e];
   int64_t vb = liq.v[e];
   uint fl = flags.v[e] & FLAG_WIC;
 
@@ -71,14 +71,17 @@ void main() {
     if (vb > 0 && (S >= rupture_gap(P.lpp, vb) || S >= P.lpp.range)) fl |= FLAG_RUPT;
     if (vb == 0 && (fl & FLAG_WIC) == 0u && delta >= 0.0) fl |= FLAG_FORM;
     if (vb == 0 && S > 0.0) fl &= ~FLAG_WIC;
+    // Candidates for the liquid gate of the fused step (gather_kick's last workgroup).
+    uint cand = ((fl & FLAG_RUPT) != 0u ? CAND_RUPT : 0u) | ((fl & FLAG_FORM) != 0u ? CAND_FORM : 0u);
+    if (cand != 0u) atomicOr(CTL().v[CTL_CAND_PAIR], cand);
   }
-  stb.v[e] = vec4(st, 0.0);
-  srb.v[e] = vec4(sr, 0.0);
+  stb.v[e] = st;
+  srb.v[e] = sr;
   flags.v[e] = fl;
   uint m = Uints(T().partner).v[e];  // the mirrored entry, in j's segment
-  Vec4s pf = Vec4s(T().pair_f), pt = Vec4s(T().pair_t);
-  pf.v[e] = vec4(F, 0.0);
-  pf.v[m] = vec4(-F, 0.0);
-  pt.v[e] = vec4(t + cross(ci, F), 0.0);
-  pt.v[m] = vec4(-t - cross(cj, F), 0.0);
+  Vec3s pf = Vec3s(T().pair_f), pt = Vec3s(T().pair_t);
+  pf.v[e] = F;
+  pf.v[m] = -F;
+  pt.v[e] = t + cross(ci, F);
+  pt.v[m] = -t - cross(cj, F);
 }

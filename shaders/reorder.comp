@@ -16,17 +16,18 @@ void main() {
   Vec4s(paddr(t, PF_VEL)).v[i] = Vec4s(paddr(s, PF_VEL)).v[o];
   Vec4s(paddr(t, PF_OMG)).v[i] = Vec4s(paddr(s, PF_OMG)).v[o];
   Vec4s(paddr(t, PF_PROPS)).v[i] = Vec4s(paddr(s, PF_PROPS)).v[o];
-  Vec4s(paddr(t, PF_FORCE)).v[i] = Vec4s(paddr(s, PF_FORCE)).v[o];
-  Vec4s(paddr(t, PF_TORQUE)).v[i] = Vec4s(paddr(s, PF_TORQUE)).v[o];
+  Vec3s(paddr(t, PF_FORCE)).v[i] = Vec3s(paddr(s, PF_FORCE)).v[o];
+  Vec3s(paddr(t, PF_TORQUE)).v[i] = Vec3s(paddr(s, PF_TORQUE)).v[o];
   Int64s(paddr(t, PF_FILM)).v[i] = Int64s(paddr(s, PF_FILM)).v[o];
   Vec4s(paddr(t, PF_FRAC)).v[i] = Vec4s(paddr(s, PF_FRAC)).v[o];
   Int64s(paddr(t, PF_PORE)).v[i] = Int64s(paddr(s, PF_PORE)).v[o];
   Int64s(paddr(t, PF_EVAP)).v[i] = Int64s(paddr(s, PF_EVAP)).v[o];
   Int64s(paddr(t, PF_PORECAP)).v[i] = Int64s(paddr(s, PF_PORECAP)).v[o];
-  for (uint w = 0u; w < 3u; ++w) {
-    Vec4s(paddr(t, PF_WST)).v[3u * i + w] = Vec4s(paddr(s, PF_WST)).v[3u * o + w];
-    Vec4s(paddr(t, PF_WSR)).v[3u * i + w] = Vec4s(paddr(s, PF_WSR)).v[3u * o + w];
-    Int64s(paddr(t, PF_WLIQ)).v[3u * i + w] = Int64s(paddr(s, PF_WLIQ)).v[3u * o + w];
-    Uints(paddr(t, PF_WFLAGS)).v[3u * i + w] = Uints(paddr(s, PF_WFLAGS)).v[3u * o + w];
+  uint ns = P.wall_slots;  // the walls the drum has (access.glsl wall_slot)
+  for (uint w = 0u; w < ns; ++w) {
+    Vec4s(paddr(t, PF_WST)).v[ns * i + w] = Vec4s(paddr(s, PF_WST)).v[ns * o + w];
+    Vec4s(paddr(t, PF_WSR)).v[ns * i + w] = Vec4s(paddr(s, PF_WSR)).v[ns * o + w];
+    Int64s(paddr(t, PF_WLIQ)).v[ns * i + w] = Int64s(paddr(s, PF_WLIQ)).v[ns * o + w];
+    Uints(paddr(t, PF_WFLAGS)).v[ns * i + w] = Uints(paddr(s, PF_WFLAGS)).v[ns * o + w];
   }
 }

@@ -29,7 +29,8 @@ void main() {
   vec4 pf = Vec4s(paddr(s, PF_FRAC)).v[i];
   Int64s wliq = Int64s(paddr(s, PF_WLIQ));
   for (uint k = 0u; k < 3u; ++k) {
-    int64_t vb = wliq.v[3u * i + k];
+    if (!wall_present(k, P)) continue;  // no record, and no contact (walls.glsl)
+    int64_t vb = wliq.v[wall_slot(i, k, P)];
     if (vb != 0) smp_add64(r, SR_WALL_LIQ, vb);
     if (vb > 0) atomicAdd(S.v[smp_word(r, SR_WALL_BRIDGES)], 1u);
     float delta, wom;

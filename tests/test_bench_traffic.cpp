@@ -61,15 +61,18 @@ TEST_F(BenchMemory, DeviceMemoryMatchesBuffersAndEstimate) {
     ASSERT_GT(m.entry_capacity, 0u);
     EXPECT_GE(m.entry_capacity, 2 * sys.counters().entries) << "each set holds the list";
     const double per_particle = double(m.particle_sets + m.particle_scratch) / n;
-    EXPECT_DOUBLE_EQ(per_particle, app::kDeviceBytesPerParticle - app::kDeviceCellBytesPerParticle -
-                                       app::kSortScratchBytes);
+    EXPECT_DOUBLE_EQ(per_particle, app::device_bytes_per_particle(sc.prm.drum.periodic_z) -
+                                       app::kDeviceCellBytesPerParticle - app::kSortScratchBytes);
+    // By hand from buffer_set.h: 144 B per particle + 44 B per wall record, 2 sets, 64 B scratch.
+    EXPECT_DOUBLE_EQ(app::device_bytes_per_particle(true), 2.0 * (144 + 44) + 64 + 8 + 64);
+    EXPECT_DOUBLE_EQ(app::device_bytes_per_particle(false), 2.0 * (144 + 3 * 44) + 64 + 8 + 64);
     EXPECT_DOUBLE_EQ(double(m.entry_sets), double(m.entry_capacity) * app::kEntrySetBytes);
     // The scratch is sized for the larger set (it only grows): between the mean and the sum of the
     // capacities.
     EXPECT_EQ(m.entry_scratch % uint64_t(app::kEntryScratchBytes), 0u);
     EXPECT_GE(double(m.entry_scratch), 0.5 * double(m.entry_capacity) * app::kEntryScratchBytes);
     EXPECT_LE(double(m.entry_scratch), double(m.entry_capacity) * app::kEntryScratchBytes);
-    EXPECT_DOUBLE_EQ(app::kDeviceBytesPerEntry, 160.0);  // 2 x 56 + 48, by hand from buffer_set.cpp
+    EXPECT_DOUBLE_EQ(app::kDeviceBytesPerEntry, 128.0);  // 2 x 48 + 32, by hand from buffer_set.h
     // The grid holds at most max(8 n, 2^16) cells of two uint32 (system.cpp hashes a larger one).
     EXPECT_LE(double(m.grid), 8.0 * std::max(8.0 * n, 65536.0));
     const uint64_t live = test::gpu().device_bytes() - before;

@@ -162,7 +162,10 @@ TEST_F(GpuSystem, SplitRebuildsAreBitwiseTheGatedChain) {
     for (uint32_t per : {16u, 1u}) {
       const auto [split, cs] = run(true, per, one);
       EXPECT_TRUE(bitwise_equal(gated, split)) << "entries/particle " << per << ", one at a time " << one;
-      EXPECT_EQ(cs.rebuilds, cg.rebuilds);
+      // A rebuild on a batch's last step builds at x^n (the next kick-drift starts the next batch), one on
+      // any other step at x^(n+1) (folded into its gather): batch lengths move the schedule a little, never
+      // the result.
+      EXPECT_NEAR(double(cs.rebuilds), double(cg.rebuilds), 0.1 * double(cg.rebuilds) + 2.0) << per << one;
       EXPECT_GT(cs.split_rebuilds, cs.rebuilds / 2) << "split batches did not halt for most rebuilds";
       EXPECT_EQ(cg.split_rebuilds, 0u);
       EXPECT_EQ(cs.regrows > 0, per == 1u);
@@ -257,6 +260,69 @@ TEST_F(GpuSystem, RunIsBitwiseIndependentOfTheRebuildSchedule) {
   }
   EXPECT_GT(ref.pairs.size(), 100u);
   EXPECT_EQ(ref.total_liquid(), s.total_liquid());
+}
+
+}  // namespace wetdem::test
+
+namespace wetdem::test {
+
+TEST_F(GpuSystem, FusedStepIsBitwiseTheStepPassByPass) {
+  // The fused step (kick-drift folded into the gather, liquid pass 4a there, the films changed by 4b/4d with
+  // integer atomics, the liquid passes behind a gate, the rebuild decision in a last workgroup) must give
+  // bitwise the state and events of the step recorded pass by pass, whatever the batch lengths (a submit's
+  // last step does not fold its kick-drift; a halted split step leaves it done for the next submit): a wet
+  // closed drum turning, with wall bridges, and the liquid sinks on.
+  SimParams prm = wet_drum_params();
+  prm.drum.omega = 6.0;
+  prm.skin = 0.4e-3;
+  for (LiquidParams& l : prm.liq_pw) l = prm.liq_pp;
+  SystemState s = random_drum_packing(prm, 500, 0.5e-3, 0.8e-3, 29, 0.2);
+  for (auto& f : s.p.film) f = 1 << 27;
+  for (bool sinks : {false, true}) {
+    SimParams q = prm;
+    if (sinks) {
+      q.sinks.evaporation_time = 0.05;
+      q.sinks.absorption_rate = 20.0;
+      q.sinks.pore_capacity = 0.01;
+    }
+    auto run = [&](bool fused, bool gate, bool split, uint32_t per_submit, bool one_at_a_time) {
+      SystemOptions o;
+      o.fused_step = fused;
+      o.liquid_gate = gate;
+      o.split_rebuilds = split;
+      o.split_min_interval = 1.0;
+      o.steps_per_submit = per_submit;
+      System sys(gpu(), q, s.p.size(), o);
+      sys.upload(s);
+      if (one_at_a_time)
+        for (int k = 0; k < 60; ++k) sys.step(1);
+      sys.step(one_at_a_time ? 180 : 240);
+      EventCounts ev = sys.read_events();
+      return std::make_tuple(sys.download(), ev, sys.counters());
+    };
+    const auto [ref, ev_ref, c_ref] = run(false, false, false, 200, false);
+    EXPECT_GT(c_ref.rebuilds, 4u);
+    EXPECT_GT(ev_ref.formations, 10u);
+    EXPECT_GT(ev_ref.ruptures, 10u);
+    EXPECT_EQ(ref.total_liquid(), s.total_liquid());
+    for (auto [gate, split, per, one] :
+         {std::tuple{true, true, 200u, false}, std::tuple{true, false, 200u, false},
+          std::tuple{false, true, 7u, false}, std::tuple{true, true, 3u, true},
+          std::tuple{true, false, 1u, true}}) {
+      const auto [x, ev, c] = run(true, gate, split, per, one);
+      EXPECT_EQ(first_difference(ref, x), "")
+          << "sinks " << sinks << ", gate " << gate << ", split " << split << ", per submit " << per;
+      EXPECT_EQ(ev.formations, ev_ref.formations);
+      EXPECT_EQ(ev.ruptures, ev_ref.ruptures);
+      EXPECT_EQ(c.steps, c_ref.steps);
+      EXPECT_LT(c.dispatches_per_step, c_ref.dispatches_per_step);
+      if (gate && !sinks) {
+        EXPECT_LT(c.liquid_steps, c.steps) << "the liquid gate never closed";
+      } else {
+        EXPECT_EQ(c.liquid_steps, c.steps);
+      }
+    }
+  }
 }
 
 }  // namespace wetdem::test

@@ -28,10 +28,10 @@ TEST(Resources, EstimateFollowsTheCase) {
   // Allocated entries: the initial 16 per particle, or 1.5 x the expected list once a rebuild overflows it.
   EXPECT_GT(e.entries_in_list, 5.0);
   EXPECT_DOUBLE_EQ(e.entries_per_particle, std::max(16.0, 1.5 * e.entries_in_list));
-  EXPECT_NEAR(
-      e.device_bytes,
-      e.particles * (app::kDeviceBytesPerParticle + e.entries_per_particle * app::kDeviceBytesPerEntry),
-      1e-6 * e.device_bytes);
+  EXPECT_NEAR(e.device_bytes,
+              e.particles * (app::device_bytes_per_particle(false) +
+                             e.entries_per_particle * app::kDeviceBytesPerEntry),
+              1e-6 * e.device_bytes);
   EXPECT_NEAR(e.particle_steps, e.particles * e.steps, 1e-9 * e.particle_steps);
   // n ∝ l^-3: scaling 0.05 instead of 5 multiplies it by 1e6.
   const app::ResourceEstimate big =

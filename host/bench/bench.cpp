@@ -16,6 +16,20 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
+#include <sys/resource.h>
+// Under callgrind (valgrind --tool=callgrind --instr-atstart=no), --timed-only counts instructions in the
+// timed steps only: a measure of the work that the machine's load does not change. No-ops otherwise.
+#if __has_include(<valgrind/callgrind.h>)
+#include <valgrind/callgrind.h>
+#define WETDEM_TIMED_BEGIN() CALLGRIND_START_INSTRUMENTATION
+#define WETDEM_TIMED_END()        \
+  CALLGRIND_STOP_INSTRUMENTATION; \
+  CALLGRIND_DUMP_STATS
+#else
+#define WETDEM_TIMED_BEGIN()
+#define WETDEM_TIMED_END()
+#endif
+
 #include "app/drum/scenarios.h"
 #include "app/run/resources.h"
 #include "app/run/session.h"
@@ -70,10 +84,40 @@ struct Options {
   std::vector<size_t> ensembles;  // also time ensembles of this many copies of the steady drum
   double bandwidth_gbs = 0;
   bench::SteadyOptions steady;
+  // --timed-only: one System restored from the steady state with these options, timed, nothing else (for
+  // instruction counts under callgrind, where the machine's load does not enter).
+  bool timed_only = false;
+  SystemOptions timed_options;
 };
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// CPU seconds of this process, every thread (lavapipe's workers included): on a loaded machine the wall
+// clock moves with the other jobs, the CPU time much less.
+double process_cpu_s() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+         1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+// Wall and CPU seconds of `steps` steps.
+struct Timed {
+  double wall = 0, cpu = 0;
+};
+Timed time_steps(System& sys, uint64_t steps, bool count_instructions = false) {
+  const double c0 = process_cpu_s();
+  const auto t0 = std::chrono::steady_clock::now();
+  if (count_instructions) {
+    WETDEM_TIMED_BEGIN();
+  }
+  sys.step(steps);
+  if (count_instructions) {
+    WETDEM_TIMED_END();
+  }
+  return {seconds_since(t0), process_cpu_s() - c0};
 }
 
 nlohmann::json bench_case(vk::Context& ctx, const app::Case& c, const std::string& variant, const Options& o,
@@ -92,9 +136,27 @@ nlohmann::json bench_case(vk::Context& ctx, const app::Case& c, const std::strin
   j["dt_s"] = dt;
   j["periodic_slice"] = prep.c.drum.periodic_slice;
 
+  if (o.timed_only) {
+    SystemOptions so = o.timed_options;
+    so.steps_per_submit = prep.c.run.steps_per_submit;
+    app::DrumSession s(ctx, prep, st.ck, [](const std::string&) {});
+    System sys(ctx, s.system().params(), n, so);
+    sys.restore(st.ck.system);
+    sys.step(warmup);
+    const Timed t = time_steps(sys, o.steps, true);
+    log(
+        fmt::format("{} {}: timed only, {} steps: {:.3g} s wall, {:.3g} s CPU ({:.3g} ms CPU per step), "
+                    "{:.1f} dispatches per step",
+                    prep.c.name, variant, o.steps, t.wall, t.cpu, 1e3 * t.cpu / double(o.steps),
+                    sys.counters().dispatches_per_step));
+    j["particle_steps_per_s"] = double(n) * double(o.steps) / t.wall;
+    j["cpu_s_per_step"] = t.cpu / double(o.steps);
+    j["dispatches_per_step"] = sys.counters().dispatches_per_step;
+    return j;
+  }
   // Wall clock: the run's own session resumed from the steady state (the case's steps_per_submit).
-  double wall = 0;
-  uint64_t rebuilds = 0;
+  double wall = 0, cpu = 0;
+  uint64_t rebuilds = 0, liquid_steps = 0;
   Observables obs;
   SystemCounters ctr;
   DeviceMemory mem;
@@ -105,12 +167,15 @@ nlohmann::json bench_case(vk::Context& ctx, const app::Case& c, const std::strin
     System& sys = s.system();
     rotating_prm = sys.params();
     sys.step(warmup);  // records the command buffers; not timed
-    const uint64_t r0 = sys.counters().rebuilds;
-    const auto t0 = std::chrono::steady_clock::now();
-    sys.step(o.steps);
-    wall = seconds_since(t0);
+    const SystemCounters c0 = sys.counters();
+    const Timed t = time_steps(sys, o.steps);
+    wall = t.wall;
+    cpu = t.cpu;
     ctr = sys.counters();
-    rebuilds = ctr.rebuilds - r0;
+    rebuilds = ctr.rebuilds - c0.rebuilds;
+    liquid_steps = ctr.liquid_steps - c0.liquid_steps;
+    log(fmt::format("{} {}: timed {} steps: {:.3g} s wall, {:.3g} s CPU ({:.3g} ms CPU per step)",
+                    prep.c.name, variant, o.steps, wall, cpu, 1e3 * cpu / double(o.steps)));
     obs = sys.observables();
     mem = sys.device_memory();
     context_bytes = double(ctx.device_bytes());  // this session's system is the only one alive
@@ -137,6 +202,10 @@ nlohmann::json bench_case(vk::Context& ctx, const app::Case& c, const std::strin
                  {"cache", st.cache_path}};
   j["particle_steps_per_s"] = pss;
   j["steps_per_s"] = double(o.steps) / wall;
+  j["cpu_s_per_step"] = cpu / double(o.steps);
+  j["cpu_particle_steps_per_s"] = double(n) * double(o.steps) / cpu;
+  j["dispatches_per_step"] = ctr.dispatches_per_step;
+  j["liquid_pass_fraction"] = double(liquid_steps) / double(o.steps);
   j["rebuilds"] = rebuilds;
   j["rebuild_interval_steps"] = interval ? nlohmann::json(*interval) : nlohmann::json(nullptr);
   j["contacts"] = obs.contacts;
@@ -196,14 +265,41 @@ nlohmann::json bench_case(vk::Context& ctx, const app::Case& c, const std::strin
     sys->step(warmup);
     return sys;
   };
+  // Levers (docs/benchmark.md "Levers"): the same steps from the same state with one SystemOptions switch
+  // turned back; rate and CPU time of each against the timed run's.
+  auto lever = [&](SystemOptions so) {
+    auto sys = replay(so);
+    const Timed tl = time_steps(*sys, o.steps);
+    const double r = double(n) * double(o.steps) / tl.wall;
+    return nlohmann::json{{"particle_steps_per_s", r},
+                          {"cpu_s_per_step", tl.cpu / double(o.steps)},
+                          {"dispatches_per_step", sys->counters().dispatches_per_step},
+                          {"speedup", pss / r},
+                          {"cpu_speedup", tl.cpu / cpu}};
+  };
   {
     SystemOptions so;
     so.split_rebuilds = false;
-    auto gated = replay(so);
-    const auto t0 = std::chrono::steady_clock::now();
-    gated->step(o.steps);
-    const double gated_pss = double(n) * double(o.steps) / seconds_since(t0);
-    j["gated_rebuilds"] = {{"particle_steps_per_s", gated_pss}, {"split_speedup", pss / gated_pss}};
+    j["gated_rebuilds"] = lever(so);
+    j["gated_rebuilds"]["split_speedup"] = j["gated_rebuilds"]["speedup"];
+  }
+  j["levers"] = nlohmann::json::object();
+  {
+    SystemOptions so;
+    so.fused_step = false;
+    j["levers"]["fused_step"] = lever(so);
+  }
+  if (prep.c.liquid.on()) {
+    SystemOptions so;
+    so.liquid_gate = false;
+    j["levers"]["liquid_gate"] = lever(so);
+  }
+  {
+    // The planner's threshold: split rebuilds at any interval (the default records the gated chain into
+    // every step while rebuilds come less than split_min_interval steps apart).
+    SystemOptions so;
+    so.split_min_interval = 1.0;
+    j["levers"]["split_min_interval"] = lever(so);
   }
 
   // Ensembles (docs/ensembles.md): k runs of this drum from its steady state, stepped together in one
@@ -296,6 +392,17 @@ void print_table(const nlohmann::json& runs) {
     fmt::print(" {} {} {:.2f}x;", j["case"].get<std::string>(), j["variant"].get<std::string>(),
                j["gated_rebuilds"]["split_speedup"].get<double>());
   fmt::print("\n");
+  fmt::print(
+      "levers, each against the timed run with that switch turned back (wall-clock / CPU-time speed-up):\n");
+  for (const auto& j : runs) {
+    fmt::print("  {} {}: {:.1f} dispatches/step, CPU {:.3g} ms/step, liquid passes on {:.0f} % of steps;",
+               j["case"].get<std::string>(), j["variant"].get<std::string>(),
+               j["dispatches_per_step"].get<double>(), 1e3 * j["cpu_s_per_step"].get<double>(),
+               100.0 * j["liquid_pass_fraction"].get<double>());
+    for (const auto& [name, l] : j["levers"].items())
+      fmt::print(" {} {:.2f}x / {:.2f}x;", name, l["speedup"].get<double>(), l["cpu_speedup"].get<double>());
+    fmt::print("\n");
+  }
 }
 
 }  // namespace
@@ -331,6 +438,13 @@ int main(int argc, char** argv) {
   app.add_option("--ensemble", o.ensembles,
                  "also time ensembles of these many copies of each drum in one System, e.g. 8,32")
       ->delimiter(',');
+  app.add_flag("--timed-only", o.timed_only,
+               "time one System restored from the steady state with the options below, nothing else");
+  app.add_option("--fused-step", o.timed_options.fused_step, "with --timed-only: SystemOptions::fused_step");
+  app.add_option("--liquid-gate", o.timed_options.liquid_gate,
+                 "with --timed-only: SystemOptions::liquid_gate");
+  app.add_option("--split-min-interval", o.timed_options.split_min_interval,
+                 "with --timed-only: SystemOptions::split_min_interval");
   app.add_option("--soak", soak_steps,
                  "instead: liquid-conservation soak of this many steps (physics.md §7.8)");
   CLI11_PARSE(app, argc, argv);
@@ -368,6 +482,7 @@ int main(int argc, char** argv) {
       out["runs"].push_back(j);
       if (!json_path.empty()) std::ofstream(json_path) << out.dump(2) << "\n";  // partial results survive
     }
+    if (o.timed_only) return 0;
     fmt::print("\ndevice: {}", ctx.info().describe());
     print_table(out["runs"]);
   } catch (const app::CaseError& e) {

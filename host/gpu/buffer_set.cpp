@@ -6,8 +6,9 @@
 
 namespace wetdem::gpu {
 
-BufferSet::BufferSet(vk::Context& c, uint32_t num_particles, uint32_t num_cells, uint32_t runs)
-    : ctx(c), n(num_particles), cells(num_cells) {
+BufferSet::BufferSet(vk::Context& c, uint32_t num_particles, uint32_t num_cells, uint32_t runs,
+                     uint32_t slots, bool events)
+    : ctx(c), n(num_particles), cells(num_cells), wall_slots(slots), event_slots(events) {
   const uint64_t N = std::max<uint32_t>(n, 1);
   ctl = vk::Buffer(ctx, ctl::kWords * 4);
   params = vk::Buffer(ctx, uint64_t(std::max<uint32_t>(runs, 1)) * sizeof(GpuParams));
@@ -16,7 +17,7 @@ BufferSet::BufferSet(vk::Context& c, uint32_t num_particles, uint32_t num_cells,
   table_buf = vk::Buffer(ctx, sizeof(GpuTable));
   for (int s = 0; s < 2; ++s)
     for (uint32_t f = 0; f < kNumParticleFields; ++f)
-      pset[s][f] = vk::Buffer(ctx, N * kParticleFieldBytes[f]);
+      pset[s][f] = vk::Buffer(ctx, N * particle_field_bytes(f, wall_slots));
   ref_pos = vk::Buffer(ctx, N * 16);
   cell_key = vk::Buffer(ctx, N * 4);
   sort_val = vk::Buffer(ctx, N * 4);
@@ -28,14 +29,43 @@ BufferSet::BufferSet(vk::Context& c, uint32_t num_particles, uint32_t num_cells,
   p_gain = vk::Buffer(ctx, N * 8);
   p_full = vk::Buffer(ctx, N * 8);
   p_offer = vk::Buffer(ctx, N * 8);
+
+  VkDescriptorPoolSize ps{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 2};
+  VkDescriptorPoolCreateInfo pi{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+  pi.maxSets = 1;
+  pi.poolSizeCount = 1;
+  pi.pPoolSizes = &ps;
+  WETDEM_VK(vkCreateDescriptorPool(ctx.device(), &pi, nullptr, &pool_));
+  VkDescriptorSetLayout layout = ctx.set_layout();
+  VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+  ai.descriptorPool = pool_;
+  ai.descriptorSetCount = 1;
+  ai.pSetLayouts = &layout;
+  WETDEM_VK(vkAllocateDescriptorSets(ctx.device(), &ai, &descriptors));
+  VkDescriptorBufferInfo bi[2] = {{table_buf.handle(), 0, sizeof(GpuTable)},
+                                  {params.handle(), 0, sizeof(GpuParams)}};
+  VkWriteDescriptorSet w[2]{};
+  for (uint32_t k = 0; k < 2; ++k) {
+    w[k].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
+    w[k].dstSet = descriptors;
+    w[k].dstBinding = k;
+    w[k].descriptorCount = 1;
+    w[k].descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    w[k].pBufferInfo = &bi[k];
+  }
+  vkUpdateDescriptorSets(ctx.device(), 2, w, 0, nullptr);
+}
+
+BufferSet::~BufferSet() {
+  if (pool_) vkDestroyDescriptorPool(ctx.device(), pool_, nullptr);
 }
 
 void BufferSet::grow_scratch(uint32_t entries) {
   if (entries <= scratch_capacity_) return;
   const uint64_t E = std::max<uint32_t>(entries, 1);
-  pair_f = vk::Buffer(ctx, E * 16);
-  pair_t = vk::Buffer(ctx, E * 16);
-  ev = vk::Buffer(ctx, E * 8);
+  pair_f = vk::Buffer(ctx, E * 12);
+  pair_t = vk::Buffer(ctx, E * 12);
+  ev = vk::Buffer(ctx, event_slots ? E * kEventSlotBytes : 0);  // (16 bytes when unused)
   partner = vk::Buffer(ctx, E * 4);
   owners = vk::Buffer(ctx, E * 4);
   scratch_capacity_ = entries;

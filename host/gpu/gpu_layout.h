@@ -69,7 +69,7 @@ struct GpuParams {
   uint32_t runs;           // ensembles: runs in this system (1: a single run)
   uint32_t run_stride;     // bytes between the parameter blocks of consecutive runs (sizeof(GpuParams))
   uint32_t cells_per_run;  // each run has its own block of cells
-  uint32_t pad_runs;
+  uint32_t wall_slots;     // wall records per particle: one per wall the drum has (access.glsl wall_slot)
 };
 static_assert(sizeof(GpuParams) ==
               32 * 4 + 48 * 4 + 8 + 4 * 4 + 12 * 2 + 8 * 2 + 8 + 16 + 12 + 12 + 8 + 16 * 4 + 24 + 16);
@@ -95,20 +95,44 @@ enum : uint32_t {
   kStepsDone = 13,
   kOverflows = 14,
   kMirrorErrors = 15,
-  kEntryArgs = 16,  // uvec4: dispatch over the current list's entries
-  kBuildArgs = 20,  // uvec4: dispatch over the list being built (written after its scan)
-  kLostArgs = 24,   // uvec4: lost-bridge check over the old list (rebuild steps only)
-  kCapacity0 = 28,  // entry capacity of pair set 0 (kCapacity0 + 1: set 1)
-  kGateArgs = 32,   // kMaxGates uvec4 slots: rebuild-gated dispatch sizes
-  kMaxGates = 47,
+  kEntryArgs = 16,    // uvec4: dispatch over the current list's entries
+  kBuildArgs = 20,    // uvec4: dispatch over the list being built (written after its scan)
+  kLostArgs = 24,     // uvec4: lost-bridge check over the old list (rebuild steps only)
+  kCapacity0 = 28,    // entry capacity of pair set 0 (kCapacity0 + 1: set 1)
+  kLiquidSteps = 30,  // fused step: steps whose liquid passes ran (the gate was open)
+  kDrifted = 31,      // fused step: 1 while the particles hold x^(n+1), v^(n+1/2) (the next drift is done)
+  kGateArgs = 32,     // kMaxGates uvec4 slots: rebuild-gated dispatch sizes
+  kMaxGates = 40,
   kGateGroups = kGateArgs + 4 * kMaxGates,  // kMaxGates uints: nominal group counts of the gated slots
   kOwnerArgs = kGateGroups + kMaxGates,     // uvec3: dispatch over the current list's owner entries
   kOwnersNeeded = kOwnerArgs + 3,           // owner entries of the list being built (after its scan)
-  kWords = 272,                             // unchanged by the owner words: snapshots keep their size
+  // The fused step (ARCHITECTURE.md "Passes of a step"); see ctl.glsl.
+  kCandPair = kOwnersNeeded + 1,  // liquid event candidates flagged by pair_force
+  kCandWall,                      // ... by the walls in gather_kick
+  kCandStep,                      // both, for the liquid passes of this step
+  kDoneGroups,                    // workgroups of the current pass that finished (last-group test)
+  kLiqArgs,                       // 3 uvec3: sizes of the gated liquid passes 4b, 4c, 4d
+  kStepArgs = kLiqArgs + 9,       // uvec3: the per-particle passes of a step (zero after a halt)
+  kWords = 272,
 };
-static_assert(kOwnersNeeded < kWords);
+static_assert(kStepArgs + 3 <= kWords);
 }  // namespace ctl
 
+// Push-constant mode bits of the passes the fused step records in several ways (shaders/common/modes.glsl).
+namespace mode {
+enum : uint32_t {
+  kGather = 1,           // gather_kick: pair results + walls, second half kick
+  kKickDrift = 2,        // gather_kick: first half kick of the next step and its drift
+  kShare = 4,            // gather_kick: liquid pass 4a
+  kFinish = 8,           // gather_kick: last workgroup gates the liquid passes / decides the rebuild
+  kSplit = 16,           // split rebuilds
+  kGate = 32,            // liquid passes closed on steps without event candidates
+  kSinks = 64,           // a liquid sink is on: 4c runs every step
+  kLiquid = 128,         // liquid passes follow
+  kUnlessDrifted = 256,  // a submit's first kick-drift: skip when already done
+};
+enum : uint32_t { kAtomic = 1, kGated = 2, kLqFinish = 4, kLqSplit = 8 };  // liquid passes 4b-4d
+}  // namespace mode
 // Sampling words (System::sample_runs), mirror of shaders/common/sample.glsl.
 namespace smp {
 enum : uint32_t {

@@ -34,13 +34,34 @@ System::Impl::Impl(vk::Context& c, const std::vector<SimParams>& runs, const std
     throw std::invalid_argument("System: particle count must be in [1, 2^31)");
   run_off.assign(1, 0u);
   for (size_t k : sizes) run_off.push_back(run_off.back() + uint32_t(k));
-  const char* names[] = {
-      "kick_drift",     "pair_force",       "gather_kick",   "liq_rupture_share", "liq_rupture_apply",
-      "liq_form_offer", "liq_form_apply",   "liq_form_take", "rebuild_decide",    "cell_key",
-      "reorder",        "fill_u32",         "cell_ranges",   "nbr_count",         "build_args",
-      "nbr_fill",       "mirror",           "history_map",   "lost_check",        "flip",
-      "end_step",       "liq_upload_flags", "owner_count",   "owner_fill"};
-  for (const char* nm : names) kernels[nm] = std::make_unique<vk::Kernel>(ctx, nm);
+  // Every kernel of a System but the sort's and the scan's.
+  const char* names[] = {"pair_force",
+                         "gather_kick",
+                         "liq_rupture_share",
+                         "liq_rupture_apply",
+                         "liq_form_offer",
+                         "liq_form_apply",
+                         "liq_form_take",
+                         "rebuild_decide",
+                         "cell_key",
+                         "reorder",
+                         "fill_u32",
+                         "cell_ranges",
+                         "nbr_count",
+                         "build_args",
+                         "nbr_fill",
+                         "mirror",
+                         "history_map",
+                         "lost_check",
+                         "flip",
+                         "end_step",
+                         "liq_upload_flags",
+                         "owner_count",
+                         "owner_fill"};
+  // Specialization constant 0: the number of runs (access.glsl: one run reads its parameters uniformly).
+  for (const char* nm : names)
+    kernels[nm] = std::make_unique<vk::Kernel>(ctx, nm, std::vector<uint32_t>{uint32_t(runs.size())});
+  fused = opt.fused_step && ctx.info().int64_atomics;
   sort = std::make_unique<gpu::RadixSort>(ctx, n);
   scan = std::make_unique<gpu::Scan>(ctx, n);
   VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
@@ -60,30 +81,37 @@ void System::Impl::drop_cache() {
   }
   if (chain_cb) vkFreeCommandBuffers(ctx.device(), ctx.pool(), 1, &chain_cb);
   chain_cb = VK_NULL_HANDLE;
+  per_step_dispatches.clear();
 }
 
-void System::Impl::run(VkCommandBuffer cb, const char* name, uint32_t groups) {
+void System::Impl::run(VkCommandBuffer cb, const char* name, uint32_t groups, uint32_t a0) {
   Push p = push();
+  ++n_dispatch;
+  p.a0 = a0;
   if (opt.profile_passes) prof.mark(cb, name);
   kernels.at(name)->dispatch(cb, groups, &p, sizeof(p));
   vk::barrier(cb);
 }
 
-void System::Impl::run_indirect(VkCommandBuffer cb, const char* name, uint32_t word) {
+void System::Impl::run_indirect(VkCommandBuffer cb, const char* name, uint32_t word, uint32_t a0) {
   Push p = push();
+  ++n_dispatch;
+  p.a0 = a0;
   if (opt.profile_passes) prof.mark(cb, name);
   kernels.at(name)->dispatch_indirect(cb, B->ctl.handle(), word * 4, &p, sizeof(p));
   vk::barrier(cb);
 }
 
-void System::Impl::gated(VkCommandBuffer cb, const char* name, uint32_t groups) {
+void System::Impl::gated(VkCommandBuffer cb, const char* name, uint32_t groups, uint32_t a0) {
   Push p = push();
+  p.a0 = a0;
   gate.dispatch(cb, *kernels.at(name), groups, &p, sizeof(p));
   vk::barrier(cb);
 }
 
-// Rebuild chain 6a-6n (ARCHITECTURE.md); every dispatch is gated by rebuild_decide.
-void System::Impl::record_rebuild(VkCommandBuffer cb) {
+// Rebuild chain 6a-6n (ARCHITECTURE.md); every dispatch is gated by the rebuild decision. end_step: its flip
+// also ends the step (the fused step's gated chain).
+void System::Impl::record_rebuild(VkCommandBuffer cb, bool end_step) {
   const uint32_t gN = groups_for(n);
   gated(cb, "cell_key", gN);
   sort->record(cb, gate, B->cell_key.address(), B->sort_val.address(), n, key_bits);
@@ -94,22 +122,34 @@ void System::Impl::record_rebuild(VkCommandBuffer cb) {
   gate.dispatch(cb, *kernels.at("fill_u32"), groups_for(cells), &fill, sizeof(fill));
   gated(cb, "reorder", gN);
   gated(cb, "cell_ranges", gN);
-  gated(cb, "nbr_count", gN);
+  gated(cb, "nbr_count", gN, keep_stride());
   scan->record(cb, gate, B->cnt_scan.address(), n, B->ctl.address() + ctlw::kEntriesNeeded * 4);
   gated(cb, "build_args", 1);
-  record_list_tail(cb, false);
+  record_list_tail(cb, false, end_step);
+}
+
+// Candidates per particle that 6e keeps for 6g in the pair-force scratch (3 words per entry of capacity,
+// at least 16 entries per particle until a regrowth): up to 32, fewer when the scratch is smaller; a particle
+// with more is searched again by 6g.
+uint32_t System::Impl::keep_stride() const {
+  const uint64_t words = 3ull * B->scratch_capacity();
+  return uint32_t(std::min<uint64_t>(32, words / std::max<uint32_t>(n, 1)));
 }
 
 // 6g-6n: fill, mirror, history, lost check, owner list, flip. Direct dispatches when finishing a halted
 // rebuild.
-void System::Impl::record_list_tail(VkCommandBuffer cb, bool direct) {
+void System::Impl::record_list_tail(VkCommandBuffer cb, bool direct, bool end_step) {
   const uint32_t gN = groups_for(n);
+  // After an overflow regrowth the pair-force scratch that held 6e's candidates may be new: search again.
   if (direct)
-    run(cb, "nbr_fill", gN);
+    run(cb, "nbr_fill", gN, 0);
   else
-    gated(cb, "nbr_fill", gN);
+    gated(cb, "nbr_fill", gN, keep_stride());
   run_indirect(cb, "mirror", ctlw::kBuildArgs);
-  run_indirect(cb, "history_map", ctlw::kBuildArgs);
+  if (direct)
+    run(cb, "history_map", gN);
+  else
+    gated(cb, "history_map", gN);
   run_indirect(cb, "lost_check", ctlw::kLostArgs);
   // 6k-6m: the owner list of the new list (count per particle, scan, fill).
   gpu::DirectDispatcher now;
@@ -121,37 +161,59 @@ void System::Impl::record_list_tail(VkCommandBuffer cb, bool direct) {
                B->ctl.address() + ctlw::kOwnersNeeded * 4);
   if (direct) {
     run(cb, "owner_fill", gN);
-    run(cb, "flip", 1);
+    run(cb, "flip", 1, end_step ? 1u : 0u);
   } else {
     gated(cb, "owner_fill", gN);
-    gated(cb, "flip", 1);
+    gated(cb, "flip", 1, end_step ? 1u : 0u);
   }
 }
 
-void System::Impl::record_step(VkCommandBuffer cb, bool split) {
-  const uint32_t gN = groups_for(n);
-  run(cb, "kick_drift", gN);
-  run_indirect(cb, "pair_force", ctlw::kOwnerArgs);
-  run(cb, "gather_kick", gN);
-  if (gp.liquid_on) {
-    run(cb, "liq_rupture_share", gN);
-    run_indirect(cb, "liq_rupture_apply", ctlw::kOwnerArgs);
-    run(cb, "liq_form_offer", gN);
-    run_indirect(cb, "liq_form_apply", ctlw::kOwnerArgs);
-    run(cb, "liq_form_take", gN);
-  }
-  if (split) {
-    // Ends the step, or halts it (and the rest of the command buffer) when it must rebuild; see step().
-    gpu::Push p = push();
-    p.a0 = 1;
-    if (opt.profile_passes) prof.mark(cb, "rebuild_decide");
-    kernels.at("rebuild_decide")->dispatch(cb, 1, &p, sizeof(p));
-    vk::barrier(cb);
+// One step. Pass by pass (SystemOptions::fused_step off): kick-drift, pair forces, gather and second kick,
+// liquid 4a-4e, the rebuild decision, the gated chain and end_step (or, split, the decision ends the step).
+// Fused (ARCHITECTURE.md "Passes of a step"): pair forces; the gather with 4a, the next step's kick-drift
+// (not on a batch's last step, so that a submit ends on a whole step) and, in its last workgroup, the liquid
+// gate; 4b-4d behind that gate, the last workgroup of 4d (or of the gather when the gate is closed) deciding
+// the rebuild; a batch's first step starts with the kick-drift on its own unless the step before did it.
+void System::Impl::record_step(VkCommandBuffer cb, bool split, bool first, bool last) {
+  namespace md = gpu::mode;
+  // Per-particle passes read their size from ctl too: after a split halt the rest of the submit is zero-sized
+  // (step_control.glsl close_step_passes) instead of launching workgroups that would only return.
+  const uint32_t sN = ctlw::kStepArgs;
+  if (!fused) {
+    run_indirect(cb, "gather_kick", sN, md::kKickDrift);
+    run_indirect(cb, "pair_force", ctlw::kOwnerArgs);
+    run_indirect(cb, "gather_kick", sN, md::kGather);
+    if (gp.liquid_on) {
+      run_indirect(cb, "liq_rupture_share", sN);
+      run_indirect(cb, "liq_rupture_apply", ctlw::kOwnerArgs);
+      run_indirect(cb, "liq_form_offer", sN);
+      run_indirect(cb, "liq_form_apply", ctlw::kOwnerArgs);
+      run_indirect(cb, "liq_form_take", sN);
+    }
+    // Split: ends the step, or halts it (and the rest of the command buffer) when it must rebuild; see
+    // step().
+    run(cb, "rebuild_decide", 1, split ? 1u : 0u);
+    if (split) return;
+    record_rebuild(cb, false);
+    run(cb, "end_step", 1);
     return;
   }
-  run(cb, "rebuild_decide", 1);
-  record_rebuild(cb);
-  run(cb, "end_step", 1);
+  if (first) run_indirect(cb, "gather_kick", sN, md::kKickDrift | md::kUnlessDrifted);
+  run_indirect(cb, "pair_force", ctlw::kOwnerArgs);
+  uint32_t m = md::kGather | md::kFinish | (last ? 0u : uint32_t(md::kKickDrift)) | (split ? md::kSplit : 0u);
+  if (gp.liquid_on) {
+    m |= md::kShare | md::kLiquid | (opt.liquid_gate ? md::kGate : 0u);
+    for (const gpu::GpuParams& g : gps)
+      if (g.absorb_mode != 0u || g.evap_on != 0u) m |= md::kSinks;
+  }
+  run_indirect(cb, "gather_kick", sN, m);
+  if (gp.liquid_on) {
+    run_indirect(cb, "liq_rupture_apply", ctlw::kLiqArgs, md::kAtomic);
+    run_indirect(cb, "liq_form_offer", ctlw::kLiqArgs + 3, md::kAtomic | md::kGated);
+    run_indirect(cb, "liq_form_apply", ctlw::kLiqArgs + 6,
+                 md::kAtomic | md::kLqFinish | (split ? md::kLqSplit : 0u));
+  }
+  if (!split) record_rebuild(cb, true);  // its flip ends a rebuild step; the decision ended any other
 }
 
 // Split rebuilds: steps per submit. A batch that ends before the next rebuild costs a host round trip; one
@@ -204,8 +266,7 @@ void System::Impl::recover(const std::vector<uint32_t>& c, bool finish_step) {
   ctr.regrows++;
   VkCommandBuffer cb = record([&](VkCommandBuffer r) {
     run(r, "build_args", 1);
-    record_list_tail(r, true);
-    if (finish_step) run(r, "end_step", 1);
+    record_list_tail(r, true, finish_step);
   });
   submit(cb);
   vkFreeCommandBuffers(ctx.device(), ctx.pool(), 1, &cb);
@@ -218,6 +279,7 @@ void System::Impl::check_health(const std::vector<uint32_t>& c) {
   ctr.escaped = c[ctlw::kEscaped];
   ctr.entries = c[ctlw::kEntries];
   ctr.entry_capacity = std::min(B->capacity(0), B->capacity(1));
+  ctr.liquid_steps = c[ctlw::kLiquidSteps];
   ctr.rebuilds += uint32_t(c[ctlw::kRebuilds] - last_rebuilds);
   last_rebuilds = c[ctlw::kRebuilds];
   events.formations += uint32_t(c[ctlw::kFormations] - last_form);
@@ -241,14 +303,21 @@ void System::Impl::step(uint64_t count) {
     // Bounded caches: batch lengths vary with the remaining count and the plan; re-recording is cheap.
     for (auto* m : {&cached, &plain})
       if (m->size() > 32 && !m->count(k)) {
-        for (auto& [len, old] : *m) vkFreeCommandBuffers(ctx.device(), ctx.pool(), 1, &old);
+        for (auto& [len, old] : *m) {
+          per_step_dispatches.erase(old);
+          vkFreeCommandBuffers(ctx.device(), ctx.pool(), 1, &old);
+        }
         m->clear();
       }
     VkCommandBuffer& cb = split ? plain[k] : cached[k];
-    if (!cb)
+    if (!cb) {
+      const uint64_t d0 = dispatches_recorded();
       cb = record([&](VkCommandBuffer r) {
-        for (uint32_t s = 0; s < k; ++s) record_step(r, split);
+        for (uint32_t s = 0; s < k; ++s) record_step(r, split, s == 0, s + 1 == k);
       });
+      per_step_dispatches[cb] = double(dispatches_recorded() - d0) / double(k);
+    }
+    ctr.dispatches_per_step = per_step_dispatches[cb];
     const uint32_t rebuilds_before = last_rebuilds;
     submit(cb);
     auto c = read_ctl();
@@ -261,8 +330,7 @@ void System::Impl::step(uint64_t count) {
         chain_cb = record([&](VkCommandBuffer r) {
           vkCmdFillBuffer(r, B->ctl.handle(), ctlw::kHalt * 4, 4, 0u);
           vk::barrier(r);
-          record_rebuild(r);
-          run(r, "end_step", 1);
+          record_rebuild(r, true);
         });
       submit(chain_cb);
       c = read_ctl();
@@ -275,6 +343,7 @@ void System::Impl::step(uint64_t count) {
     last_steps_word = c[ctlw::kStepsDone];
     check_health(c);
     steps += done;
+    ctr.steps += done;
     count -= std::min<uint64_t>(count, done);
     if (done == 0) throw std::runtime_error("GPU step made no progress");
     // Interval estimate: exact when a split batch halted (the rebuild was its last step); a gated batch only
@@ -290,6 +359,10 @@ void System::Impl::step(uint64_t count) {
       since_rebuild += done;
       interval_est = std::max(interval_est, double(since_rebuild));
     }
+    // A step() ends on a whole step: a batch's last step does not start the next one's kick-drift, and a
+    // batch that halted earlier is followed by another (it did fewer steps than asked).
+    if (count == 0 && c[ctlw::kDrifted] != 0u)
+      throw std::runtime_error("GPU step ended half-way through a kick-drift (internal error)");
   }
 }
 

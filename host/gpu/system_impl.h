@@ -53,7 +53,9 @@ class GatedDispatcher final : public Dispatcher {
     }
     if (prof_) prof_->mark(cb, k.name());
     k.dispatch_indirect(cb, ctl_, (ctlw::kGateArgs + 4 * slot) * 4, push, push_bytes);
+    ++count_;
   }
+  uint64_t count() const { return count_; }  // dispatches recorded so far
   void set(VkBuffer ctl, Profiler* prof) {
     ctl_ = ctl;
     prof_ = prof;
@@ -64,6 +66,7 @@ class GatedDispatcher final : public Dispatcher {
   VkBuffer ctl_ = VK_NULL_HANDLE;
   Profiler* prof_ = nullptr;
   std::vector<uint32_t> groups_;
+  uint64_t count_ = 0;
 };
 }  // namespace gpu
 
@@ -73,6 +76,7 @@ struct System::Impl {
   std::vector<SimParams> run_prm;  // ensembles: each run's parameters (docs/ensembles.md); [0] is prm
   std::vector<uint32_t> run_off;   // first stable id of each run, and n at the end
   SystemOptions opt;
+  bool fused = true;  // opt.fused_step where the device has 64-bit buffer atomics
   uint32_t n;
   double h = 0.0, inv_h = 0.0;                  // tick size (m)
   double setup_r_max = 0.0, setup_r_min = 0.0;  // setup()'s inputs, kept for snapshots
@@ -82,6 +86,9 @@ struct System::Impl {
   double shared_skin = 0.0, shared_range = 0.0;  // the rebuild schedule's skin, the list's bridge range
   void build_params();
   uint32_t cells = 0, key_bits = 1;
+  // Wall records per particle: one per wall the drum has (buffer_set.h); the slot of wall w, -1 if absent.
+  uint32_t drum_wall_slots() const;
+  int wall_slot[3] = {0, 1, 2};
   std::unique_ptr<BufferSet> B;
   std::map<std::string, std::unique_ptr<vk::Kernel>> kernels;
   std::unique_ptr<gpu::RadixSort> sort;
@@ -90,9 +97,12 @@ struct System::Impl {
   gpu::Profiler prof;
   std::map<uint32_t, VkCommandBuffer> cached;  // recorded k-step command buffers, by k
   std::map<uint32_t, VkCommandBuffer> plain;   // the same without the rebuild chain (split rebuilds)
-  VkCommandBuffer chain_cb = VK_NULL_HANDLE;   // rebuild chain + end_step of a halted split step
-  double interval_est = 16.0;                  // steps between rebuilds, running estimate (split rebuilds)
-  uint64_t since_rebuild = 0;                  // completed steps since the last rebuild (split rebuilds)
+  VkCommandBuffer chain_cb = VK_NULL_HANDLE;   // rebuild chain ending a halted split step
+  std::map<VkCommandBuffer, double> per_step_dispatches;  // dispatches recorded per step, by batch
+  uint64_t n_dispatch = 0;                                // dispatches recorded by run, run_indirect, gated
+  uint64_t dispatches_recorded() const { return n_dispatch + gate.count(); }
+  double interval_est = 16.0;  // steps between rebuilds, running estimate (split rebuilds)
+  uint64_t since_rebuild = 0;  // completed steps since the last rebuild (split rebuilds)
   VkFence fence = VK_NULL_HANDLE;
   double time0 = 0.0;
   uint64_t step0 = 0, steps = 0;
@@ -110,15 +120,18 @@ struct System::Impl {
   void setup(double r_max, double r_min);
   // ---- recording -----------------------------------------------------------------------------------
   gpu::Push push() const { return gpu::Push{B->table_buf.address(), 0, 0}; }
-  void run(VkCommandBuffer cb, const char* name, uint32_t groups);
-  void run_indirect(VkCommandBuffer cb, const char* name, uint32_t word);
-  void gated(VkCommandBuffer cb, const char* name, uint32_t groups);
-  // Rebuild chain 6a-6n (ARCHITECTURE.md); every dispatch is gated by rebuild_decide.
-  void record_rebuild(VkCommandBuffer cb);
+  void run(VkCommandBuffer cb, const char* name, uint32_t groups, uint32_t a0 = 0);
+  void run_indirect(VkCommandBuffer cb, const char* name, uint32_t word, uint32_t a0 = 0);
+  void gated(VkCommandBuffer cb, const char* name, uint32_t groups, uint32_t a0 = 0);
+  uint32_t keep_stride() const;
+  // Rebuild chain 6a-6n (ARCHITECTURE.md); every dispatch is gated by the rebuild decision. end_step: the
+  // chain's flip also ends the step.
+  void record_rebuild(VkCommandBuffer cb, bool end_step);
   // 6g-6n: fill, mirror, history, lost check, owner list, flip. Direct dispatches when finishing a halted
   // rebuild.
-  void record_list_tail(VkCommandBuffer cb, bool direct);
-  void record_step(VkCommandBuffer cb, bool split);
+  void record_list_tail(VkCommandBuffer cb, bool direct, bool end_step);
+  // One step of a batch (first / last step of the batch: the fused step's kick-drift, system.cpp).
+  void record_step(VkCommandBuffer cb, bool split, bool first, bool last);
   uint32_t plan_split_batch(uint64_t count) const;
   VkCommandBuffer allocate_cb();
   template <class Fn>
@@ -126,6 +139,8 @@ struct System::Impl {
     VkCommandBuffer cb = allocate_cb();
     VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     WETDEM_VK(vkBeginCommandBuffer(cb, &bi));
+    vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, ctx.pipeline_layout(), 0, 1, &B->descriptors,
+                            0, nullptr);
     if (opt.profile_passes) prof.begin(cb);
     fn(cb);
     if (opt.profile_passes) prof.end(cb);

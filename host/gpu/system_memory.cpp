@@ -15,8 +15,8 @@ DeviceMemory System::device_memory() const {
   for (const vk::Buffer* f : {&b.ref_pos, &b.cell_key, &b.sort_val, &b.cnt_scan, &b.own_scan, &b.p_share,
                               &b.p_gain, &b.p_full, &b.p_offer})
     m.particle_scratch += f->size();
-  for (const vk::Buffer* f : {&b.pair_f, &b.pair_t, &b.ev, &b.partner, &b.owners})
-    m.entry_scratch += f->size();
+  for (const vk::Buffer* f : {&b.pair_f, &b.pair_t, &b.partner, &b.owners}) m.entry_scratch += f->size();
+  if (b.event_slots) m.entry_scratch += b.ev.size();
   m.grid = b.cell_start.size() + b.cell_end.size();
   m.control = b.ctl.size() + b.params.size() + b.table_buf.size() + b.smp.size() + b.smp_pairs.size();
   return m;

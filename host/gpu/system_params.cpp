@@ -84,6 +84,11 @@ gpu::GpuParams physics_block(const SimParams& q, const gpu::GpuParams& shared) {
 
 }  // namespace
 
+uint32_t System::Impl::drum_wall_slots() const {
+  const DrumParams& d = prm.drum;
+  return 1u + (d.periodic_z ? 0u : uint32_t(d.plate_lo.present) + uint32_t(d.plate_hi.present));
+}
+
 uint32_t System::Impl::run_of(uint32_t id) const {
   return uint32_t(std::upper_bound(run_off.begin(), run_off.end(), id) - run_off.begin()) - 1u;
 }
@@ -211,12 +216,15 @@ void System::Impl::setup(double r_max, double r_min) {
   shared.runs = uint32_t(run_prm.size());
   shared.run_stride = uint32_t(sizeof(gpu::GpuParams));
   shared.cells_per_run = uint32_t(ncells);
+  shared.wall_slots = drum_wall_slots();
+  const bool present[3] = {true, !d.periodic_z && d.plate_lo.present, !d.periodic_z && d.plate_hi.present};
+  for (int w = 0, k = 0; w < 3; ++w) wall_slot[w] = present[w] ? k++ : -1;
   shared_skin = skin;
   shared_range = range_pp;
   build_params();
 
   drop_cache();
-  B = std::make_unique<BufferSet>(ctx, n, cells, uint32_t(run_prm.size()));
+  B = std::make_unique<BufferSet>(ctx, n, cells, uint32_t(run_prm.size()), shared.wall_slots, !fused);
   B->params.upload(gps.data(), gps.size() * sizeof(gpu::GpuParams));
   if (run_prm.size() > 1) {
     std::vector<uint32_t> run(n);

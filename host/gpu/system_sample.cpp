@@ -70,6 +70,9 @@ std::vector<RunSample> System::Impl::sample_runs() {
     if (head > 65536) B->smp.upload(init);  // vkCmdUpdateBuffer takes at most 64 kB (~2,000 runs)
     const vk::Staging& st = *smp_staging;
     ctx.submit_now([&](VkCommandBuffer cb) {
+      // The kernels read the buffer table from descriptor set 0 (access.glsl), as in record().
+      vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, ctx.pipeline_layout(), 0, 1,
+                              &B->descriptors, 0, nullptr);
       if (head <= 65536) vkCmdUpdateBuffer(cb, B->smp.handle(), 0, head, init.data());
       vk::barrier(cb);
       const gpu::Push p = push();

@@ -32,10 +32,12 @@ void System::Impl::upload(const SystemState& s) {
   // Particles into set 0 in stable-id order.
   std::vector<int32_t> pos(4 * n);
   std::vector<float> frac(4 * size_t(n));
-  std::vector<float> vel(4 * n), omg(4 * n), props(4 * n), frc(4 * n), trq(4 * n);
-  std::vector<float> wst(12 * size_t(n)), wsr(12 * size_t(n));
-  std::vector<int64_t> wliq(3 * size_t(n));
-  std::vector<uint32_t> wfl(3 * size_t(n));
+  std::vector<float> vel(4 * n), omg(4 * n), props(4 * n), frc(3 * n), trq(3 * n);
+  // One wall record per wall the drum has (buffer_set.h): the slot of wall w is its rank among them.
+  const uint32_t ns = B->wall_slots;
+  std::vector<float> wst(4 * size_t(ns) * n), wsr(4 * size_t(ns) * n);
+  std::vector<int64_t> wliq(size_t(ns) * n);
+  std::vector<uint32_t> wfl(size_t(ns) * n);
   const int64_t lim = int64_t(1) << 30;
   for (uint32_t k = 0; k < n; ++k) {
     for (int a = 0; a < 3; ++a) {
@@ -51,8 +53,8 @@ void System::Impl::upload(const SystemState& s) {
       pos[4 * k + a] = int32_t(t);
       vel[4 * k + a] = float(s.p.v[k][a]);
       omg[4 * k + a] = float(s.p.w[k][a]);
-      frc[4 * k + a] = float(s.p.f[k][a]);
-      trq[4 * k + a] = float(s.p.t[k][a]);
+      frc[3 * k + a] = float(s.p.f[k][a]);
+      trq[3 * k + a] = float(s.p.t[k][a]);
     }
     pos[4 * k + 3] = int32_t(k);
     props[4 * k + 0] = float(s.p.radius[k]);
@@ -65,7 +67,13 @@ void System::Impl::upload(const SystemState& s) {
     frac[4 * k + 3] = float(rt - double(r_ticks));
     for (uint32_t w = 0; w < kNumWalls; ++w) {
       const WallRecord& r = s.p.wall[k * kNumWalls + w];
-      size_t q = 3 * size_t(k) + w;
+      if (wall_slot[w] < 0) {
+        if (r.bridge != 0)
+          throw std::invalid_argument(fmt::format(
+              "upload: particle {} holds a bridge to wall {}, which this drum does not have", k, w));
+        continue;
+      }
+      size_t q = size_t(ns) * k + size_t(wall_slot[w]);
       for (int a = 0; a < 3; ++a) {
         wst[4 * q + a] = float(r.spring_t[a]);
         wsr[4 * q + a] = float(r.spring_r[a]);
@@ -107,7 +115,7 @@ void System::Impl::upload(const SystemState& s) {
   });
   const uint32_t E = uint32_t(recs.size());
   std::vector<uint32_t> cnt(n, 0), off(n, 0), nbr(E), self(E), mir(E), fl(E);
-  std::vector<float> st(4 * size_t(E)), sr(4 * size_t(E));
+  std::vector<float> st(3 * size_t(E)), sr(3 * size_t(E));
   std::vector<int64_t> liq(E);
   for (uint32_t e = 0; e < E; ++e) {
     const PairRecord& r = recs[e];
@@ -118,8 +126,8 @@ void System::Impl::upload(const SystemState& s) {
     self[e] = r.id_i;
     mir[e] = e;
     for (int a = 0; a < 3; ++a) {
-      st[4 * e + a] = float(r.spring_t[a]);
-      sr[4 * e + a] = float(r.spring_r[a]);
+      st[3 * e + a] = float(r.spring_t[a]);
+      sr[3 * e + a] = float(r.spring_r[a]);
     }
     liq[e] = r.bridge;
     fl[e] = r.flags & kFlagWasInContact;
@@ -147,12 +155,14 @@ void System::Impl::upload(const SystemState& s) {
   c[ctlw::kEntryArgs + 1] = c[ctlw::kEntryArgs + 2] = 1;
   c[ctlw::kCapacity0] = B->capacity(0);
   c[ctlw::kCapacity0 + 1] = B->capacity(1);
+  c[ctlw::kStepArgs] = groups_for(n);
+  c[ctlw::kStepArgs + 1] = c[ctlw::kStepArgs + 2] = 1;
   B->ctl.upload(c);
   last_steps_word = last_form = last_rupt = last_rebuilds = 0;
 
   VkCommandBuffer cb = record([&](VkCommandBuffer r) {
     run(r, "rebuild_decide", 1);
-    record_rebuild(r);
+    record_rebuild(r, false);
   });
   submit(cb);
   vkFreeCommandBuffers(ctx.device(), ctx.pool(), 1, &cb);
@@ -173,13 +183,16 @@ void System::Impl::upload(const SystemState& s) {
     std::vector<gpu::GpuParams> at_rest = gps;
     for (gpu::GpuParams& g : at_rest) g.absorb_mode = g.evap_on = 0u;
     B->params.upload(at_rest.data(), at_rest.size() * sizeof(gpu::GpuParams));
+    // The integers of the step's own liquid passes: with integer atomics (the fused step's, no event slots)
+    // or through the event slots and 4e.
+    const uint32_t atomic = fused ? gpu::mode::kAtomic : 0u;
     VkCommandBuffer lb = record([&](VkCommandBuffer r) {
       run(r, "liq_upload_flags", gN);
       run(r, "liq_rupture_share", gN);
-      run_indirect(r, "liq_rupture_apply", ctlw::kOwnerArgs);
-      run(r, "liq_form_offer", gN);
-      run_indirect(r, "liq_form_apply", ctlw::kOwnerArgs);
-      run(r, "liq_form_take", gN);
+      run_indirect(r, "liq_rupture_apply", ctlw::kOwnerArgs, atomic);
+      run(r, "liq_form_offer", gN, atomic);
+      run_indirect(r, "liq_form_apply", ctlw::kOwnerArgs, atomic);
+      if (!fused) run(r, "liq_form_take", gN);
     });
     submit(lb);
     vkFreeCommandBuffers(ctx.device(), ctx.pool(), 1, &lb);
@@ -198,14 +211,15 @@ SystemState System::Impl::download() {
   auto vel = P[gpu::kVel].download_as<float>(4 * size_t(n));
   auto omg = P[gpu::kOmg].download_as<float>(4 * size_t(n));
   auto props = P[gpu::kProps].download_as<float>(4 * size_t(n));
-  auto frc = P[gpu::kForce].download_as<float>(4 * size_t(n));
-  auto trq = P[gpu::kTorque].download_as<float>(4 * size_t(n));
+  auto frc = P[gpu::kForce].download_as<float>(3 * size_t(n));
+  auto trq = P[gpu::kTorque].download_as<float>(3 * size_t(n));
   auto film = P[gpu::kFilm].download_as<int64_t>(n);
   auto frac = P[gpu::kFrac].download_as<float>(4 * size_t(n));
-  auto wst = P[gpu::kWallSt].download_as<float>(12 * size_t(n));
-  auto wsr = P[gpu::kWallSr].download_as<float>(12 * size_t(n));
-  auto wliq = P[gpu::kWallLiq].download_as<int64_t>(3 * size_t(n));
-  auto wfl = P[gpu::kWallFlags].download_as<uint32_t>(3 * size_t(n));
+  const uint32_t ns = B->wall_slots;
+  auto wst = P[gpu::kWallSt].download_as<float>(4 * size_t(ns) * n);
+  auto wsr = P[gpu::kWallSr].download_as<float>(4 * size_t(ns) * n);
+  auto wliq = P[gpu::kWallLiq].download_as<int64_t>(size_t(ns) * n);
+  auto wfl = P[gpu::kWallFlags].download_as<uint32_t>(size_t(ns) * n);
   auto pore = P[gpu::kPore].download_as<int64_t>(n);
   auto evap = P[gpu::kEvap].download_as<int64_t>(n);
   SystemState out;
@@ -220,8 +234,8 @@ SystemState System::Impl::download() {
       out.p.x[i][a] = (double(pos[4 * k + a]) + double(frac[4 * k + a])) * h;
       out.p.v[i][a] = vel[4 * k + a];
       out.p.w[i][a] = omg[4 * k + a];
-      out.p.f[i][a] = frc[4 * k + a];
-      out.p.t[i][a] = trq[4 * k + a];
+      out.p.f[i][a] = frc[3 * k + a];
+      out.p.t[i][a] = trq[3 * k + a];
     }
     int32_t r_ticks;
     std::memcpy(&r_ticks, &props[4 * k + 3], 4);
@@ -232,7 +246,8 @@ SystemState System::Impl::download() {
     out.p.pore[i] = pore[k];
     out.p.evaporated[i] = evap[k];
     for (uint32_t w = 0; w < kNumWalls; ++w) {
-      size_t q = 3 * size_t(k) + w;
+      if (wall_slot[w] < 0) continue;  // a wall the drum does not have: an empty record
+      size_t q = size_t(ns) * k + size_t(wall_slot[w]);
       WallRecord& r = out.p.wall[size_t(i) * kNumWalls + w];
       for (int a = 0; a < 3; ++a) {
         r.spring_t[a] = wst[4 * q + a];
@@ -246,8 +261,8 @@ SystemState System::Impl::download() {
   auto nbr = Es[gpu::kNbr].download_as<uint32_t>(E);
   auto self = Es[gpu::kSelf].download_as<uint32_t>(E);
   auto mir = Es[gpu::kMirror].download_as<uint32_t>(E);
-  auto st = Es[gpu::kSt].download_as<float>(4 * size_t(E));
-  auto sr = Es[gpu::kSr].download_as<float>(4 * size_t(E));
+  auto st = Es[gpu::kSt].download_as<float>(3 * size_t(E));
+  auto sr = Es[gpu::kSr].download_as<float>(3 * size_t(E));
   auto liq = Es[gpu::kLiq].download_as<int64_t>(E);
   auto fl = Es[gpu::kFlags].download_as<uint32_t>(E);
   for (uint32_t e = 0; e < E; ++e) {
@@ -258,8 +273,8 @@ SystemState System::Impl::download() {
     if (r.id_i > r.id_j)
       throw std::runtime_error("download: owner entry is not the lower id (internal error)");
     for (int a = 0; a < 3; ++a) {
-      r.spring_t[a] = st[4 * e + a];
-      r.spring_r[a] = sr[4 * e + a];
+      r.spring_t[a] = st[3 * e + a];
+      r.spring_r[a] = sr[3 * e + a];
     }
     r.bridge = liq[e];
     r.flags = fl[e] & kFlagWasInContact;
@@ -290,9 +305,11 @@ std::vector<std::pair<uint32_t, uint32_t>> System::Impl::neighbour_pairs() {
 }
 
 namespace {
-// "WMDSNP03": 02 (pore, evaporated, capacity) + the radii the cell grid was sized from.
-constexpr uint64_t kSnapMagic = 0x3330504E53444D57ull;
-constexpr uint64_t kSnapMagicOld = 0x3230504E53444D57ull;
+// "WMDSNP05": 03 (02 + the radii the cell grid was sized from) with the control words of the fused step, wall
+// records for the walls the drum has, force, torque and springs packed vec3.
+constexpr uint64_t kSnapMagic = 0x3530504E53444D57ull;
+constexpr uint64_t kSnapMagicOld[] = {0x3230504E53444D57ull, 0x3330504E53444D57ull,
+                                      0x3430504E53444D57ull};  // 02, 03, 04
 struct SnapHeader {
   uint64_t magic;
   uint32_t n, parity, entries, pad;
@@ -325,7 +342,7 @@ std::vector<uint8_t> System::Impl::snapshot() {
   };
   dl(B->ref_pos, size_t(n) * 16);
   for (uint32_t f = 0; f < gpu::kNumParticleFields; ++f)
-    dl(B->pset[hd.parity][f], size_t(n) * gpu::kParticleFieldBytes[f]);
+    dl(B->pset[hd.parity][f], size_t(n) * gpu::particle_field_bytes(f, B->wall_slots));
   for (uint32_t f = 0; f < gpu::kNumEntryFields; ++f)
     dl(B->eset[hd.parity][f], size_t(hd.entries) * gpu::kEntryFieldBytes[f]);
   return out;
@@ -335,13 +352,17 @@ void System::Impl::restore(const std::vector<uint8_t>& blob) {
   SnapHeader hd;
   if (blob.size() < sizeof(hd)) throw std::invalid_argument("restore: snapshot too short");
   std::memcpy(&hd, blob.data(), sizeof(hd));
-  if (hd.magic == kSnapMagicOld)
-    throw std::invalid_argument("restore: a snapshot of an older wetdem (WMDSNP02); start the run afresh");
+  for (uint64_t old : kSnapMagicOld)
+    if (hd.magic == old)
+      throw std::invalid_argument(
+          fmt::format("restore: a snapshot of an older wetdem (WMDSNP0{}); start the run afresh",
+                      char((old >> 56) & 0xFF)));
   if (hd.magic != kSnapMagic) throw std::invalid_argument("restore: not a wetdem snapshot");
   if (hd.n != n)
     throw std::invalid_argument(fmt::format("restore: snapshot has {} particles, system {}", hd.n, n));
   size_t need = sizeof(hd) + ctlw::kWords * 4 + size_t(n) * 16;
-  for (uint32_t f = 0; f < gpu::kNumParticleFields; ++f) need += size_t(n) * gpu::kParticleFieldBytes[f];
+  for (uint32_t f = 0; f < gpu::kNumParticleFields; ++f)
+    need += size_t(n) * gpu::particle_field_bytes(f, drum_wall_slots());
   for (uint32_t f = 0; f < gpu::kNumEntryFields; ++f) need += size_t(hd.entries) * gpu::kEntryFieldBytes[f];
   if (blob.size() != need) throw std::invalid_argument("restore: snapshot size does not match its header");
   const uint8_t* at = blob.data() + sizeof(hd);
@@ -359,7 +380,7 @@ void System::Impl::restore(const std::vector<uint8_t>& blob) {
   B->upload_table();
   B->ref_pos.upload(ref, size_t(n) * 16);
   for (uint32_t f = 0; f < gpu::kNumParticleFields; ++f) {
-    size_t bytes = size_t(n) * gpu::kParticleFieldBytes[f];
+    size_t bytes = size_t(n) * gpu::particle_field_bytes(f, B->wall_slots);
     B->pset[s][f].upload(at, bytes);
     at += bytes;
   }
@@ -386,6 +407,8 @@ void System::Impl::restore(const std::vector<uint8_t>& blob) {
   c[ctlw::kOwners] = uint32_t(owners.size());
   c[ctlw::kOwnerArgs] = groups_for(owners.size());
   c[ctlw::kOwnerArgs + 1] = c[ctlw::kOwnerArgs + 2] = 1;
+  c[ctlw::kStepArgs] = groups_for(n);
+  c[ctlw::kStepArgs + 1] = c[ctlw::kStepArgs + 2] = 1;
   B->ctl.upload(c);
   time0 = hd.time0;
   step0 = hd.step0;

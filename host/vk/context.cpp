@@ -200,6 +200,10 @@ Context::Context(const ContextOptions& opt) {
   if (!f2.features.shaderInt64) throw std::runtime_error(info_.name + ": shaderInt64 is not supported");
   if (!f12.bufferDeviceAddress)
     throw std::runtime_error(info_.name + ": bufferDeviceAddress is not supported");
+  if (!f12.scalarBlockLayout) throw std::runtime_error(info_.name + ": scalarBlockLayout is not supported");
+  // Optional: 64-bit integer atomics on buffers (the fused step's liquid passes; without them the step is
+  // recorded pass by pass, host/gpu/system.cpp).
+  info_.int64_atomics = f12.shaderBufferInt64Atomics == VK_TRUE;
 
   uint32_t nq = 0;
   vkGetPhysicalDeviceQueueFamilyProperties(phys_, &nq, nullptr);
@@ -222,6 +226,8 @@ Context::Context(const ContextOptions& opt) {
   qci.pQueuePriorities = &prio;
   VkPhysicalDeviceVulkan12Features en12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
   en12.bufferDeviceAddress = VK_TRUE;
+  en12.shaderBufferInt64Atomics = info_.int64_atomics ? VK_TRUE : VK_FALSE;
+  en12.scalarBlockLayout = VK_TRUE;
   VkPhysicalDeviceFeatures2 en{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
   en.pNext = &en12;
   en.features.shaderInt64 = VK_TRUE;
@@ -239,12 +245,37 @@ Context::Context(const ContextOptions& opt) {
   VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
   WETDEM_VK(vkCreateFence(device_, &fci, nullptr, &fence_));
 
+  // One pipeline layout for every kernel: the push constants and set 0, two uniform buffers (the buffer
+  // table and the parameters, shaders/common/access.glsl). Uniform-buffer reads at a uniform offset are
+  // one load for all invocations (lavapipe loads device addresses lane by lane); kernels that declare no
+  // set ignore it, and the set stays bound across their pipelines.
+  VkDescriptorSetLayoutBinding b[2]{};
+  for (uint32_t k = 0; k < 2; ++k) {
+    b[k].binding = k;
+    b[k].descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    b[k].descriptorCount = 1;
+    b[k].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
+  }
+  VkDescriptorSetLayoutCreateInfo dl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+  dl.bindingCount = 2;
+  dl.pBindings = b;
+  WETDEM_VK(vkCreateDescriptorSetLayout(device_, &dl, nullptr, &set_layout_));
+  VkPushConstantRange pr{VK_SHADER_STAGE_COMPUTE_BIT, 0, kPushConstantBytes};
+  VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+  li.setLayoutCount = 1;
+  li.pSetLayouts = &set_layout_;
+  li.pushConstantRangeCount = 1;
+  li.pPushConstantRanges = &pr;
+  WETDEM_VK(vkCreatePipelineLayout(device_, &li, nullptr, &pipeline_layout_));
+
   if (!opt.quiet) fmt::print("wetdem: device {}\n", info_.describe());
 }
 
 Context::~Context() {
   if (device_) {
     vkDeviceWaitIdle(device_);
+    vkDestroyPipelineLayout(device_, pipeline_layout_, nullptr);
+    vkDestroyDescriptorSetLayout(device_, set_layout_, nullptr);
     vkDestroyFence(device_, fence_, nullptr);
     vkDestroyCommandPool(device_, pool_, nullptr);
     vkDestroyDevice(device_, nullptr);

@@ -11,6 +11,9 @@
 
 namespace wetdem::vk {
 
+inline constexpr uint32_t kPushConstantBytes =
+    128;  // push constants of every kernel (the guaranteed minimum)
+
 // Throws std::runtime_error naming the call when a Vulkan call fails.
 void check(VkResult r, const char* what);
 #define WETDEM_VK(call) ::wetdem::vk::check((call), #call)
@@ -31,6 +34,7 @@ struct DeviceInfo {
   uint32_t subgroup_size;
   double timestamp_period_ns;
   bool timestamps;
+  bool int64_atomics = false;    // shaderBufferInt64Atomics (enabled when supported)
   std::string describe() const;  // "NAME (driver DRIVER INFO, type)"
 };
 
@@ -46,6 +50,10 @@ class Context {
   VkQueue queue() const { return queue_; }
   uint32_t queue_family() const { return family_; }
   VkCommandPool pool() const { return pool_; }
+  // The pipeline layout of every kernel: kPushConstantBytes of push constants and descriptor set 0 (two
+  // uniform buffers: the buffer table and the parameters), see context.cpp.
+  VkPipelineLayout pipeline_layout() const { return pipeline_layout_; }
+  VkDescriptorSetLayout set_layout() const { return set_layout_; }
   const DeviceInfo& info() const { return info_; }
   uint64_t validation_errors() const { return validation_errors_.load(); }
   bool validation_enabled() const { return messenger_ != VK_NULL_HANDLE; }
@@ -81,6 +89,8 @@ class Context {
   uint32_t family_ = 0;
   VkCommandPool pool_ = VK_NULL_HANDLE;
   VkFence fence_ = VK_NULL_HANDLE;
+  VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
+  VkPipelineLayout pipeline_layout_ = VK_NULL_HANDLE;
   DeviceInfo info_{};
   VkPhysicalDeviceMemoryProperties mem_{};
   std::atomic<uint64_t> validation_errors_{0};

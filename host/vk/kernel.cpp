@@ -8,7 +8,8 @@
 
 namespace wetdem::vk {
 
-Kernel::Kernel(Context& ctx, const std::string& name) : ctx_(ctx), name_(name) {
+Kernel::Kernel(Context& ctx, const std::string& name, const std::vector<uint32_t>& spec)
+    : ctx_(ctx), name_(name) {
   const spirv::Blob* blob = nullptr;
   for (const auto& b : spirv::kAll)
     if (name == b.name) blob = &b;
@@ -17,23 +18,22 @@ Kernel::Kernel(Context& ctx, const std::string& name) : ctx_(ctx), name_(name) {
   mi.codeSize = blob->words * sizeof(uint32_t);
   mi.pCode = blob->code;
   WETDEM_VK(vkCreateShaderModule(ctx.device(), &mi, nullptr, &module_));
-  VkPushConstantRange pr{VK_SHADER_STAGE_COMPUTE_BIT, 0, kPushBytes};
-  VkPipelineLayoutCreateInfo li{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-  li.pushConstantRangeCount = 1;
-  li.pPushConstantRanges = &pr;
-  WETDEM_VK(vkCreatePipelineLayout(ctx.device(), &li, nullptr, &layout_));
+  layout_ = ctx.pipeline_layout();
+  std::vector<VkSpecializationMapEntry> entries(spec.size());
+  for (uint32_t k = 0; k < spec.size(); ++k) entries[k] = {k, k * 4, 4};
+  VkSpecializationInfo si{uint32_t(entries.size()), entries.data(), spec.size() * 4, spec.data()};
   VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
   ci.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
   ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
   ci.stage.module = module_;
   ci.stage.pName = "main";
+  ci.stage.pSpecializationInfo = spec.empty() ? nullptr : &si;
   ci.layout = layout_;
   WETDEM_VK(vkCreateComputePipelines(ctx.device(), VK_NULL_HANDLE, 1, &ci, nullptr, &pipeline_));
 }
 
 Kernel::~Kernel() {
   vkDestroyPipeline(ctx_.device(), pipeline_, nullptr);
-  vkDestroyPipelineLayout(ctx_.device(), layout_, nullptr);
   vkDestroyShaderModule(ctx_.device(), module_, nullptr);
 }
 

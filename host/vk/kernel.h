@@ -1,21 +1,24 @@
-// A compute pipeline built from an embedded SPIR-V blob. Kernels take no descriptor sets: all buffers are
-// reached through device addresses passed in push constants (at most 128 bytes, the guaranteed minimum).
+// A compute pipeline built from an embedded SPIR-V blob. Buffers are reached through device addresses: push
+// constants (at most 128 bytes, the guaranteed minimum) and, for the GPU system's kernels, the buffer table
+// and parameters as uniform buffers in descriptor set 0 (the context's pipeline layout).
 #pragma once
 
 #include <vulkan/vulkan.h>
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "vk/context.h"
 
 namespace wetdem::vk {
 
-inline constexpr uint32_t kPushBytes = 128;
+inline constexpr uint32_t kPushBytes = kPushConstantBytes;
 
 class Kernel {
  public:
-  Kernel(Context& ctx, const std::string& name);
+  // spec: values of the shader's specialization constants 0, 1, ... (uint32), if any.
+  Kernel(Context& ctx, const std::string& name, const std::vector<uint32_t>& spec = {});
   ~Kernel();
   Kernel(const Kernel&) = delete;
   Kernel& operator=(const Kernel&) = delete;
@@ -31,7 +34,7 @@ class Kernel {
   Context& ctx_;
   std::string name_;
   VkShaderModule module_ = VK_NULL_HANDLE;
-  VkPipelineLayout layout_ = VK_NULL_HANDLE;
+  VkPipelineLayout layout_ = VK_NULL_HANDLE;  // the context's
   VkPipeline pipeline_ = VK_NULL_HANDLE;
 };
 

@@ -27,6 +27,15 @@ struct SystemOptions {
   // Bitwise the same result either way; see ARCHITECTURE.md "Split rebuilds".
   bool split_rebuilds = true;
   double split_min_interval = 8.0;  // ... while rebuilds are at least this many steps apart (estimated)
+  // The fused step (ARCHITECTURE.md "Passes of a step"): the kick-drift of the next step and liquid pass 4a
+  // run inside the gather, the films take 4b's overflow and 4d's bridges with integer atomics (no 4e), and
+  // the rebuild decision is taken by the last workgroup of the step's last pass: pair_force, gather_kick and
+  // 4b-4d per step instead of 9 passes. Off: every pass on its own (bitwise the same result; benchmarks).
+  // Needs 64-bit buffer atomics (else off).
+  bool fused_step = true;
+  // ... and 4b-4d closed (zero-sized dispatches) on steps where no contact is flagged for a liquid event and
+  // no sink is on: they would change nothing.
+  bool liquid_gate = true;
 };
 
 struct PassTiming {
@@ -43,6 +52,11 @@ struct SystemCounters {
   uint64_t entries = 0;         // neighbour entries in the current list (both directions)
   uint64_t lost_bridges = 0;    // bridges dropped with a pair leaving the list: must stay 0
   uint64_t escaped = 0;         // particles found outside the cell grid at the last rebuild
+  uint64_t steps = 0;           // steps done by this System
+  uint64_t liquid_steps = 0;    // fused step: steps whose liquid passes 4b-4d ran (the gate was open)
+  // Dispatches recorded per step in the last batch (zero-sized gated ones included; a submit's first
+  // kick-drift shared by its steps).
+  double dispatches_per_step = 0.0;
 };
 
 // ---- device memory of a System (benchmarks, resource estimates; host/gpu/system_memory.cpp) ----

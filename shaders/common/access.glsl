@@ -34,7 +34,10 @@
 #define EF_FLAGS 6
 #define EF_COUNT 7
 
-layout(buffer_reference, std430, buffer_reference_align = 8) readonly buffer Table {
+// A uniform buffer (descriptor set 0, binding 0; vk::Context::pipeline_layout): every invocation reads the
+// same addresses, one load each (lavapipe reads device addresses lane by lane, a uniform buffer at a uniform
+// offset once).
+layout(set = 0, binding = 0, scalar) uniform Table {
   uint64_t ctl;
   uint64_t params;
   uint64_t pset[2 * PF_COUNT];
@@ -48,7 +51,7 @@ layout(buffer_reference, std430, buffer_reference_align = 8) readonly buffer Tab
   uint64_t own_scan, owners;  // owner entries per particle (scanned) and the owner list of the current set
   uint64_t run_of;            // ensembles: the run of each stable id (uint); unused with one run
   uint64_t smp, smp_pairs;    // sampling: reductions per run and the compact list of bridged pairs (sample.glsl)
-};
+} TBL;
 
 layout(push_constant) uniform Push {
   uint64_t table;
@@ -62,18 +65,36 @@ layout(push_constant) uniform Push {
 #define FLAG_FORM 4u     // first touch this step: formation attempt
 #define FLAG_MAPPED 8u   // old-list entry carried into the new list (rebuild only)
 
-Table T() { return Table(pc.table); }
+#define T() TBL
 Uints CTL() { return Uints(T().ctl); }
+// The address of a field of particle (entry) set `set`: both candidates are read at fixed offsets (one load
+// each), then selected; the set index comes from the control block.
+uint64_t paddr(uint set, uint field) { return set == 0u ? T().pset[field] : T().pset[PF_COUNT + field]; }
+uint64_t eaddr(uint set, uint field) { return set == 0u ? T().eset[field] : T().eset[EF_COUNT + field]; }
 // Run 0's parameters: the fields every run shares (counts, grid, ticks, dt, skin) are the same in each copy.
-uint64_t paddr(uint set, uint field) { return T().pset[set * PF_COUNT + field]; }
-uint64_t eaddr(uint set, uint field) { return T().eset[set * EF_COUNT + field]; }
-Params PRM() { return Params(T().params); }
+Params PRM() { return PRM0.d; }
+// Specialization constant 0 (host/gpu/system.cpp): the number of runs; 0 = not given (read from PRM().runs).
+layout(constant_id = 0) const uint kRuns = 0u;
 // Ensembles (several independent runs in one system, docs/ensembles.md): the parameters of run r, and the
 // run of a particle from its stable id. Physics reads them; with one run both are run 0's, with no load.
-Params PRMR(uint r) { return Params(T().params + uint64_t(r) * uint64_t(PRM().run_stride)); }
-uint run_of_id(int id) { return PRM().runs > 1u ? Uints(T().run_of).v[id] : 0u; }
+Params PRMR(uint r) { return ParamsRef(T().params + uint64_t(r) * uint64_t(PRM().run_stride)).d; }
+uint run_of_id(int id) { return kRuns != 1u && PRM().runs > 1u ? Uints(T().run_of).v[id] : 0u; }
 // The parameters of sorted particle i of set s.
-Params PRM_OF(uint i, uint s) { return PRMR(run_of_id(IVec4s(paddr(s, PF_POS)).v[i].w)); }
+Params PRM_OF(uint i, uint s) {
+  if (kRuns == 1u) return PRM();
+  return PRMR(run_of_id(IVec4s(paddr(s, PF_POS)).v[i].w));
+}
+// Per-particle wall records exist for the walls the drum has: the cylinder, and the end plates unless the
+// drum is a periodic slice. Wall w of particle i is record i * wall_slots + (its rank among those walls).
+uint walls_present(Params P) {
+  uint m = 1u;
+  if (P.period_ticks == 0) m |= (P.plate_present[0] != 0u ? 2u : 0u) | (P.plate_present[1] != 0u ? 4u : 0u);
+  return m;
+}
+bool wall_present(uint w, Params P) { return (walls_present(P) & (1u << w)) != 0u; }
+uint wall_slot(uint i, uint w, Params P) {
+  return i * P.wall_slots + uint(bitCount(walls_present(P) & ((1u << w) - 1u)));
+}
 bool halted() { return CTL().v[CTL_HALT] != 0u; }
 uint parity() { return CTL().v[CTL_PARITY]; }
 #endif

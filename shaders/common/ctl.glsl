@@ -24,9 +24,20 @@
 #define CTL_BUILD_ARGS 20
 #define CTL_LOST_ARGS 24
 #define CTL_CAPACITY0 28
+#define CTL_LIQ_STEPS 30  // fused step: steps whose liquid passes ran (the gate was open)
+#define CTL_DRIFTED 31    // fused step: 1 while the particles hold x^(n+1), v^(n+1/2) (the next drift is done)
 #define CTL_GATE_ARGS 32
-#define CTL_MAX_GATES 47
+#define CTL_MAX_GATES 40
 #define CTL_GATE_GROUPS (CTL_GATE_ARGS + 4 * CTL_MAX_GATES)
 #define CTL_OWNER_ARGS (CTL_GATE_GROUPS + CTL_MAX_GATES)
 #define CTL_OWNERS_NEEDED (CTL_OWNER_ARGS + 3)
+// The fused step (ARCHITECTURE.md "Passes of a step"):
+#define CTL_CAND_PAIR (CTL_OWNERS_NEEDED + 1)  // liquid event candidates flagged by pair_force (CAND_* bits)
+#define CTL_CAND_WALL (CTL_CAND_PAIR + 1)      // ... by the walls in gather_kick
+#define CTL_CAND_STEP (CTL_CAND_WALL + 1)      // both, for the liquid passes of this step
+#define CTL_DONE_GROUPS (CTL_CAND_STEP + 1)    // workgroups of the current pass that finished (last-group test)
+#define CTL_LIQ_ARGS (CTL_DONE_GROUPS + 1)     // 3 uvec3: sizes of the gated liquid passes 4b, 4c, 4d
+#define CTL_STEP_ARGS (CTL_LIQ_ARGS + 9)      // uvec3: the per-particle passes of a step (zero after a halt)
+#define CAND_RUPT 1u
+#define CAND_FORM 2u
 #endif

@@ -1,7 +1,11 @@
-// The neighbour loop shared by the count and fill passes of a rebuild: every particle j != i in the 27
-// cells around i (periodic in z) whose surface gap is below cutoff_extra = S_c,max + skin. The order is
-// deterministic (cells in fixed order, particles in sorted order), and the test is symmetric in i, j
-// (r_i + r_j is commutative in floating point; d - r_i - r_j is not).
+// The neighbour loop of a rebuild (nbr_count, and nbr_fill where the count pass could not keep a particle's
+// candidates): every particle j != i in the 27 cells around i (periodic in z) whose surface gap is below
+// cutoff_extra = S_c,max + skin. The order is deterministic (cells in fixed order, particles in sorted order),
+// and the test is symmetric in i, j (r_i + r_j is commutative in floating point; d - r_i - r_j is not).
+// Most of the 27 cells' particles lie beyond the reach (the cells' volume is ~9x the neighbour sphere's): an
+// integer box test on the tick difference rejects them before their fraction and radius are loaded. It is
+// conservative (reach = the cell edge 2 r_max + cutoff_extra plus a margin for float rounding of the exact
+// test), so the list is the one the exact test alone gives.
 #ifndef WETDEM_NEIGHBOURS_GLSL
 #define WETDEM_NEIGHBOURS_GLSL
 #include "geom.glsl"
@@ -23,6 +27,7 @@
     ivec3 c0_ = cell_of(pi_, P, esc_);                                                            \
     ivec3 dims_ = ivec3(P.grid_dims[0], P.grid_dims[1], P.grid_dims[2]);                          \
     int zspan_ = (P.period_ticks > 0 && dims_.z < 3) ? dims_.z : 3;                              \
+    int reach_ = P.cell_ticks + (P.cell_ticks >> 10) + 4;                                         \
     uint seen_[27];                                                                               \
     uint nseen_ = 0u;                                                                             \
     for (int dz_ = -1; dz_ < zspan_ - 1; ++dz_)                                                   \
@@ -33,17 +38,22 @@
           if (P.hash_mask == 0u &&                                                                \
               (any(lessThan(c_, ivec3(0))) || any(greaterThanEqual(c_, dims_)))) continue;        \
           uint k_ = cell_index(c_, P) + block_;                                                   \
-          /* hashed grid: two neighbour cells may share a bucket; visit each bucket once */       \
-          bool dup_ = false;                                                                      \
-          for (uint q_ = 0u; q_ < nseen_; ++q_) dup_ = dup_ || seen_[q_] == k_;                   \
-          if (dup_) continue;                                                                     \
-          seen_[nseen_++] = k_;                                                                   \
+          /* hashed grid: two neighbour cells may share a bucket; visit each bucket once (the dense \
+             grid's 27 cells are distinct) */                                                     \
+          if (P.hash_mask != 0u) {                                                                \
+            bool dup_ = false;                                                                    \
+            for (uint q_ = 0u; q_ < nseen_; ++q_) dup_ = dup_ || seen_[q_] == k_;                 \
+            if (dup_) continue;                                                                   \
+            seen_[nseen_++] = k_;                                                                 \
+          }                                                                                       \
           uint b_ = cs_.v[k_];                                                                    \
           if (b_ == 0xFFFFFFFFu) continue;                                                        \
           uint e_ = ce_.v[k_];                                                                    \
           for (uint j = b_; j < e_; ++j) {                                                        \
             if (j == i) continue;                                                                 \
-            vec3 d_ = (vec3(tick_delta(pi_, pos_.v[j].xyz, P.period_ticks)) + (fi_ - fr_.v[j].xyz)) * P.h; \
+            ivec3 D_ = tick_delta(pi_, pos_.v[j].xyz, P.period_ticks);                            \
+            if (any(greaterThan(abs(D_), ivec3(reach_)))) continue;                               \
+            vec3 d_ = (vec3(D_) + (fi_ - fr_.v[j].xyz)) * P.h;                                    \
             if (length(d_) - (ri_ + props_.v[j].x) < P.cutoff_extra) { VISIT; }                     \
           }                                                                                       \
         }                                                                                         \

@@ -1,4 +1,6 @@
-// Simulation parameters on the device (mirror of GpuParams in host/gpu/gpu_layout.h).
+// Simulation parameters on the device (mirror of GpuParams in host/gpu/gpu_layout.h). Scalar layout (the C++
+// struct's natural alignment, as std430 for these members). Run 0's block is also a uniform buffer
+// (access.glsl: PRM()); ensembles reach the other runs' blocks by device address (ParamsRef).
 #ifndef WETDEM_PARAMS_GLSL
 #define WETDEM_PARAMS_GLSL
 #include "table.glsl"
@@ -16,7 +18,7 @@ struct Liquid {
 struct Effects {
   float visc_eta, visc_smin, f0r_per_Rh, adhesion;
 };
-layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Params {
+struct Params {
   Contact pp;
   Contact pw[3];
   Liquid lpp;
@@ -47,6 +49,8 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Pa
   uint runs;           // ensembles: runs in this system (1: a single run)
   uint run_stride;     // bytes between the parameter blocks of consecutive runs
   uint cells_per_run;  // each run has its own block of cells: runs never see each other
-  uint pad_runs;
+  uint wall_slots;     // wall records per particle: one per wall the drum has (access.glsl wall_slot)
 };
+layout(buffer_reference, scalar, buffer_reference_align = 16) readonly buffer ParamsRef { Params d; };
+layout(set = 0, binding = 1, scalar) uniform ParamsU { Params d; } PRM0;
 #endif

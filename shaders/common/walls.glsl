@@ -52,7 +52,7 @@ void wall_contact(uint w, uint i, uint s, Params P, inout vec3 F, inout vec3 Tq)
   Vec4s wst = Vec4s(paddr(s, PF_WST)), wsr = Vec4s(paddr(s, PF_WSR));
   Int64s wliq = Int64s(paddr(s, PF_WLIQ));
   Uints wfl = Uints(paddr(s, PF_WFLAGS));
-  uint k = i * 3u + w;
+  uint k = wall_slot(i, w, P);
   float r = pr.x;
   float S = -delta;
   Liquid L = P.lpw[w];

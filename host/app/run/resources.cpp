@@ -57,7 +57,8 @@ ResourceEstimate estimate_resources(const Case& c) {
   e.entries_in_list = c.drum.bed_solid_fraction * reach * reach * reach;
   // Allocated: the initial capacity (16 per particle), or 1.5 × the need once a rebuild overflows it.
   e.entries_per_particle = std::max(kInitialEntriesPerParticle, 1.5 * e.entries_in_list);
-  e.device_bytes = e.particles * (kDeviceBytesPerParticle + e.entries_per_particle * kDeviceBytesPerEntry);
+  e.device_bytes = e.particles * (device_bytes_per_particle(c.drum.periodic_slice) +
+                                  e.entries_per_particle * kDeviceBytesPerEntry);
   e.host_bytes = e.particles * kHostBytesPerParticle;
   e.r_min = 0.5 * psd.d_min();
   e.t_rayleigh = rayleigh_time(e.r_min, c.material.density, c.material.G / c.material.stiffness_reduction,

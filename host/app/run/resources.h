@@ -4,15 +4,16 @@
 //
 // Particles: n = fill × π D²/4 × L_sim × bed_solid_fraction / V̄_S (the PSD model's mean volume), the same
 // estimate `wetdem check` prints; the fill then draws about that many.
-// Device bytes: per particle, the two particle sets of host/gpu/buffer_set.h (kParticleFieldBytes, 284 B
-// each), the per-particle scratch (ref_pos 16, cell_key/sort_val/cnt_scan/own_scan 16, liquid scratch 32:
-// 64 B), the radix sort's ping-pong keys and values (8 B) and up to 8 cell-range entries of 8 B (the grid is
-// hashed beyond 8 cells per particle: 64 B): 704 B; per neighbour-list entry, the two entry sets
-// (kEntryFieldBytes, 56 B each) and the per-entry scratch (pair_f/pair_t 32, ev 8, partner 4, owners 4): 160
-// B. The byte counts follow the layout constants; tests/test_bench_traffic.cpp checks them against the
-// buffers a System really allocates. Entries per particle: two-sided neighbours with centres within 2 r̄ +
-// S_c,max + skin in a bed of solid fraction φ, ≈ φ (d/r̄)³ in the list; allocated: the initial capacity of 16
-// per particle, or 1.5 × the list once a rebuild overflows it (system.cpp grows a set to 1.5 × the need).
+// Device bytes: per particle, the two particle sets of host/gpu/buffer_set.h (particle_set_bytes: 188 B each
+// in a periodic slice, one wall record of 44 B; 276 B in a closed drum, three), the per-particle scratch
+// (ref_pos 16, cell_key/sort_val/cnt_scan/own_scan 16, liquid scratch 32: 64 B), the radix sort's ping-pong
+// keys and values (8 B) and up to 8 cell-range entries of 8 B (the grid is hashed beyond 8 cells per
+// particle: 64 B): 512 B in a slice, 688 B closed; per neighbour-list entry, the two entry sets
+// (kEntryFieldBytes, 48 B each) and the per-entry scratch (pair_f/pair_t 24, partner 4, owners 4): 128 B. The
+// byte counts follow the layout constants; tests/test_bench_traffic.cpp checks them against the buffers a
+// System really allocates. Entries per particle: two-sided neighbours with centres within 2 r̄ + S_c,max +
+// skin in a bed of solid fraction φ, ≈ φ (d/r̄)³ in the list; allocated: the initial capacity of 16 per
+// particle, or 1.5 × the list once a rebuild overflows it (system.cpp grows a set to 1.5 × the need).
 // wetdem_bench measures the list length of real beds in rotation (docs/benchmark.md "Memory"). Host bytes:
 // measured, the slope of the peak resident memory of `wetdem run` on lavapipe between the demo slice (1,834
 // particles, 113 MB) and a 5x longer one (9,091 particles, 141 MB): 4.0 kB per particle. On lavapipe that
@@ -56,24 +57,22 @@ struct Available {
 // From the buffer layout (host/gpu/buffer_set.h): two particle sets, the per-particle scratch, the cell
 // ranges; two entry sets and the per-entry scratch. tests/test_bench_traffic.cpp checks them against a
 // System's buffers.
-inline constexpr double kParticleSetBytes = [] {
-  double b = 0;
-  for (uint32_t f : gpu::kParticleFieldBytes) b += f;
-  return b;
-}();
-inline constexpr double kEntrySetBytes = [] {
-  double b = 0;
-  for (uint32_t f : gpu::kEntryFieldBytes) b += f;
-  return b;
-}();
+// One particle set, with the wall records of a periodic slice (the cylinder) or of a closed drum (three
+// walls).
+constexpr double particle_set_bytes(bool periodic_slice) {
+  return double(gpu::particle_set_bytes(periodic_slice ? 1u : 3u));
+}
+inline constexpr double kEntrySetBytes = gpu::entry_set_bytes();
 // ref_pos; cell_key, sort_val, cnt_scan, own_scan; p_share, p_gain, p_full, p_offer
 inline constexpr double kParticleScratchBytes = 16 + 4 * 4 + 4 * 8;
-// pair_f, pair_t; ev; partner, owners
-inline constexpr double kEntryScratchBytes = 2 * 16 + 8 + 2 * 4;
+// pair_f, pair_t (packed vec3); partner, owners (the fused step needs no event slots)
+inline constexpr double kEntryScratchBytes = gpu::kEntryScratchBytes;
 inline constexpr double kSortScratchBytes = 2 * 4;           // radix sort ping-pong keys, values
 inline constexpr double kDeviceCellBytesPerParticle = 64.0;  // <= 8 cells x (start, end) per particle
-inline constexpr double kDeviceBytesPerParticle =
-    2.0 * kParticleSetBytes + kParticleScratchBytes + kSortScratchBytes + kDeviceCellBytesPerParticle;
+constexpr double device_bytes_per_particle(bool periodic_slice) {
+  return 2.0 * particle_set_bytes(periodic_slice) + kParticleScratchBytes + kSortScratchBytes +
+         kDeviceCellBytesPerParticle;
+}
 inline constexpr double kDeviceBytesPerEntry = 2.0 * kEntrySetBytes + kEntryScratchBytes;
 inline constexpr double kInitialEntriesPerParticle = 16.0;  // SystemOptions::initial_entries_per_particle
 inline constexpr double kHostBytesPerParticle = 4000.0;
