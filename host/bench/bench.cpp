@@ -136,6 +136,24 @@ nlohmann::json bench_case(vk::Context& ctx, const app::Case& c, const std::strin
   j["dt_s"] = dt;
   j["periodic_slice"] = prep.c.drum.periodic_slice;
 
+  // Where the timed steps start: the same for both paths below (the log line reads it).
+  const uint64_t start_step = st.step + warmup;
+  j["timing"] = {{"start_step", start_step},
+                 {"start_time_s", double(start_step) * dt},
+                 {"settle_s", st.settle_s},
+                 {"rotation_s", double(start_step) * dt - st.settle_s},
+                 {"steady_state_start_s", prep.c.run.steady_state_start},
+                 {"rotation_fraction_of_steady_start",
+                  prep.c.run.steady_state_start > 0
+                      ? (double(start_step) * dt - st.settle_s) / prep.c.run.steady_state_start
+                      : 1.0},
+                 {"revolutions", (double(start_step) * dt - st.settle_s) * prep.c.drum.omega /
+                                     (2.0 * 3.14159265358979323846)},
+                 {"warmup_steps", warmup},
+                 {"steps", o.steps},
+                 {"from_cache", st.from_cache},
+                 {"prepare_wall_s", st.prepare_wall_s},
+                 {"cache", st.cache_path}};
   if (o.timed_only) {
     SystemOptions so = o.timed_options;
     so.steps_per_submit = prep.c.run.steps_per_submit;
@@ -152,6 +170,7 @@ nlohmann::json bench_case(vk::Context& ctx, const app::Case& c, const std::strin
     j["particle_steps_per_s"] = double(n) * double(o.steps) / t.wall;
     j["cpu_s_per_step"] = t.cpu / double(o.steps);
     j["dispatches_per_step"] = sys.counters().dispatches_per_step;
+    j["timing"]["wall_s"] = t.wall;
     return j;
   }
   // Wall clock: the run's own session resumed from the steady state (the case's steps_per_submit).
@@ -182,24 +201,7 @@ nlohmann::json bench_case(vk::Context& ctx, const app::Case& c, const std::strin
   }
   const double pss = double(n) * double(o.steps) / wall;
   const auto interval = bench::rebuild_interval(o.steps, rebuilds);
-  const uint64_t start_step = st.step + warmup;
-  j["timing"] = {{"start_step", start_step},
-                 {"start_time_s", double(start_step) * dt},
-                 {"settle_s", st.settle_s},
-                 {"rotation_s", double(start_step) * dt - st.settle_s},
-                 {"steady_state_start_s", prep.c.run.steady_state_start},
-                 {"rotation_fraction_of_steady_start",
-                  prep.c.run.steady_state_start > 0
-                      ? (double(start_step) * dt - st.settle_s) / prep.c.run.steady_state_start
-                      : 1.0},
-                 {"revolutions", (double(start_step) * dt - st.settle_s) * prep.c.drum.omega /
-                                     (2.0 * 3.14159265358979323846)},
-                 {"warmup_steps", warmup},
-                 {"steps", o.steps},
-                 {"wall_s", wall},
-                 {"from_cache", st.from_cache},
-                 {"prepare_wall_s", st.prepare_wall_s},
-                 {"cache", st.cache_path}};
+  j["timing"]["wall_s"] = wall;
   j["particle_steps_per_s"] = pss;
   j["steps_per_s"] = double(o.steps) / wall;
   j["cpu_s_per_step"] = cpu / double(o.steps);
