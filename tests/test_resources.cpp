@@ -74,5 +74,26 @@ TEST(Resources, HugeRunIsRefusedBeforeTheFill) {
   EXPECT_FALSE(std::filesystem::exists(out)) << "nothing written";
 }
 
+// The lavapipe rate `wetdem check` quotes runs through the two measured drums (410 particles: 2.1e5, the
+// 1,834-particle demo: 6.3e5), rises between them and is held outside them; the printed line carries it.
+TEST(Resources, QuotedLavapipeRateFollowsTheMeasuredDrums) {
+  EXPECT_NEAR(app::lavapipe_throughput(410), 2.1e5, 1.0);
+  EXPECT_NEAR(app::lavapipe_throughput(1834), 6.3e5, 1.0);
+  EXPECT_NEAR(app::lavapipe_throughput(50), 2.1e5, 1.0);
+  EXPECT_NEAR(app::lavapipe_throughput(9e6), 6.3e5, 1.0);
+  double last = 0;
+  for (double n = 400; n < 2000; n *= 1.1) {
+    EXPECT_GE(app::lavapipe_throughput(n), last) << n;
+    last = app::lavapipe_throughput(n);
+  }
+  app::ResourceEstimate e;
+  e.particles = 1834;
+  e.steps = 1e4;
+  e.particle_steps = 1834 * 1e4;
+  const std::string line = app::describe_resources(e, app::lavapipe_throughput(e.particles), "src");
+  EXPECT_NE(line.find("at 6.3e+05 particle-steps/s (src)"), std::string::npos) << line;
+  EXPECT_NE(line.find("29.1 s"), std::string::npos) << line;
+}
+
 }  // namespace
 }  // namespace wetdem

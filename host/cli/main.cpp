@@ -68,8 +68,9 @@ int check(const std::string& path, const std::vector<std::string>& sets) {
     std::printf("# ERROR: a run would fail: %s\n", err.what());
   }
   {  // Issue 12: the resource estimate (host/app/run/resources.h) and whether this host could hold it.
-    std::printf("%s",
-                app::describe_resources(e, app::kLavapipeThroughput, app::kLavapipeThroughputSource).c_str());
+    std::printf("%s", app::describe_resources(e, app::lavapipe_throughput(e.particles),
+                                              app::kLavapipeThroughputSource)
+                          .c_str());
     try {
       app::check_resources(e, {std::nullopt, "", app::host_available_bytes()});
     } catch (const app::CaseError& err) {

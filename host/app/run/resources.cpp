@@ -118,9 +118,17 @@ void check_resources(const ResourceEstimate& e, const Available& a) {
   if (e.particles > 4.0e9) refuse("device index range (uint32 particles)", e.particles, 4.0e9);
 }
 
+double lavapipe_throughput(double particles) {
+  const double n0 = 410, r0 = 2.1e5, n1 = 1834, r1 = 6.3e5;
+  const double x = std::clamp(
+      (std::log(std::max(particles, 1.0)) - std::log(n0)) / (std::log(n1) - std::log(n0)), 0.0, 1.0);
+  return std::exp(std::log(r0) + x * (std::log(r1) - std::log(r0)));
+}
+
 std::string describe_resources(const ResourceEstimate& e, double throughput, const std::string& source) {
   const double secs = e.particle_steps / throughput;
-  std::string t = secs < 3600.0    ? fmt::format("{:.3g} min", secs / 60.0)
+  std::string t = secs < 60.0      ? fmt::format("{:.3g} s", secs)
+                  : secs < 3600.0  ? fmt::format("{:.3g} min", secs / 60.0)
                   : secs < 86400.0 ? fmt::format("{:.3g} h", secs / 3600.0)
                                    : fmt::format("{:.3g} days", secs / 86400.0);
   return fmt::format(

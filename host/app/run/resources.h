@@ -76,11 +76,15 @@ constexpr double device_bytes_per_particle(bool periodic_slice) {
 inline constexpr double kDeviceBytesPerEntry = 2.0 * kEntrySetBytes + kEntryScratchBytes;
 inline constexpr double kInitialEntriesPerParticle = 16.0;  // SystemOptions::initial_entries_per_particle
 inline constexpr double kHostBytesPerParticle = 4000.0;
-// Throughput `wetdem check` quotes: the demo on lavapipe (docs/benchmark.md: ~1,800 particles at 114
-// steps/s).
-inline constexpr double kLavapipeThroughput = 2.0e5;
+// Throughput `wetdem check` quotes: lavapipe on 2 idle cores, the fused step (docs/benchmark.md, 24 Nov
+// 2026): the 410-particle flowing drum at ~2.1e5 particle-steps/s and the 1,834-particle demo slice at
+// ~6.3e5. Per particle a small drum costs more (fixed work per dispatch, rebuilds every few steps of a fast
+// bed), so the rate is interpolated in log(particles) between the two and held at the end values outside
+// them.
+double lavapipe_throughput(double particles);
 inline constexpr const char* kLavapipeThroughputSource =
-    "lavapipe on 2 CPU cores, the demo (docs/benchmark.md); a GPU is faster";
+    "lavapipe on 2 idle CPU cores, from drums of 410 and 1,834 particles (docs/benchmark.md); a GPU is "
+    "faster";
 
 ResourceEstimate estimate_resources(const Case& c);
 
