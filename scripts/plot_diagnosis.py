@@ -60,18 +60,30 @@ def main(d):
     group_of = lambda c: tuple(c["condition_si"].get(k) for k in gkeys)  # noqa: E731
     groups = sorted({group_of(c) for c in cells}, key=lambda g: tuple(x if x is not None else 0 for x in g))
     styles = [("o", "-"), ("s", "--"), ("^", ":"), ("D", "-.")]
-    fig, axes = plt.subplots(1, len(obs), figsize=(4.2 * len(obs), 3.6), squeeze=False)
-    for ax, o in zip(axes[0], obs):
+    # Group tags and the x axis in the table's own units (the condition label, e.g. "drum.rpm=30"), not SI
+    # (rad/s); a liquid content is drawn in vol %.
+    shown = {}
+    for c in cells:
+        for part in c["condition"].split(", "):
+            k, _, v = part.partition("=")
+            shown[(k, c["condition_si"].get(k))] = v
+    xscale, xlabel = (100.0, "liquid content (vol %)") if xkey == "liquid.content" else (1.0, f"{xkey} (SI)")
+    ncols = min(4, len(obs))
+    nrows = (len(obs) + ncols - 1) // ncols
+    fig, axes = plt.subplots(nrows, ncols, figsize=(4.2 * ncols, 3.3 * nrows + 0.8), squeeze=False)
+    for ax in axes.flat[len(obs):]:
+        ax.set_visible(False)
+    for ax, o in zip(axes.flat, obs):
         for gi, g in enumerate(groups):
             mk, ls = styles[gi % len(styles)]
-            tag = ", ".join(f"{k.split('.')[-1]} {v:g}" for k, v in zip(gkeys, g))
+            tag = ", ".join(f"{k.split('.')[-1]} {shown.get((k, v), f'{v:g}')}" for k, v in zip(gkeys, g))
             sfx = f" [{tag}]" if tag else ""
             first = gi == 0
             cs = sorted([c for c in cells if c["observable"] == o and group_of(c) == g],
                         key=lambda c: c["condition_si"].get(xkey, 0))
             if not cs:
                 continue
-            x = [c["condition_si"].get(xkey, 0) for c in cs]
+            x = [xscale * c["condition_si"].get(xkey, 0) for c in cs]
             m = [c["model"] for c in cs]
             s_ = [2 * c["model_se"] for c in cs]
             ax.fill_between(x, [a - b for a, b in zip(m, s_)], [a + b for a, b in zip(m, s_)], color="0.7", alpha=0.5,
@@ -93,14 +105,16 @@ def main(d):
                 ax.plot(x, ma, color="tab:orange", ls=ls)
             ax.errorbar(x, [c["y"] for c in cs], yerr=[c["sigma"] for c in cs], fmt=mk, color="k", capsize=3,
                         label="observed (±σ)" + sfx)
-        ax.set_xlabel(xkey or "condition")
-        ax.set_ylabel(o)
-        ax.legend(fontsize=7)
+        ax.set_xlabel(xlabel if xkey else "condition")
+        ax.set_title(o, fontsize=9)
+    # One legend for the figure (the first panel's entries: bands, then each group's observations).
+    handles, labels = axes.flat[0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="lower center", ncol=min(len(labels), 5), fontsize=8, frameon=False)
     title = f"{j['name']}: verdict {j['verdict']}" + (f" ({j['effect']})" if j["effect"] else "")
     if j.get("tied"):
         title += ", tied with " + ", ".join(j["tied"])
     fig.suptitle(title, fontsize=10)
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0.6 / (3.3 * nrows + 0.8), 1, 1))
     fig.savefig(os.path.join(out, "observables.png"), dpi=120)
     plt.close(fig)
 

@@ -68,7 +68,7 @@ struct Stage {
       add_knot(c.member(k.j, k.m), k.s, p.probe(v, k.j));
       if (k.why == "extend" || k.why == "shape")
         c.notes.push_back(
-            fmt::format("{} at {:.3g}{}", k.why == "extend" ? "range extended to" : "shape added:", k.s,
+            fmt::format("{} {:.3g}{}", k.why == "extend" ? "range extended to" : "shape added at", k.s,
                         std::isnan(c.shapes[k.m]) ? "" : fmt::format(", shape {:.3g}", c.shapes[k.m])));
     }
     pending.clear();

@@ -103,10 +103,10 @@ std::string strength_text(const Candidate& c, const CandidateRuns* runs) {
   if (f.open_lo && f.open_hi)
     interval = "any strength probed fits as well: not determined";
   else if (f.open_hi)
-    interval =
-        fmt::format(">= {:.3g}: the interval reaches the strongest strength that could be probed", f.lo);
+    interval = fmt::format(
+        "{:.3g} and above: the interval runs to the strongest strength that could be probed", f.lo);
   else if (f.open_lo)
-    interval = fmt::format("<= {:.3g}: the interval reaches the weakest", f.hi);
+    interval = fmt::format("{:.3g} and below: the interval runs to the weakest strength probed", f.hi);
   else
     interval = fmt::format("{:.3g}-{:.3g}", f.lo, f.hi);
   return fmt::format("{:.3g}{} ({})", f.strength, shape, interval);
