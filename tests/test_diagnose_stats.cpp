@@ -102,6 +102,89 @@ TEST(DiagnoseStats, FitRecoversTheStrengthWithAnInterval) {
   EXPECT_FALSE(f.at_edge);
 }
 
+namespace {
+
+// Coverage of the strength interval when a condition's observables share their noise in the observations and
+// in every single-seed probe: 6 conditions x 8 observables, responses linear in u (no interpolation error).
+// The shared part moves the observables along the effect's own fingerprint (a run that happens to avalanche
+// more looks like a more cohesive bed: AoR, its fluctuation and the surface speed move together), with
+// correlation rho within a condition.
+struct Coverage {
+  double chi2_only = 0, widened = 0;
+};
+Coverage interval_coverage(double rho, int trials) {
+  std::mt19937_64 rng(20261124);
+  std::normal_distribution<double> N(0.0, 1.0);
+  std::uniform_real_distribution<double> U(0.5, 2.0);
+  constexpr int kCond = 6, kObs = 8;
+  const double sigma = 0.5, se = 0.3, u_true = std::log10(0.02), u_anchor = -4.0;
+  const std::vector<double> strengths = {1e-3, 1e-2, 1e-1};
+  std::vector<double> slope;
+  // Correlated noise for one run at each condition, rho of it along the fingerprint's signs.
+  auto noise = [&](double s) {
+    std::vector<double> e;
+    for (int c = 0; c < kCond; ++c) {
+      const double common = N(rng);
+      for (int o = 0; o < kObs; ++o) {
+        const double sign = slope[size_t(c * kObs + o)] > 0 ? 1.0 : -1.0;
+        e.push_back(s * (rho * sign * common + std::sqrt(1 - rho * rho) * N(rng)));
+      }
+    }
+    return e;
+  };
+  Coverage cov;
+  for (int t = 0; t < trials; ++t) {
+    slope.clear();
+    for (int k = 0; k < kCond * kObs; ++k) slope.push_back((k % 3 == 2 ? -1.0 : 1.0) * U(rng));
+    const auto mean = [&](size_t k, double u) { return 10.0 + slope[k] * (u - u_anchor); };
+    std::vector<Cell> cells;
+    const std::vector<double> eo = noise(sigma);
+    for (int c = 0; c < kCond; ++c)
+      for (int o = 0; o < kObs; ++o) {
+        const size_t k = size_t(c * kObs + o);
+        cells.push_back(
+            {{{"liquid.content", 0.02 * c}}, "obs" + std::to_string(o), mean(k, u_true) + eo[k], sigma});
+      }
+    std::vector<Prediction> base;
+    const std::vector<double> eb = noise(se);
+    for (size_t k = 0; k < cells.size(); ++k) base.push_back({mean(k, u_anchor) + eb[k], se});
+    Response r;
+    r.effect = "cohesion";
+    r.strengths = strengths;
+    for (double s : strengths) {
+      const std::vector<double> ek = noise(se);
+      std::vector<Prediction> p;
+      for (size_t k = 0; k < cells.size(); ++k) p.push_back({mean(k, std::log10(s)) + ek[k], se});
+      r.pred.push_back(p);
+    }
+    const std::vector<Emulator> ems{Emulator(base, r)};
+    StrengthFit f = fit_strength(cells, ems[0]);
+    cov.chi2_only += (f.lo <= 0.02 && 0.02 <= f.hi) ? 1.0 / trials : 0.0;
+    widen_by_condition_jackknife(f, loco_strengths(cells, ems), ems[0].u_lo(), ems[0].u_hi());
+    EXPECT_LE(f.lo, f.chi2_lo);
+    EXPECT_GE(f.hi, f.chi2_hi);
+    cov.widened += (f.lo <= 0.02 && 0.02 <= f.hi) ? 1.0 / trials : 0.0;
+  }
+  return cov;
+}
+
+}  // namespace
+
+// The Δχ² interval alone counts 48 cells as independent and covers the truth far less often than a 68 %
+// interval should once a condition's observables move together; the jackknife over conditions restores it.
+// With independent noise the widening costs little (the two intervals agree).
+TEST(DiagnoseStats, JackknifeOverConditionsKeepsIntervalsHonestUnderCorrelatedNoise) {
+  const Coverage corr = interval_coverage(0.9, 200);
+  EXPECT_LT(corr.chi2_only, 0.5) << "the Δχ² interval should under-cover with correlated noise";
+  EXPECT_GE(corr.widened, 0.6) << "chi2 only " << corr.chi2_only;
+  const Coverage indep = interval_coverage(0.0, 200);
+  EXPECT_GE(indep.chi2_only, 0.6);
+  EXPECT_GE(indep.widened, indep.chi2_only);
+  EXPECT_LE(indep.widened, 0.95) << "widening should not swamp an honest interval";
+  std::printf("coverage: rho 0.9 chi2 %.2f widened %.2f; rho 0 chi2 %.2f widened %.2f\n", corr.chi2_only,
+              corr.widened, indep.chi2_only, indep.widened);
+}
+
 TEST(DiagnoseStats, VerdictPicksThePlantedEffectOverADecoyAndNullsAreNoGap) {
   std::mt19937_64 rng(7);
   std::normal_distribution<double> noise(0.0, 0.5);

@@ -55,7 +55,32 @@ StrengthFit fit_strength(const std::vector<Cell>& cells, const Emulator& em,
   f.hi = std::pow(10.0, a + h * i_hi);
   f.open_lo = i_lo == 0;
   f.open_hi = i_hi == kGrid - 1;
+  f.chi2_lo = f.lo;
+  f.chi2_hi = f.hi;
   return f;
+}
+
+void widen_by_condition_jackknife(StrengthFit& f, const std::vector<double>& loco_strengths, double u_lo,
+                                  double u_hi) {
+  const size_t m = loco_strengths.size();
+  if (m < 2) return;
+  double mean = 0;
+  for (double s : loco_strengths) mean += std::log10(s) / double(m);
+  double ss = 0;
+  for (double s : loco_strengths) ss += (std::log10(s) - mean) * (std::log10(s) - mean);
+  const double se = std::sqrt(double(m - 1) / double(m) * ss);
+  f.jackknife_se_log10 = se;
+  const double u = std::log10(f.strength);
+  // A hair of tolerance: a side exactly at an end of the probed range is open there.
+  constexpr double kTol = 1e-9;
+  if (u - se < std::log10(f.lo)) {
+    f.lo = std::pow(10.0, std::max(u_lo, u - se));
+    if (u - se <= u_lo + kTol) f.open_lo = true;
+  }
+  if (u + se > std::log10(f.hi)) {
+    f.hi = std::pow(10.0, std::min(u_hi, u + se));
+    if (u + se >= u_hi - kTol) f.open_hi = true;
+  }
 }
 
 ProfileFit fit_profile(const std::vector<Cell>& cells, const std::vector<Emulator>& ems,
@@ -105,6 +130,13 @@ double sum(const std::vector<double>& v) {
 }
 
 }  // namespace
+
+std::vector<double> loco_strengths(const std::vector<Cell>& cells, const std::vector<Emulator>& ems) {
+  std::vector<double> out;
+  for (const auto& fold : loco_folds(cells, "loco_strengths"))
+    out.push_back(fit_profile(cells, ems, fold.first).fit.strength);
+  return out;
+}
 
 std::vector<double> loco_cells(const std::vector<Cell>& cells, const std::vector<Emulator>& ems) {
   std::vector<double> out(cells.size(), 0.0);

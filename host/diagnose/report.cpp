@@ -183,6 +183,8 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
               {"strength_interval", {c.fit.lo, c.fit.hi}},
               {"strength_interval_open", {c.fit.open_lo, c.fit.open_hi}},
               {"strength_interval_delta_chi2", c.fit.delta},
+              {"strength_interval_chi2", {c.fit.chi2_lo, c.fit.chi2_hi}},
+              {"strength_jackknife_se_log10", c.fit.jackknife_se_log10},
               {"strength_at_edge", c.fit.at_edge},
               {"strength_meaning", spec.strength},
               {"physical_range", {spec.phys_lo, spec.phys_hi}},
@@ -333,7 +335,9 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
       "runs "
       "at its fitted strength leave no cell significant (else `partial`); a runner-up that also passes is "
       "*tied* unless its held-out χ² exceeds the best's by ≥ {} × max(1, χ²_best/n); cells significant by "
-      "Benjamini-Hochberg at {}. Intervals: Δχ² = max(1, χ²_min/(n − 1)).\n\n",
+      "Benjamini-Hochberg at {}. Intervals: Δχ² = max(1, χ²_min/(n − 1)), widened to the fit ± the jackknife "
+      "over conditions' standard error "
+      "when that is wider.\n\n",
       r.spec->rule.ratio, r.spec->rule.min_drop, r.spec->rule.tie_delta, r.spec->rule.q);
   if (!r.next.proposals.empty()) {
     md += fmt::format("## Next experiment: `{}` or `{}`?\n\n", r.next.effect_a, r.next.effect_b);
