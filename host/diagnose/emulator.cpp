@@ -37,9 +37,9 @@ Prediction Emulator::at(size_t cell, double u) const {
     return u_.size() < 2 ? y[0] : y[i] + t * (y[i + 1] - y[i]);
   };
   // The SE of the interpolated mean: the knots' noises are independent, so var = (1-t)² se_i² + t² se_i+1².
-  // (Interpolating the SE itself overstated it between knots, by up to √2 at the midpoint, while the mean there
-  // averages two knots' noise: χ² dipped between knots and fits landed there. Measured on the flowing matrix:
-  // knots at 0.0211 and 0.0333 J/m², the fit at 0.0236, the truth 0.02.)
+  // (Interpolating the SE itself overstated it between knots, by up to √2 at the midpoint, while the mean
+  // there averages two knots' noise: χ² dipped between knots and fits landed there. Measured on the flowing
+  // matrix: knots at 0.0211 and 0.0333 J/m², the fit at 0.0236, the truth 0.02.)
   const auto se = [&](const std::vector<double>& e) {
     return u_.size() < 2 ? e[0] : std::hypot((1.0 - t) * e[i], t * e[i + 1]);
   };
