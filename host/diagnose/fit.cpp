@@ -132,16 +132,18 @@ double sum(const std::vector<double>& v) {
 }  // namespace
 
 std::vector<double> loco_strengths(const std::vector<Cell>& cells, const std::vector<Emulator>& ems) {
-  std::vector<double> out;
-  for (const auto& fold : loco_folds(cells, "loco_strengths"))
-    out.push_back(fit_profile(cells, ems, fold.first).fit.strength);
-  return out;
+  std::vector<double> s;
+  loco_cells(cells, ems, &s);
+  return s;
 }
 
-std::vector<double> loco_cells(const std::vector<Cell>& cells, const std::vector<Emulator>& ems) {
+std::vector<double> loco_cells(const std::vector<Cell>& cells, const std::vector<Emulator>& ems,
+                               std::vector<double>* fold_strengths) {
   std::vector<double> out(cells.size(), 0.0);
+  if (fold_strengths) fold_strengths->clear();
   for (const auto& [train, test] : loco_folds(cells, "loco_score")) {
     const ProfileFit f = fit_profile(cells, ems, train);
+    if (fold_strengths) fold_strengths->push_back(f.fit.strength);
     const double u = std::log10(f.fit.strength);
     for (size_t k : test) {
       const double z = z_score(cells[k], ems[f.member].at(k, u));

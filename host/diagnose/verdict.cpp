@@ -27,14 +27,14 @@ Verdict decide(const std::vector<Cell>& cells, const std::vector<std::vector<Pre
     Candidate c;
     c.effect = fam.effect;
     c.screen = fam.screen;
-    c.loco_cells = loco_cells(cells, fam.ems);
+    std::vector<double> fold_strengths;
+    c.loco_cells = loco_cells(cells, fam.ems, &fold_strengths);
     for (double x : c.loco_cells) c.loco += x;
     const ProfileFit f = fit_profile(cells, fam.ems);
     c.fit = f.fit;
     // The reported interval: the Δχ² interval widened by the jackknife over conditions (fit.h); the
     // member's probed range bounds it. The verdict and the runs the fit asks for do not use it.
-    widen_by_condition_jackknife(c.fit, loco_strengths(cells, fam.ems), fam.ems[f.member].u_lo(),
-                                 fam.ems[f.member].u_hi());
+    widen_by_condition_jackknife(c.fit, fold_strengths, fam.ems[f.member].u_lo(), fam.ems[f.member].u_hi());
     c.member = f.member;
     c.refit = fam.refit_of[f.member];
     c.shape = fam.shape_of[f.member];
