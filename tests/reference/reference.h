@@ -41,6 +41,8 @@ class ReferenceSystem {
 
   EventCounts read_events();
   const SimParams& params() const;
+  // Replaces the physics between steps (the drum starts turning), as System::set_run_params.
+  void set_params(const SimParams& prm) { prm_ = prm; }
 
   // Liquid-event rule switch for tests: the MercuryDPM-style sequential rule (events applied one pair
   // after another in (id_i, id_j) order, walls after pairs) instead of the two-phase rule.

@@ -1,0 +1,158 @@
+// wetdem_reference_resume: continues a run from its checkpoint on the double-precision CPU reference and,
+// in lockstep, on the GPU passes, and writes the bed's centre-of-mass angle of both and how far their
+// particles have moved apart at every sample (issue 22, docs/closed-slice.md "From the same state at
+// 1.45 s"). Both start from the GPU's own state at the checkpoint, so a difference in the peak is made by the
+// steps after it: float32 on the GPU against double on the reference, and the order of their operations.
+//
+//   wetdem_reference_resume RUN_DIR --until SECONDS [--csv FILE] [--no-gpu] [--from-start]
+//
+// RUN_DIR: a run folder with a checkpoint (`wetdem run ... --stop-after-steps K`); with --from-start, any
+// run folder of the case: both codes start from the case's inserted bed at step 0 (as uploaded to the GPU),
+// settle with the drum at rest and turn it from run.settle on. SECONDS: simulated time (from the run's
+// start) to step to. The reference is slow (tens of
+// microseconds per particle-step on one core): a tool for investigations, not for tests.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <fstream>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <tuple>
+
+#include "app/drum/aor.h"
+#include "app/output/checkpoint.h"
+#include "app/run/run.h"
+#include "app/run/session.h"
+#include "reference/reference.h"
+#include "vk/context.h"
+
+using namespace wetdem;
+
+namespace {
+
+struct Args {
+  std::string run_dir, csv;
+  double until = 0.0;
+  bool gpu = true;
+  bool from_start = false;
+};
+
+Args parse(int argc, char** argv) {
+  Args a;
+  for (int i = 1; i < argc; ++i) {
+    const std::string s = argv[i];
+    auto value = [&](const char* key) {
+      if (i + 1 >= argc) throw std::invalid_argument(std::string(key) + ": needs a value");
+      return std::string(argv[++i]);
+    };
+    if (s == "--until")
+      a.until = std::stod(value("--until"));
+    else if (s == "--csv")
+      a.csv = value("--csv");
+    else if (s == "--no-gpu")
+      a.gpu = false;
+    else if (s == "--from-start")
+      a.from_start = true;
+    else if (!s.empty() && s[0] == '-')
+      throw std::invalid_argument("unknown option " + s);
+    else
+      a.run_dir = s;
+  }
+  if (a.run_dir.empty()) throw std::invalid_argument("RUN_DIR: missing (a run folder with a checkpoint)");
+  if (!(a.until > 0.0)) throw std::invalid_argument("--until: missing or not a positive time in seconds");
+  return a;
+}
+
+// Largest and mean distance between the two codes' particles (same stable ids).
+std::pair<double, double> apart(const SystemState& a, const SystemState& b) {
+  double mx = 0.0, sum = 0.0;
+  for (size_t i = 0; i < a.p.size(); ++i) {
+    const double d = glm::length(a.p.x[i] - b.p.x[i]);
+    mx = std::max(mx, d);
+    sum += d;
+  }
+  return {mx, a.p.size() ? sum / double(a.p.size()) : 0.0};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    const Args args = parse(argc, argv);
+    app::RunOptions ro;
+    ro.resume_dir = args.run_dir;
+    const app::Case c = app::resolve_case(ro);
+    const app::Prepared prep = app::prepare_run(c);
+    vk::ContextOptions co;
+    co.quiet = true;
+    vk::Context ctx(co);
+    const auto say = [](const std::string& l) { std::fprintf(stderr, "%s\n", l.c_str()); };
+    std::unique_ptr<app::DrumSession> session;
+    if (args.from_start) {
+      session = std::make_unique<app::DrumSession>(ctx, prep, say);
+    } else {
+      const app::Checkpoint ck = app::load_checkpoint(args.run_dir);
+      if (ck.host.value("radii_hash", "") != prep.radii_hash)
+        throw std::runtime_error("the checkpoint's particles differ from the case's fill (another build?)");
+      session = std::make_unique<app::DrumSession>(ctx, prep, ck, say);
+    }
+    app::DrumSession& gpu = *session;
+    const app::Schedule& sch = gpu.schedule();
+    const double dt = prep.derived.dt;
+    const uint64_t last = std::min<uint64_t>(sch.total, app::Schedule::steps(args.until, dt));
+
+    // The reference takes the GPU's state as it is (for a fresh start: the inserted bed with the bridges the
+    // upload formed on touching pairs) and the drum's phase of that step.
+    ref::ReferenceSystem ref(app::phase_params(prep.prm, sch.rotating(gpu.step())));
+    ref.set_state(gpu.state());
+    const double radius = prep.prm.drum.radius;
+    const double t_rot = double(sch.n_settle) * dt;
+
+    std::ofstream csv;
+    if (!args.csv.empty()) {
+      csv.open(args.csv);
+      if (!csv) throw std::runtime_error("--csv: cannot write " + args.csv);
+      csv << "time_s,time_rotating_s,aor_ref_deg,aor_gpu_deg,apart_max_m,apart_mean_m\n";
+    }
+    double peak_ref = -1.0, peak_gpu = -1.0, t_peak_ref = 0.0, t_peak_gpu = 0.0;
+    for (uint64_t s = gpu.step(); s <= last;) {
+      const SystemState sr = ref.state();
+      const AorSample ar = dynamic_aor(sr, radius);
+      double ag = std::nan(""), dmax = std::nan(""), dmean = std::nan("");
+      if (args.gpu) {
+        const SystemState sg = gpu.state();
+        ag = dynamic_aor(sg, radius).abs_deg;
+        std::tie(dmax, dmean) = apart(sr, sg);
+        if (ag > peak_gpu) peak_gpu = ag, t_peak_gpu = double(s) * dt - t_rot;
+      }
+      if (ar.abs_deg > peak_ref) peak_ref = ar.abs_deg, t_peak_ref = double(s) * dt - t_rot;
+      const double t = double(s) * dt;
+      if (csv)
+        csv << fmt::format("{:.6f},{:.6f},{:.4f},{:.4f},{:.4e},{:.4e}\n", t, t - t_rot, ar.abs_deg, ag, dmax,
+                           dmean);
+      std::printf("t %.3f s (rotating %.3f s): reference %.2f deg, GPU %.2f deg, apart max %.3g m\n", t,
+                  t - t_rot, ar.abs_deg, ag, dmax);
+      std::fflush(stdout);
+      if (s == last) break;
+      uint64_t to = std::min(last, (s / sch.sample + 1) * sch.sample);
+      if (s < sch.n_settle) to = std::min(to, sch.n_settle);
+      for (uint64_t k = s; k < to; ++k) ref.step();
+      if (to == sch.n_settle) ref.set_params(app::phase_params(prep.prm, true));  // the drum starts turning
+      if (args.gpu)
+        while (gpu.step() < to) gpu.advance(std::min(to, sch.next_stop(gpu.step())));
+      s = to;
+    }
+    std::printf("peak: reference %.2f deg at %.2f s after rotation starts", peak_ref, t_peak_ref);
+    if (args.gpu) std::printf(", GPU %.2f deg at %.2f s", peak_gpu, t_peak_gpu);
+    std::printf("\n");
+    return 0;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "wetdem_reference_resume: %s\n", e.what());
+    return 1;
+  }
+}
