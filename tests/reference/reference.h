@@ -48,6 +48,12 @@ class ReferenceSystem {
   // after another in (id_i, id_j) order, walls after pairs) instead of the two-phase rule.
   void set_sequential_events(bool on);
 
+  // Investigations (issue 22, docs/closed-slice.md): store some fields as the GPU passes do, in float32,
+  // rounding them after every half kick (velocities, angular velocities) or at the end of every step (pair
+  // and wall springs). Off by default; the reference is double precision everywhere.
+  enum RoundField : uint32_t { kRoundVelocities = 1u, kRoundSprings = 2u };
+  void set_float32_storage(uint32_t fields) { round_ = fields; }
+
  private:
   using PairKey = std::pair<uint32_t, uint32_t>;  // (id_i, id_j), id_i < id_j
 
@@ -68,6 +74,7 @@ class ReferenceSystem {
   double time_ = 0.0;
   uint64_t step_ = 0;
   bool sequential_ = false;
+  uint32_t round_ = 0;  // RoundField bits
   EventCounts events_;
 };
 

@@ -99,6 +99,11 @@ void ReferenceSystem::step() {
   compute_forces();  // at x^{n+1} with the half-step velocities
   kick(0.5 * dt);
   liquid_events();  // §5, after the second half kick
+  if (round_ & kRoundSprings) {
+    const auto f32 = [](glm::dvec3& a) { a = glm::dvec3(glm::vec3(a)); };
+    for (auto& kv : pairs_) f32(kv.second.spring_t), f32(kv.second.spring_r);
+    for (WallRecord& r : p_.wall) f32(r.spring_t), f32(r.spring_r);
+  }
   time_ += dt;
   ++step_;
 }
@@ -107,6 +112,8 @@ void ReferenceSystem::kick(double h) {
   for (size_t k = 0; k < p_.size(); ++k) {
     p_.v[k] += h * (p_.f[k] / p_.mass[k] + prm_.gravity);
     p_.w[k] += h * p_.t[k] / p_.inertia[k];  // spheres: scalar inertia, no orientation needed
+    if (round_ & kRoundVelocities)
+      p_.v[k] = glm::dvec3(glm::vec3(p_.v[k])), p_.w[k] = glm::dvec3(glm::vec3(p_.w[k]));
   }
 }
 

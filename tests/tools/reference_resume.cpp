@@ -5,11 +5,13 @@
 // steps after it: float32 on the GPU against double on the reference, and the order of their operations.
 //
 //   wetdem_reference_resume RUN_DIR --until SECONDS [--csv FILE] [--no-gpu] [--from-start]
+//                           [--float32 velocities|springs|both]
 //
 // RUN_DIR: a run folder with a checkpoint (`wetdem run ... --stop-after-steps K`); with --from-start, any
 // run folder of the case: both codes start from the case's inserted bed at step 0 (as uploaded to the GPU),
 // settle with the drum at rest and turn it from run.settle on. SECONDS: simulated time (from the run's
-// start) to step to. The reference is slow (tens of
+// start) to step to. --float32: the reference stores those fields in float32, as the GPU passes do (which
+// field's precision moves the release). The reference is slow (tens of
 // microseconds per particle-step on one core): a tool for investigations, not for tests.
 #include <fmt/format.h>
 
@@ -19,10 +21,12 @@
 #include <cstring>
 #include <exception>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <stdexcept>
 #include <string>
 #include <tuple>
+#include <utility>
 
 #include "app/drum/aor.h"
 #include "app/output/checkpoint.h"
@@ -40,6 +44,7 @@ struct Args {
   double until = 0.0;
   bool gpu = true;
   bool from_start = false;
+  uint32_t float32 = 0;  // ref::ReferenceSystem::RoundField bits
 };
 
 Args parse(int argc, char** argv) {
@@ -58,7 +63,17 @@ Args parse(int argc, char** argv) {
       a.gpu = false;
     else if (s == "--from-start")
       a.from_start = true;
-    else if (!s.empty() && s[0] == '-')
+    else if (s == "--float32") {
+      const std::string f = value("--float32");
+      if (f == "velocities")
+        a.float32 = ref::ReferenceSystem::kRoundVelocities;
+      else if (f == "springs")
+        a.float32 = ref::ReferenceSystem::kRoundSprings;
+      else if (f == "both")
+        a.float32 = ref::ReferenceSystem::kRoundVelocities | ref::ReferenceSystem::kRoundSprings;
+      else
+        throw std::invalid_argument("--float32: velocities, springs or both, got '" + f + "'");
+    } else if (!s.empty() && s[0] == '-')
       throw std::invalid_argument("unknown option " + s);
     else
       a.run_dir = s;
@@ -77,6 +92,46 @@ std::pair<double, double> apart(const SystemState& a, const SystemState& b) {
     sum += d;
   }
   return {mx, a.p.size() ? sum / double(a.p.size()) : 0.0};
+}
+
+// How the two codes' contact springs compare (same stable ids): for pair springs present in both and for wall
+// springs, Σ|ξ_gpu| / Σ|ξ_ref| (a float32 spring that loses slow creep increments is shorter) and
+// Σ|ξ_gpu - ξ_ref| / Σ|ξ_ref|; and the bridges each code holds.
+struct SpringStats {
+  double t_ratio = 0, t_diff = 0, r_ratio = 0, r_diff = 0;
+  double wall_t_ratio = 0, wall_t_diff = 0, wall_r_ratio = 0, wall_r_diff = 0;
+  long bridges_ref = 0, bridges_gpu = 0;
+};
+
+SpringStats springs(const SystemState& ref, const SystemState& gpu) {
+  std::map<std::pair<uint32_t, uint32_t>, const PairRecord*> g;
+  for (const PairRecord& r : gpu.pairs) g[{r.id_i, r.id_j}] = &r;
+  double st[3] = {0, 0, 0}, sr[3] = {0, 0, 0};  // Σ|ref|, Σ|gpu|, Σ|diff|
+  SpringStats out;
+  for (const PairRecord& r : ref.pairs) {
+    out.bridges_ref += r.bridge > 0;
+    const auto it = g.find({r.id_i, r.id_j});
+    if (it == g.end()) continue;
+    st[0] += glm::length(r.spring_t), st[1] += glm::length(it->second->spring_t);
+    st[2] += glm::length(r.spring_t - it->second->spring_t);
+    sr[0] += glm::length(r.spring_r), sr[1] += glm::length(it->second->spring_r);
+    sr[2] += glm::length(r.spring_r - it->second->spring_r);
+  }
+  for (const PairRecord& r : gpu.pairs) out.bridges_gpu += r.bridge > 0;
+  double wt[3] = {0, 0, 0}, wr[3] = {0, 0, 0};
+  for (size_t k = 0; k < ref.p.wall.size() && k < gpu.p.wall.size(); ++k) {
+    const WallRecord &a = ref.p.wall[k], &b = gpu.p.wall[k];
+    wt[0] += glm::length(a.spring_t), wt[1] += glm::length(b.spring_t),
+        wt[2] += glm::length(a.spring_t - b.spring_t);
+    wr[0] += glm::length(a.spring_r), wr[1] += glm::length(b.spring_r),
+        wr[2] += glm::length(a.spring_r - b.spring_r);
+  }
+  const auto q = [](double a, double b) { return b > 0 ? a / b : std::nan(""); };
+  out.t_ratio = q(st[1], st[0]), out.t_diff = q(st[2], st[0]);
+  out.r_ratio = q(sr[1], sr[0]), out.r_diff = q(sr[2], sr[0]);
+  out.wall_t_ratio = q(wt[1], wt[0]), out.wall_t_diff = q(wt[2], wt[0]);
+  out.wall_r_ratio = q(wr[1], wr[0]), out.wall_r_diff = q(wr[2], wr[0]);
+  return out;
 }
 
 }  // namespace
@@ -109,6 +164,7 @@ int main(int argc, char** argv) {
     // The reference takes the GPU's state as it is (for a fresh start: the inserted bed with the bridges the
     // upload formed on touching pairs) and the drum's phase of that step.
     ref::ReferenceSystem ref(app::phase_params(prep.prm, sch.rotating(gpu.step())));
+    ref.set_float32_storage(args.float32);
     ref.set_state(gpu.state());
     const double radius = prep.prm.drum.radius;
     const double t_rot = double(sch.n_settle) * dt;
@@ -117,15 +173,20 @@ int main(int argc, char** argv) {
     if (!args.csv.empty()) {
       csv.open(args.csv);
       if (!csv) throw std::runtime_error("--csv: cannot write " + args.csv);
-      csv << "time_s,time_rotating_s,aor_ref_deg,aor_gpu_deg,apart_max_m,apart_mean_m\n";
+      csv << "time_s,time_rotating_s,aor_ref_deg,aor_gpu_deg,apart_max_m,apart_mean_m,spring_t_ratio,spring_"
+             "t_diff,"
+             "spring_r_ratio,spring_r_diff,wall_t_ratio,wall_t_diff,wall_r_ratio,wall_r_diff,bridges_ref,"
+             "bridges_gpu\n";
     }
     double peak_ref = -1.0, peak_gpu = -1.0, t_peak_ref = 0.0, t_peak_gpu = 0.0;
     for (uint64_t s = gpu.step(); s <= last;) {
       const SystemState sr = ref.state();
       const AorSample ar = dynamic_aor(sr, radius);
       double ag = std::nan(""), dmax = std::nan(""), dmean = std::nan("");
+      SpringStats ss;
       if (args.gpu) {
         const SystemState sg = gpu.state();
+        ss = springs(sr, sg);
         ag = dynamic_aor(sg, radius).abs_deg;
         std::tie(dmax, dmean) = apart(sr, sg);
         if (ag > peak_gpu) peak_gpu = ag, t_peak_gpu = double(s) * dt - t_rot;
@@ -133,8 +194,11 @@ int main(int argc, char** argv) {
       if (ar.abs_deg > peak_ref) peak_ref = ar.abs_deg, t_peak_ref = double(s) * dt - t_rot;
       const double t = double(s) * dt;
       if (csv)
-        csv << fmt::format("{:.6f},{:.6f},{:.4f},{:.4f},{:.4e},{:.4e}\n", t, t - t_rot, ar.abs_deg, ag, dmax,
-                           dmean);
+        csv << fmt::format(
+            "{:.6f},{:.6f},{:.4f},{:.4f},{:.4e},{:.4e},{:.6f},{:.4e},{:.6f},{:.4e},{:.6f},{:.4e},{:.6f},{:."
+            "4e},{},{}\n",
+            t, t - t_rot, ar.abs_deg, ag, dmax, dmean, ss.t_ratio, ss.t_diff, ss.r_ratio, ss.r_diff,
+            ss.wall_t_ratio, ss.wall_t_diff, ss.wall_r_ratio, ss.wall_r_diff, ss.bridges_ref, ss.bridges_gpu);
       std::printf("t %.3f s (rotating %.3f s): reference %.2f deg, GPU %.2f deg, apart max %.3g m\n", t,
                   t - t_rot, ar.abs_deg, ag, dmax);
       std::fflush(stdout);
