@@ -5,14 +5,16 @@
 // steps after it: float32 on the GPU against double on the reference, and the order of their operations.
 //
 //   wetdem_reference_resume RUN_DIR --until SECONDS [--csv FILE] [--no-gpu] [--from-start]
-//                           [--float32 velocities|springs|both]
+//                           [--float32 velocities|springs|both] [--hand-over]
 //
 // RUN_DIR: a run folder with a checkpoint (`wetdem run ... --stop-after-steps K`); with --from-start, any
 // run folder of the case: both codes start from the case's inserted bed at step 0 (as uploaded to the GPU),
 // settle with the drum at rest and turn it from run.settle on. SECONDS: simulated time (from the run's
 // start) to step to. --float32: the reference stores those fields in float32, as the GPU passes do (which
-// field's precision moves the release). The reference is slow (tens of
-// microseconds per particle-step on one core): a tool for investigations, not for tests.
+// field's precision moves the release). --hand-over: when the drum starts turning, the GPU takes the
+// reference's settled bed (System::upload) and both go on from it (is the settled bed what differs?). The
+// reference is slow (tens of microseconds per particle-step on one core): a tool for investigations, not for
+// tests.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -44,6 +46,7 @@ struct Args {
   double until = 0.0;
   bool gpu = true;
   bool from_start = false;
+  bool hand_over = false;
   uint32_t float32 = 0;  // ref::ReferenceSystem::RoundField bits
 };
 
@@ -63,6 +66,8 @@ Args parse(int argc, char** argv) {
       a.gpu = false;
     else if (s == "--from-start")
       a.from_start = true;
+    else if (s == "--hand-over")
+      a.hand_over = true;
     else if (s == "--float32") {
       const std::string f = value("--float32");
       if (f == "velocities")
@@ -209,6 +214,11 @@ int main(int argc, char** argv) {
       if (to == sch.n_settle) ref.set_params(app::phase_params(prep.prm, true));  // the drum starts turning
       if (args.gpu)
         while (gpu.step() < to) gpu.advance(std::min(to, sch.next_stop(gpu.step())));
+      if (args.hand_over && args.gpu && to == sch.n_settle) {
+        SystemState st = ref.state();
+        st.step = to;
+        gpu.system().upload(st);
+      }
       s = to;
     }
     std::printf("peak: reference %.2f deg at %.2f s after rotation starts", peak_ref, t_peak_ref);
