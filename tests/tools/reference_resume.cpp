@@ -5,16 +5,17 @@
 // steps after it: float32 on the GPU against double on the reference, and the order of their operations.
 //
 //   wetdem_reference_resume RUN_DIR --until SECONDS [--csv FILE] [--no-gpu] [--from-start]
-//                           [--float32 velocities|springs|both] [--hand-over]
+//                           [--float32 velocities|springs|both] [--hand-over [--hand-over-at SECONDS]]
 //
 // RUN_DIR: a run folder with a checkpoint (`wetdem run ... --stop-after-steps K`); with --from-start, any
 // run folder of the case: both codes start from the case's inserted bed at step 0 (as uploaded to the GPU),
 // settle with the drum at rest and turn it from run.settle on. SECONDS: simulated time (from the run's
 // start) to step to. --float32: the reference stores those fields in float32, as the GPU passes do (which
 // field's precision moves the release). --hand-over: when the drum starts turning, the GPU takes the
-// reference's settled bed (System::upload) and both go on from it (is the settled bed what differs?). The
-// reference is slow (tens of microseconds per particle-step on one core): a tool for investigations, not for
-// tests.
+// reference's settled bed (System::upload) and both go on from it (is the settled bed what differs?);
+// --hand-over-at: at that time instead (a sample time), to find when in the settling the difference is made.
+// The reference is slow (tens of microseconds per particle-step on one core): a tool for investigations, not
+// for tests.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -47,7 +48,8 @@ struct Args {
   bool gpu = true;
   bool from_start = false;
   bool hand_over = false;
-  uint32_t float32 = 0;  // ref::ReferenceSystem::RoundField bits
+  double hand_over_at = -1.0;  // seconds; < 0: when the drum starts turning
+  uint32_t float32 = 0;        // ref::ReferenceSystem::RoundField bits
 };
 
 Args parse(int argc, char** argv) {
@@ -68,6 +70,8 @@ Args parse(int argc, char** argv) {
       a.from_start = true;
     else if (s == "--hand-over")
       a.hand_over = true;
+    else if (s == "--hand-over-at")
+      a.hand_over_at = std::stod(value("--hand-over-at"));
     else if (s == "--float32") {
       const std::string f = value("--float32");
       if (f == "velocities")
@@ -183,6 +187,8 @@ int main(int argc, char** argv) {
              "spring_r_ratio,spring_r_diff,wall_t_ratio,wall_t_diff,wall_r_ratio,wall_r_diff,bridges_ref,"
              "bridges_gpu\n";
     }
+    const uint64_t hand_step =
+        args.hand_over_at < 0 ? sch.n_settle : app::Schedule::steps(args.hand_over_at, dt);
     double peak_ref = -1.0, peak_gpu = -1.0, t_peak_ref = 0.0, t_peak_gpu = 0.0;
     for (uint64_t s = gpu.step(); s <= last;) {
       const SystemState sr = ref.state();
@@ -210,11 +216,12 @@ int main(int argc, char** argv) {
       if (s == last) break;
       uint64_t to = std::min(last, (s / sch.sample + 1) * sch.sample);
       if (s < sch.n_settle) to = std::min(to, sch.n_settle);
+      if (args.hand_over && s < hand_step) to = std::min(to, hand_step);
       for (uint64_t k = s; k < to; ++k) ref.step();
       if (to == sch.n_settle) ref.set_params(app::phase_params(prep.prm, true));  // the drum starts turning
       if (args.gpu)
         while (gpu.step() < to) gpu.advance(std::min(to, sch.next_stop(gpu.step())));
-      if (args.hand_over && args.gpu && to == sch.n_settle) {
+      if (args.hand_over && args.gpu && s < hand_step && to >= hand_step) {
         SystemState st = ref.state();
         st.step = to;
         gpu.system().upload(st);
