@@ -4,7 +4,9 @@
 A matrix file (TOML) names the diagnosis, a base twin (case, conditions, noise) and the twins: each with its
 withheld truth (case overrides), the truth's strength in the diagnosis's units (for the strength and interval
 scores), and optionally something else the truth differs in (coarse-graining, PSD tails) or an effect outside
-the candidates. For every twin the script writes a twin file with truth seeds and a noise seed of its own, runs
+the candidates. When that other difference is itself a candidate (l = 4 is `scale` at 0.2), `also_effect` and
+`also_strength` name it: the twin then withholds two candidates, and a diagnosis that names the other one is
+counted apart (neither a hit on the named truth nor a confident wrong answer). For every twin the script writes a twin file with truth seeds and a noise seed of its own, runs
 `wetdem twin` and `wetdem diagnose` (the diagnosis never sees truth.json), all through one shared run store,
 and writes OUT/matrix.json, OUT/matrix.md and OUT/matrix.png:
   - the confusion matrix (truth -> outcome: the chosen effect for `effect`/`partial`, else the verdict);
@@ -57,7 +59,8 @@ def row_of(d, t):
     j = json.load(open(os.path.join(d, "diagnosis", "diagnosis.json")))
     best = next((r for r in j.get("ranking") or [] if r["effect"] == j["effect"]), None)
     return {"twin": t["name"], "truth": t.get("effect"), "truth_strength": t.get("strength"),
-            "perturbed": bool(t.get("perturb")), "verdict": j["verdict"], "effect": j["effect"],
+            "perturbed": bool(t.get("perturb")), "also": t.get("also_effect"),
+            "also_strength": t.get("also_strength"), "verdict": j["verdict"], "effect": j["effect"],
             "tied": j.get("tied") or [],
             "strength": best["strength"] if best else None,
             "interval": best["strength_interval"] if best else None,
@@ -126,6 +129,11 @@ def summarize(rows, wall, device, out_dir, spec_path):
               and abs(r["strength"] / r["truth_strength"] - 1) <= 0.25]
     covered = [r for r in right if r["interval"] and r["truth_strength"]
                and r["interval"][0] * (1 - 1e-9) <= r["truth_strength"] <= r["interval"][1] * (1 + 1e-9)]
+    # The twin's other withheld difference, itself a candidate, found instead of the named truth.
+    other = [r for r in eff if r not in right and r.get("also") and r["verdict"] in ("effect", "partial")
+             and r["effect"] == r["also"]]
+    other_within = [r for r in other if r["strength"] and r.get("also_strength")
+                    and abs(r["strength"] / r["also_strength"] - 1) <= 0.25]
     quiet = [r for r in rows if not is_effect_twin(r)]
     confident_wrong = [r for r in quiet if r["verdict"] == "effect"]
     out = {"matrix": spec_path, "rows": rows, "effect_twins": len(eff), "top1": len(right),
@@ -133,6 +141,7 @@ def summarize(rows, wall, device, out_dir, spec_path):
            "in_reported_set": sum(1 for r in eff if r["effect"] == r["truth"] or r["truth"] in r["tied"]),
            "median_held_out_shrink": statistics.median(shrinks) if shrinks else None,
            "strength_within_25pc": len(within), "interval_covers_truth": len(covered),
+           "found_other_candidate": len(other), "other_candidate_within_25pc": len(other_within),
            "nulls_and_outside": len(quiet), "confident_wrong": len(confident_wrong),
            "device": device, "wall_s": wall}
     json.dump(out, open(os.path.join(out_dir, "matrix.json"), "w"), indent=2)
@@ -147,7 +156,8 @@ def summarize(rows, wall, device, out_dir, spec_path):
             fit = f"{r['strength']:.3g} [{'≤ ' if op[0] else ''}{lo:.3g}, {hi:.3g}{' ≤' if op[1] else ''}]"
         ts = "" if r["truth_strength"] is None else f"{r['truth_strength']:.3g}"
         chosen = (r["effect"] or "-") + (f" ({', '.join(r['tied'])})" if r["tied"] else "")
-        md.append(f"| {r['twin']} | {r['truth'] or 'none'} | {ts} | {'yes' if r['perturbed'] else ''} | "
+        also = f"yes (`{r['also']}` {r['also_strength']:.3g})" if r.get("also") else ("yes" if r["perturbed"] else "")
+        md.append(f"| {r['twin']} | {r['truth'] or 'none'} | {ts} | {also} | "
                   f"{r['verdict']} | {chosen} | {fit} | {'' if s is None else f'{100 * s:.0f} %'} | "
                   f"{'' if r['wall_s'] is None else '%.0f s' % r['wall_s']} |")
     md.append("")
@@ -159,7 +169,11 @@ def summarize(rows, wall, device, out_dir, spec_path):
         f"(truth in the reported set, chosen or tied: {out['in_reported_set']}/{len(eff)}); median held-out "
         f"shrink {'-' if not shrinks else f'{100 * statistics.median(shrinks):.0f} %'} over the {n} identified; "
         f"fitted strength within ±25 % of the truth for {len(within)}/{n}, interval covering the truth for "
-        f"{len(covered)}/{n}; nulls and outside effects given an `effect` verdict (a confident wrong answer): "
+        f"{len(covered)}/{n}; "
+        + (f"the twin's other withheld difference, itself a candidate, named instead: {len(other)}/"
+           f"{sum(1 for r in eff if r.get('also'))} (its strength within ±25 % for {len(other_within)}); "
+           if any(r.get("also") for r in eff) else "")
+        + f"nulls and outside effects given an `effect` verdict (a confident wrong answer): "
         f"{len(confident_wrong)}/{len(quiet)}. Device {device}; wall {wall:.0f} s.")
     open(os.path.join(out_dir, "matrix.md"), "w").write("\n".join(md) + "\n")
     plot(rows, os.path.join(out_dir, "matrix.png"))
@@ -191,7 +205,7 @@ def main():
         sys.exit(f"{a.matrix}: twin names must be unique")
     for t in spec["twin"]:
         for k in t:
-            if k not in ("name", "effect", "strength", "truth", "perturb"):
+            if k not in ("name", "effect", "strength", "truth", "perturb", "also_effect", "also_strength"):
                 sys.exit(f"{a.matrix}: twin {t['name']}: unknown key {k}")
     os.makedirs(a.out, exist_ok=True)
     store = a.store or os.path.join(a.out, "store")
