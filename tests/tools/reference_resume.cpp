@@ -110,6 +110,8 @@ struct SpringStats {
   double t_ratio = 0, t_diff = 0, r_ratio = 0, r_diff = 0;
   double wall_t_ratio = 0, wall_t_diff = 0, wall_r_ratio = 0, wall_r_diff = 0;
   long bridges_ref = 0, bridges_gpu = 0;
+  long long bridge_units_ref = 0, bridge_units_gpu = 0;  // Σ pair bridge volumes (liquid units)
+  long bridges_differing = 0;                            // pairs whose bridge volumes differ
 };
 
 SpringStats springs(const SystemState& ref, const SystemState& gpu) {
@@ -119,14 +121,16 @@ SpringStats springs(const SystemState& ref, const SystemState& gpu) {
   SpringStats out;
   for (const PairRecord& r : ref.pairs) {
     out.bridges_ref += r.bridge > 0;
+    out.bridge_units_ref += r.bridge;
     const auto it = g.find({r.id_i, r.id_j});
+    out.bridges_differing += (it == g.end() ? 0 : it->second->bridge) != r.bridge;
     if (it == g.end()) continue;
     st[0] += glm::length(r.spring_t), st[1] += glm::length(it->second->spring_t);
     st[2] += glm::length(r.spring_t - it->second->spring_t);
     sr[0] += glm::length(r.spring_r), sr[1] += glm::length(it->second->spring_r);
     sr[2] += glm::length(r.spring_r - it->second->spring_r);
   }
-  for (const PairRecord& r : gpu.pairs) out.bridges_gpu += r.bridge > 0;
+  for (const PairRecord& r : gpu.pairs) out.bridges_gpu += r.bridge > 0, out.bridge_units_gpu += r.bridge;
   double wt[3] = {0, 0, 0}, wr[3] = {0, 0, 0};
   for (size_t k = 0; k < ref.p.wall.size() && k < gpu.p.wall.size(); ++k) {
     const WallRecord &a = ref.p.wall[k], &b = gpu.p.wall[k];
@@ -182,10 +186,10 @@ int main(int argc, char** argv) {
     if (!args.csv.empty()) {
       csv.open(args.csv);
       if (!csv) throw std::runtime_error("--csv: cannot write " + args.csv);
-      csv << "time_s,time_rotating_s,aor_ref_deg,aor_gpu_deg,apart_max_m,apart_mean_m,spring_t_ratio,spring_"
-             "t_diff,"
-             "spring_r_ratio,spring_r_diff,wall_t_ratio,wall_t_diff,wall_r_ratio,wall_r_diff,bridges_ref,"
-             "bridges_gpu\n";
+      csv << "time_s,time_rotating_s,aor_ref_deg,aor_gpu_deg,apart_max_m,apart_mean_m,"
+             "spring_t_ratio,spring_t_diff,spring_r_ratio,spring_r_diff,"
+             "wall_t_ratio,wall_t_diff,wall_r_ratio,wall_r_diff,"
+             "bridges_ref,bridges_gpu,bridge_units_ref,bridge_units_gpu,bridges_differing\n";
     }
     const uint64_t hand_step =
         args.hand_over_at < 0 ? sch.n_settle : app::Schedule::steps(args.hand_over_at, dt);
@@ -205,11 +209,13 @@ int main(int argc, char** argv) {
       if (ar.abs_deg > peak_ref) peak_ref = ar.abs_deg, t_peak_ref = double(s) * dt - t_rot;
       const double t = double(s) * dt;
       if (csv)
-        csv << fmt::format(
-            "{:.6f},{:.6f},{:.4f},{:.4f},{:.4e},{:.4e},{:.6f},{:.4e},{:.6f},{:.4e},{:.6f},{:.4e},{:.6f},{:."
-            "4e},{},{}\n",
-            t, t - t_rot, ar.abs_deg, ag, dmax, dmean, ss.t_ratio, ss.t_diff, ss.r_ratio, ss.r_diff,
-            ss.wall_t_ratio, ss.wall_t_diff, ss.wall_r_ratio, ss.wall_r_diff, ss.bridges_ref, ss.bridges_gpu);
+        csv << fmt::format("{:.6f},{:.6f},{:.4f},{:.4f},{:.4e},{:.4e},", t, t - t_rot, ar.abs_deg, ag, dmax,
+                           dmean)
+            << fmt::format("{:.6f},{:.4e},{:.6f},{:.4e},", ss.t_ratio, ss.t_diff, ss.r_ratio, ss.r_diff)
+            << fmt::format("{:.6f},{:.4e},{:.6f},{:.4e},", ss.wall_t_ratio, ss.wall_t_diff, ss.wall_r_ratio,
+                           ss.wall_r_diff)
+            << fmt::format("{},{},{},{},{}\n", ss.bridges_ref, ss.bridges_gpu, ss.bridge_units_ref,
+                           ss.bridge_units_gpu, ss.bridges_differing);
       std::printf("t %.3f s (rotating %.3f s): reference %.2f deg, GPU %.2f deg, apart max %.3g m\n", t,
                   t - t_rot, ar.abs_deg, ag, dmax);
       std::fflush(stdout);
