@@ -6,9 +6,9 @@ withheld truth (case overrides), the truth's strength in the diagnosis's units (
 scores), and optionally something else the truth differs in (coarse-graining, PSD tails) or an effect outside
 the candidates. When that other difference is itself a candidate (l = 4 is `scale` at 0.2), `also_effect` and
 `also_strength` name it: the twin then withholds two candidates, and a diagnosis that names the other one is
-counted apart (neither a hit on the named truth nor a confident wrong answer). For every twin the script writes a twin file with truth seeds and a noise seed of its own, runs
-`wetdem twin` and `wetdem diagnose` (the diagnosis never sees truth.json), all through one shared run store,
-and writes OUT/matrix.json, OUT/matrix.md and OUT/matrix.png:
+counted apart (neither a hit on the named truth nor a confident wrong answer). For every twin the script
+writes a twin file with truth seeds and a noise seed of its own, runs `wetdem twin` and `wetdem diagnose`
+(the diagnosis never sees truth.json), all through one shared run store, and writes OUT/matrix.json, OUT/matrix.md and OUT/matrix.png:
   - the confusion matrix (truth -> outcome: the chosen effect for `effect`/`partial`, else the verdict);
   - top-1: the chosen effect is the truth (`effect` or `partial`), over the effect twins;
   - the median held-out shrink over the correctly identified twins;
@@ -156,7 +156,9 @@ def summarize(rows, wall, device, out_dir, spec_path):
             fit = f"{r['strength']:.3g} [{'≤ ' if op[0] else ''}{lo:.3g}, {hi:.3g}{' ≤' if op[1] else ''}]"
         ts = "" if r["truth_strength"] is None else f"{r['truth_strength']:.3g}"
         chosen = (r["effect"] or "-") + (f" ({', '.join(r['tied'])})" if r["tied"] else "")
-        also = f"yes (`{r['also']}` {r['also_strength']:.3g})" if r.get("also") else ("yes" if r["perturbed"] else "")
+        also = "yes" if r["perturbed"] else ""
+        if r.get("also"):
+            also = f"yes (`{r['also']}` {r['also_strength']:.3g})"
         md.append(f"| {r['twin']} | {r['truth'] or 'none'} | {ts} | {also} | "
                   f"{r['verdict']} | {chosen} | {fit} | {'' if s is None else f'{100 * s:.0f} %'} | "
                   f"{'' if r['wall_s'] is None else '%.0f s' % r['wall_s']} |")
