@@ -71,7 +71,7 @@ Args parse(int argc, char** argv) {
     else if (s == "--hand-over")
       a.hand_over = true;
     else if (s == "--hand-over-at")
-      a.hand_over_at = std::stod(value("--hand-over-at"));
+      a.hand_over = true, a.hand_over_at = std::stod(value("--hand-over-at"));
     else if (s == "--float32") {
       const std::string f = value("--float32");
       if (f == "velocities")
@@ -89,6 +89,7 @@ Args parse(int argc, char** argv) {
   }
   if (a.run_dir.empty()) throw std::invalid_argument("RUN_DIR: missing (a run folder with a checkpoint)");
   if (!(a.until > 0.0)) throw std::invalid_argument("--until: missing or not a positive time in seconds");
+  if (a.hand_over && !a.gpu) throw std::invalid_argument("--hand-over: needs the GPU (not with --no-gpu)");
   return a;
 }
 
@@ -227,7 +228,7 @@ int main(int argc, char** argv) {
       if (to == sch.n_settle) ref.set_params(app::phase_params(prep.prm, true));  // the drum starts turning
       if (args.gpu)
         while (gpu.step() < to) gpu.advance(std::min(to, sch.next_stop(gpu.step())));
-      if (args.hand_over && args.gpu && s < hand_step && to >= hand_step) {
+      if (args.hand_over && s < hand_step && to >= hand_step) {
         SystemState st = ref.state();
         st.step = to;
         gpu.system().upload(st);
