@@ -46,6 +46,14 @@ Prediction Emulator::at(size_t cell, double u) const {
   return {lerp(mean_[cell]), se(se_[cell])};
 }
 
+Emulator Emulator::redrawn(std::mt19937_64& rng) const {
+  std::normal_distribution<double> n01(0.0, 1.0);
+  Emulator e = *this;
+  for (size_t k = 0; k < e.mean_.size(); ++k)
+    for (size_t i = 0; i < e.mean_[k].size(); ++i) e.mean_[k][i] += se_[k][i] * n01(rng);
+  return e;
+}
+
 std::vector<Prediction> Emulator::at(double u) const {
   std::vector<Prediction> p;
   for (size_t k = 0; k < mean_.size(); ++k) p.push_back(at(k, u));

@@ -2,6 +2,7 @@
 // (diagnosis.md §4). Pure statistics on predictions the runs produced; nothing here runs a model.
 #pragma once
 
+#include <random>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,10 @@ class Emulator {
   double u_hi() const { return u_.back(); }                         // the strongest strength probed
   double u_first() const { return u_.size() > 1 ? u_[1] : u_[0]; }  // the weakest strength probed
   size_t cells() const { return mean_.size(); }
+  // The same emulator with every knot's mean (the baseline's included) redrawn from a normal distribution
+  // with its own SE: one draw of a parametric bootstrap over the runs behind it (fit.h,
+  // widen_by_emulator_noise).
+  Emulator redrawn(std::mt19937_64& rng) const;
 
  private:
   std::vector<double> u_;                       // knots: anchor, then log10 of every probe

@@ -4,6 +4,7 @@
 // edge of the probed range). Pure functions; the stage that runs the models is fit_stage.h.
 #pragma once
 
+#include <cstdint>
 #include <utility>
 #include <vector>
 
@@ -26,6 +27,8 @@ struct StrengthFit {
   double chi2_lo = 0.0, chi2_hi = 0.0;
   // The leave-one-condition-out jackknife's standard error of log10(strength) (0: not computed).
   double jackknife_se_log10 = 0.0;
+  // The spread of log10(strength) over emulators redrawn within their runs' SE (0: not computed).
+  double emulator_se_log10 = 0.0;
 };
 
 // Weighted least squares of the strength against the cells `idx` (all when empty): χ²(u) on a dense grid over
@@ -72,6 +75,18 @@ std::vector<double> loco_strengths(const std::vector<Cell>& cells, const std::ve
 // and u ± se; a side that passes an end of the probed range is open there.
 void widen_by_condition_jackknife(StrengthFit& f, const std::vector<double>& loco_strengths, double u_lo,
                                   double u_hi);
+
+// Widens a fit's interval by the noise of the runs behind the emulator. The Δχ² interval counts the knots'
+// SE in every cell's variance, but its curvature takes the emulator's slope between two knots as exact; with
+// single-seed probes as noisy as the observations that slope is mostly noise, χ² is too sharply curved and
+// the interval too narrow (DiagnoseStats.IntervalsStay...: 32 % coverage with knots four times noisier than
+// the observations). The jackknife over conditions does not see this noise either: every fold uses the same
+// knots. A parametric bootstrap does: `draws` emulators with every knot redrawn within its SE
+// (Emulator::redrawn, a fixed seed, so the report is repeatable), each fitted like the original; se is the
+// standard deviation of their log10 strengths, and the interval becomes the union with u ± se, open where it
+// passes an end of the probed range (as the jackknife).
+void widen_by_emulator_noise(StrengthFit& f, const std::vector<Cell>& cells, const Emulator& em,
+                             int draws = 48, uint64_t seed = 20261125);
 
 // The null model: with one baseline nothing is fitted and the score is its plain χ²; with refit settings the
 // setting is re-fitted in every fold.

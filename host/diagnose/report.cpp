@@ -185,6 +185,7 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
               {"strength_interval_delta_chi2", c.fit.delta},
               {"strength_interval_chi2", {c.fit.chi2_lo, c.fit.chi2_hi}},
               {"strength_jackknife_se_log10", c.fit.jackknife_se_log10},
+              {"strength_emulator_se_log10", c.fit.emulator_se_log10},
               {"strength_at_edge", c.fit.at_edge},
               {"strength_meaning", spec.strength},
               {"physical_range", {spec.phys_lo, spec.phys_hi}},
