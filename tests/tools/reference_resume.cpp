@@ -7,6 +7,7 @@
 //
 //   wetdem_reference_resume RUN_DIR --until SECONDS [--csv FILE] [--no-gpu] [--from-start]
 //                           [--float32 velocities|springs|both] [--hand-over [--hand-over-at SECONDS]]
+//                           [--every STEPS] [--worst]
 //
 // RUN_DIR: a run folder with a checkpoint (`wetdem run ... --stop-after-steps K`); with --from-start, any
 // run folder of the case: both codes start from the case's inserted bed at step 0 (as uploaded to the GPU),
@@ -15,6 +16,9 @@
 // field's precision moves the release). --hand-over: when the drum starts turning, the GPU takes the
 // reference's settled bed (System::upload) and both go on from it (is the settled bed what differs?);
 // --hand-over-at: at that time instead (a sample time), to find when in the settling the difference is made.
+// --every: a sample every STEPS steps instead of the case's interval; --worst: at every sample, the particle
+// farthest apart in the two codes (position, velocity, nearest wall) and the pairs whose bridges differ, to
+// find the first event that parts them.
 // The reference is serial (a 1,800-particle slice: ~2 min per simulated second on one core): a tool for
 // investigations; CI only checks that it runs and that both codes agree over a few steps.
 #include <fmt/format.h>
@@ -50,6 +54,8 @@ struct Args {
   bool hand_over = false;
   double hand_over_at = -1.0;  // seconds; < 0: when the drum starts turning
   uint32_t float32 = 0;        // ref::ReferenceSystem::RoundField bits
+  uint64_t every = 0;          // steps per sample (0: the case's sample interval)
+  bool worst = false;          // print the particle farthest apart and the bridges that differ
 };
 
 Args parse(int argc, char** argv) {
@@ -72,6 +78,12 @@ Args parse(int argc, char** argv) {
       a.hand_over = true;
     else if (s == "--hand-over-at")
       a.hand_over = true, a.hand_over_at = std::stod(value("--hand-over-at"));
+    else if (s == "--every") {
+      const long k = std::stol(value("--every"));
+      if (k < 1) throw std::invalid_argument("--every: steps per sample, >= 1");
+      a.every = uint64_t(k);
+    } else if (s == "--worst")
+      a.worst = true;
     else if (s == "--float32") {
       const std::string f = value("--float32");
       if (f == "velocities")
@@ -148,6 +160,54 @@ SpringStats springs(const SystemState& ref, const SystemState& gpu) {
   return out;
 }
 
+// The particle farthest apart, and the pairs whose bridge volumes differ (up to 8), one line each.
+void print_worst(const SystemState& a, const SystemState& b, double radius) {
+  size_t w = 0;
+  double dw = -1.0;
+  for (size_t i = 0; i < a.p.size(); ++i)
+    if (const double d = glm::length(a.p.x[i] - b.p.x[i]); d > dw) dw = d, w = i;
+  const auto v3 = [](const glm::dvec3& x) { return fmt::format("({:.6e}, {:.6e}, {:.6e})", x.x, x.y, x.z); };
+  const glm::dvec3 &xr = a.p.x[w], &xg = b.p.x[w];
+  std::printf("  worst id %zu r %.4e apart %.3e wall gap %.3e\n    x ref %s gpu %s\n    v ref %s gpu %s\n", w,
+              a.p.radius[w], dw, radius - std::hypot(xr.x, xr.y) - a.p.radius[w], v3(xr).c_str(),
+              v3(xg).c_str(), v3(a.p.v[w]).c_str(), v3(b.p.v[w]).c_str());
+  // The worst particle's touching neighbours by brute force in each code, and whether that code holds a
+  // contact record (a spring or bridge) for the pair.
+  for (const SystemState* st : {&a, &b}) {
+    std::map<uint32_t, const PairRecord*> rec;
+    for (const PairRecord& r : st->pairs)
+      if (r.id_i == w || r.id_j == w) rec[r.id_i == w ? r.id_j : r.id_i] = &r;
+    for (size_t j = 0; j < st->p.size(); ++j) {
+      if (j == w) continue;
+      const double gap = glm::length(st->p.x[w] - st->p.x[j]) - st->p.radius[w] - st->p.radius[j];
+      const auto it = rec.find(uint32_t(j));
+      if (gap < 0 || it != rec.end())
+        std::printf("    %s: with %zu gap %.3e, record %s spring %.3e bridge %lld\n",
+                    st == &a ? "ref" : "gpu", j, gap, it != rec.end() ? "yes" : "NO",
+                    it != rec.end() ? glm::length(it->second->spring_t) : 0.0,
+                    it != rec.end() ? (long long)it->second->bridge : 0LL);
+    }
+  }
+  std::map<std::pair<uint32_t, uint32_t>, int64_t> vb;
+  for (const PairRecord& r : b.pairs) vb[{r.id_i, r.id_j}] = r.bridge;
+  std::map<std::pair<uint32_t, uint32_t>, int64_t> va;
+  for (const PairRecord& r : a.pairs) va[{r.id_i, r.id_j}] = r.bridge;
+  int shown = 0;
+  for (const auto& [k, bv] : vb) va.emplace(k, 0);
+  for (const auto& [k, av] : va) {
+    const auto it = vb.find(k);
+    const int64_t bv = it == vb.end() ? 0 : it->second;
+    if (av == bv) continue;
+    if (shown++ < 8) {
+      const double gap =
+          glm::length(a.p.x[k.first] - a.p.x[k.second]) - a.p.radius[k.first] - a.p.radius[k.second];
+      std::printf("    bridge %u-%u: ref %lld gpu %lld (gap ref %.3e m)\n", k.first, k.second, (long long)av,
+                  (long long)bv, gap);
+    }
+  }
+  if (shown > 8) std::printf("    ... %d pairs differ\n", shown);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -219,9 +279,11 @@ int main(int argc, char** argv) {
                            ss.bridge_units_gpu, ss.bridges_differing);
       std::printf("t %.3f s (rotating %.3f s): reference %.2f deg, GPU %.2f deg, apart max %.3g m\n", t,
                   t - t_rot, ar.abs_deg, ag, dmax);
+      if (args.worst && args.gpu) print_worst(sr, gpu.state(), radius);
       std::fflush(stdout);
       if (s == last) break;
-      uint64_t to = std::min(last, (s / sch.sample + 1) * sch.sample);
+      const uint64_t every = args.every ? args.every : sch.sample;
+      uint64_t to = std::min(last, (s / every + 1) * every);
       if (s < sch.n_settle) to = std::min(to, sch.n_settle);
       if (args.hand_over && s < hand_step) to = std::min(to, hand_step);
       for (uint64_t k = s; k < to; ++k) ref.step();

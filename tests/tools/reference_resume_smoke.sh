@@ -31,4 +31,10 @@ check "$out/resumed.csv"
 head -2 "$out/resumed.csv" | tail -1 | grep -q '^0.2601' || { echo "resumed at the wrong time"; exit 1; }
 if "$tool" "$out/run" --until 0.28 --float32 halves 2>"$out/err"; then echo "bad --float32 accepted"; exit 1; fi
 grep -q -- "--float32: velocities, springs or both, got 'halves'" "$out/err"
+# --every / --worst: a sample every 5 steps, each naming the particle farthest apart (x, v in both codes).
+"$tool" "$out/start" --from-start --until 0.002 --every 5 --worst > "$out/worst.txt"
+[ "$(grep -c '^t ' "$out/worst.txt")" -ge 4 ] || { echo "--every 5: too few samples"; exit 1; }
+[ "$(grep -c '^  worst id ' "$out/worst.txt")" -eq "$(grep -c '^t ' "$out/worst.txt")" ] || { echo "--worst: a sample without its worst particle"; exit 1; }
+if "$tool" "$out/start" --from-start --until 0.002 --every 0 2>"$out/err"; then echo "--every 0 accepted"; exit 1; fi
+grep -q -- "--every: steps per sample, >= 1" "$out/err"
 echo "reference and GPU in lockstep"
