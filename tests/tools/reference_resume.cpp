@@ -7,7 +7,7 @@
 //
 //   wetdem_reference_resume RUN_DIR --until SECONDS [--csv FILE] [--no-gpu] [--from-start]
 //                           [--float32 velocities|springs|both] [--hand-over [--hand-over-at SECONDS]]
-//                           [--every STEPS] [--worst]
+//                           [--every STEPS] [--worst] [--sequential-events]
 //
 // RUN_DIR: a run folder with a checkpoint (`wetdem run ... --stop-after-steps K`); with --from-start, any
 // run folder of the case: both codes start from the case's inserted bed at step 0 (as uploaded to the GPU),
@@ -18,7 +18,8 @@
 // --hand-over-at: at that time instead (a sample time), to find when in the settling the difference is made.
 // --every: a sample every STEPS steps instead of the case's interval; --worst: at every sample, the particle
 // farthest apart in the two codes (position, velocity, nearest wall) and the pairs whose bridges differ, to
-// find the first event that parts them.
+// find the first event that parts them. --sequential-events: the reference applies the liquid events of a step
+// one pair after another in id order, walls after pairs (MercuryDPM's order), instead of the two-phase rule.
 // The reference is serial (a 1,800-particle slice: ~2 min per simulated second on one core): a tool for
 // investigations; CI only checks that it runs and that both codes agree over a few steps.
 #include <fmt/format.h>
@@ -56,6 +57,7 @@ struct Args {
   uint32_t float32 = 0;        // ref::ReferenceSystem::RoundField bits
   uint64_t every = 0;          // steps per sample (0: the case's sample interval)
   bool worst = false;          // print the particle farthest apart and the bridges that differ
+  bool sequential = false;     // the reference applies liquid events one pair after another (MercuryDPM's way)
 };
 
 Args parse(int argc, char** argv) {
@@ -84,6 +86,8 @@ Args parse(int argc, char** argv) {
       a.every = uint64_t(k);
     } else if (s == "--worst")
       a.worst = true;
+    else if (s == "--sequential-events")
+      a.sequential = true;
     else if (s == "--float32") {
       const std::string f = value("--float32");
       if (f == "velocities")
@@ -239,6 +243,7 @@ int main(int argc, char** argv) {
     // upload formed on touching pairs) and the drum's phase of that step.
     ref::ReferenceSystem ref(app::phase_params(prep.prm, sch.rotating(gpu.step())));
     ref.set_float32_storage(args.float32);
+    ref.set_sequential_events(args.sequential);
     ref.set_state(gpu.state());
     const double radius = prep.prm.drum.radius;
     const double t_rot = double(sch.n_settle) * dt;
