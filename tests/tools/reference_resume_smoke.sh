@@ -37,4 +37,6 @@ grep -q -- "--float32: velocities, springs or both, got 'halves'" "$out/err"
 [ "$(grep -c '^  worst id ' "$out/worst.txt")" -eq "$(grep -c '^t ' "$out/worst.txt")" ] || { echo "--worst: a sample without its worst particle"; exit 1; }
 if "$tool" "$out/start" --from-start --until 0.002 --every 0 2>"$out/err"; then echo "--every 0 accepted"; exit 1; fi
 grep -q -- "--every: steps per sample, >= 1" "$out/err"
+# --sequential-events (MercuryDPM's event order) on the reference alone: it runs and reaches its peak line.
+"$tool" "$out/start" --from-start --until 0.002 --no-gpu --sequential-events | grep -q '^peak: reference'
 echo "reference and GPU in lockstep"
