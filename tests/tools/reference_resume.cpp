@@ -18,9 +18,9 @@
 // --hand-over-at: at that time instead (a sample time), to find when in the settling the difference is made.
 // --every: a sample every STEPS steps instead of the case's interval; --worst: at every sample, the particle
 // farthest apart in the two codes (position, velocity, nearest wall) and the pairs whose bridges differ, to
-// find the first event that parts them. --sequential-events: the reference applies the liquid events of a step
-// one pair after another in id order, walls after pairs (MercuryDPM's order), instead of the two-phase rule.
-// The reference is serial (a 1,800-particle slice: ~2 min per simulated second on one core): a tool for
+// find the first event that parts them. --sequential-events: the reference applies the liquid events of a
+// step one pair after another in id order, walls after pairs (MercuryDPM's order), instead of the two-phase
+// rule. The reference is serial (a 1,800-particle slice: ~2 min per simulated second on one core): a tool for
 // investigations; CI only checks that it runs and that both codes agree over a few steps.
 #include <fmt/format.h>
 
@@ -57,7 +57,7 @@ struct Args {
   uint32_t float32 = 0;        // ref::ReferenceSystem::RoundField bits
   uint64_t every = 0;          // steps per sample (0: the case's sample interval)
   bool worst = false;          // print the particle farthest apart and the bridges that differ
-  bool sequential = false;     // the reference applies liquid events one pair after another (MercuryDPM's way)
+  bool sequential = false;  // the reference applies liquid events one pair after another (MercuryDPM's way)
 };
 
 Args parse(int argc, char** argv) {
