@@ -6,7 +6,10 @@
 # system, the core, the run driver and its observables, and the public headers (shaders/, host/vk, host/gpu,
 # host/core, host/app, include/). A run's identity in a study store (study_file.h, run_hash) uses it instead of
 # `git describe`, so a change to the study, diagnosis, command-line or script code, or a commit that touches none
-# of these files, does not invalidate every stored run; a change to any of them does.
+# of these files, does not invalidate every stored run; a change to any of them does. The resource estimate
+# (host/app/run/resources.*: what `wetdem check` quotes and the refusal of a run too large for the device) is
+# left out: it decides whether a run starts, never what it computes, and a reworded estimate once invalidated a
+# night of stored flowing-matrix runs.
 execute_process(COMMAND git describe --always --dirty --tags WORKING_DIRECTORY ${SRC}
                 OUTPUT_VARIABLE git OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_QUIET)
 if(NOT git)
@@ -17,6 +20,7 @@ foreach(dir shaders host/vk host/gpu host/core host/app include)
   file(GLOB_RECURSE found LIST_DIRECTORIES false RELATIVE ${SRC} ${SRC}/${dir}/*)
   list(APPEND files ${found})
 endforeach()
+list(FILTER files EXCLUDE REGEX "^host/app/run/resources\\.(h|cpp)$")
 list(SORT files)
 set(all "")
 foreach(f ${files})
