@@ -88,6 +88,25 @@ StrengthFit fit_strength(const std::vector<Cell>& cells, const Emulator& em,
   return f;
 }
 
+namespace {
+
+// The interval becomes its union with log10(strength) ± se, bounded by the probed range [u_lo, u_hi]; a side
+// that reaches an end of that range (a hair of tolerance) is open there.
+void widen_to(StrengthFit& f, double se, double u_lo, double u_hi) {
+  const double u = std::log10(f.strength);
+  constexpr double kTol = 1e-9;
+  if (u - se < std::log10(f.lo)) {
+    f.lo = std::pow(10.0, std::max(u_lo, u - se));
+    if (u - se <= u_lo + kTol) f.open_lo = true;
+  }
+  if (u + se > std::log10(f.hi)) {
+    f.hi = std::pow(10.0, std::min(u_hi, u + se));
+    if (u + se >= u_hi - kTol) f.open_hi = true;
+  }
+}
+
+}  // namespace
+
 void widen_by_condition_jackknife(StrengthFit& f, const std::vector<double>& loco_strengths, double u_lo,
                                   double u_hi) {
   const size_t m = loco_strengths.size();
@@ -98,17 +117,7 @@ void widen_by_condition_jackknife(StrengthFit& f, const std::vector<double>& loc
   for (double s : loco_strengths) ss += (std::log10(s) - mean) * (std::log10(s) - mean);
   const double se = std::sqrt(double(m - 1) / double(m) * ss);
   f.jackknife_se_log10 = se;
-  const double u = std::log10(f.strength);
-  // A hair of tolerance: a side exactly at an end of the probed range is open there.
-  constexpr double kTol = 1e-9;
-  if (u - se < std::log10(f.lo)) {
-    f.lo = std::pow(10.0, std::max(u_lo, u - se));
-    if (u - se <= u_lo + kTol) f.open_lo = true;
-  }
-  if (u + se > std::log10(f.hi)) {
-    f.hi = std::pow(10.0, std::min(u_hi, u + se));
-    if (u + se >= u_hi - kTol) f.open_hi = true;
-  }
+  widen_to(f, se, u_lo, u_hi);
 }
 
 void widen_by_emulator_noise(StrengthFit& f, const std::vector<Cell>& cells, const Emulator& em, int draws,
@@ -122,17 +131,9 @@ void widen_by_emulator_noise(StrengthFit& f, const std::vector<Cell>& cells, con
     m += dm / (d + 1);
     ss += dm * (u - m);
   }
-  const double se = std::sqrt(ss / (draws - 1)), u = std::log10(f.strength);
+  const double se = std::sqrt(ss / (draws - 1));
   f.emulator_se_log10 = se;
-  constexpr double kTol = 1e-9;
-  if (u - se < std::log10(f.lo)) {
-    f.lo = std::pow(10.0, std::max(em.u_lo(), u - se));
-    if (u - se <= em.u_lo() + kTol) f.open_lo = true;
-  }
-  if (u + se > std::log10(f.hi)) {
-    f.hi = std::pow(10.0, std::min(em.u_hi(), u + se));
-    if (u + se >= em.u_hi() - kTol) f.open_hi = true;
-  }
+  widen_to(f, se, em.u_lo(), em.u_hi());
 }
 
 ProfileFit fit_profile(const std::vector<Cell>& cells, const std::vector<Emulator>& ems,
