@@ -61,6 +61,27 @@ void RunBook::check(const Condition& c, const Variant& v) const {
   study::expand(spec_of(c, v, {1}));
 }
 
+std::string RunBook::same_physics(const study::PlannedRun& r) {
+  const std::string phys = study::run_hash(app::physics_identity(r.resolved), r.seed);
+  if (const auto it = phys_to_hash_.find(phys); it != phys_to_hash_.end()) return it->second;
+  // Across the books sharing the store (a twin's and a diagnosis's): physics/<identity> names the first run
+  // planned with it; that run is used once it is complete.
+  const fs::path alias = fs::path(dir_) / "physics" / phys;
+  std::string first;
+  if (std::ifstream in(alias); in) in >> first;
+  if (!first.empty() && first != r.hash &&
+      study::run_state((fs::path(dir_) / "runs" / first).string()) == study::RunState::Complete) {
+    phys_to_hash_[phys] = first;
+    return first;
+  }
+  phys_to_hash_[phys] = r.hash;
+  if (first.empty()) {  // the first planned keeps the name (a later book uses it once it completes)
+    fs::create_directories(alias.parent_path());
+    std::ofstream(alias) << r.hash << "\n";
+  }
+  return "";
+}
+
 void RunBook::want(Condition& c, const Variant& v, const std::vector<uint64_t>& seeds) {
   std::vector<study::PlannedRun> planned = study::expand(spec_of(c, v, seeds));
   for (study::PlannedRun& r : planned) {
@@ -71,6 +92,12 @@ void RunBook::want(Condition& c, const Variant& v, const std::vector<uint64_t>& 
       }
     const std::string key = c.label + "|" + v.label() + "|" + std::to_string(r.seed);
     if (key_to_hash_.count(key)) continue;
+    // A run whose physics is an earlier one's (a liquid-only effect at a dry condition:
+    // app::physics_identity) is that run: the same bits, computed once.
+    if (const std::string same = same_physics(r); !same.empty()) {
+      key_to_hash_[key] = same;
+      continue;
+    }
     key_to_hash_[key] = r.hash;
     bool known = false;
     for (const study::PlannedRun& q : runs_) known = known || q.hash == r.hash;

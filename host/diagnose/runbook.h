@@ -1,6 +1,7 @@
 // The diagnosis's simulations, kept in a study run store (host/study): every run is a normal run of the case
 // with the condition's and the variant's overrides and a seed, identified by its hash, so a run is never
-// computed twice, not across stages and not across diagnoses that share the store (--store).
+// computed twice, not across stages and not across diagnoses that share the store (--store). A run whose
+// physics is another's (app::physics_identity: a liquid-only effect at a dry condition) is that run.
 #pragma once
 
 #include <cmath>
@@ -79,12 +80,16 @@ class RunBook {
   study::StudySpec spec() const;  // the store's study: this book's file, name, case and [set]
   // The study of the runs of v at c with these seeds (one point: the condition, then v's overrides).
   study::StudySpec spec_of(const Condition& c, const Variant& v, const std::vector<uint64_t>& seeds) const;
+  // The hash of a run already wanted (or complete in the store) with r's physics (app::physics_identity),
+  // else "" after recording r as the first with it.
+  std::string same_physics(const study::PlannedRun& r);
   std::string dir_, spec_path_, name_, case_path_;
   std::vector<std::string> set_;
   study::ExecOptions exec_;
   std::vector<study::PlannedRun> runs_;
   std::vector<std::vector<study::AxisValue>> points_;
-  std::map<std::string, std::string> key_to_hash_;  // condition|variant|seed -> hash
+  std::map<std::string, std::string> key_to_hash_;   // condition|variant|seed -> hash
+  std::map<std::string, std::string> phys_to_hash_;  // physics identity -> the run that has it
   mutable std::map<std::string, nlohmann::json> summaries_;
   std::map<std::string, std::string> failed_;  // hash -> reason
   size_t computed_ = 0;

@@ -139,6 +139,13 @@ std::string case_to_toml(const Case& c);
 // The same content as JSON (for summary.json).
 nlohmann::json case_to_json(const Case& c);
 
+// The case as its physics sees it: parameters that cannot act in it reset to their defaults. Without liquid
+// (content 0) the liquid-only candidate effects (diagnosis.md §3: viscous, hysteresis, evaporation, spread,
+// absorption) act on nothing, so a dry probe of one of them is the dry baseline run, bit for bit
+// (tests/test_dry_inert.cpp runs each and compares the final states). The diagnosis's run book keys runs by
+// it so that such a run is computed once (host/diagnose/runbook.h).
+Case physics_identity(const Case& c);
+
 // What follows from the case and the inserted particles: SimParams and the derived numbers worth logging.
 struct Derived {
   double nu = 0, E_star = 0, G_star = 0;  // reduced moduli that enter the contact laws
