@@ -96,6 +96,7 @@ def plot(rows, path):
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
     except ImportError:
+        print(f"note: matplotlib is not installed for {sys.executable}: {path} not written", file=sys.stderr)
         return
     if not rows:
         return
@@ -111,11 +112,20 @@ def plot(rows, path):
                         fontsize=12)
             if truths[i] == cols[k] or (truths[i] in ("none", "outside") and cols[k] in ("no_gap", "unexplained")):
                 ax.add_patch(plt.Rectangle((k - 0.5, i - 0.5), 1, 1, fill=False, ec="tab:green", lw=2))
+            elif any((r["truth"] or "none") == truths[i] and outcome(r) == cols[k] and r.get("also") == cols[k]
+                     for r in rows):
+                # The twin's other withheld difference (itself a candidate) named: right about the data, not
+                # about the effect the twin was built for; counted apart in the summary.
+                ax.add_patch(plt.Rectangle((k - 0.45, i - 0.45), 0.9, 0.9, fill=False, ec="tab:orange", lw=2,
+                                           ls="--"))
     ax.set_xticks(range(len(cols)), cols, rotation=30, ha="right")
     ax.set_yticks(range(len(truths)), truths)
     ax.set_xlabel("diagnosis outcome (the chosen effect for effect/partial)")
     ax.set_ylabel("withheld truth (twin)")
-    ax.set_title("Twin matrix: withheld effect vs diagnosis (green: a right answer)")
+    others = any(r.get("also") and outcome(r) == r["also"] for r in rows)
+    ax.set_title("Twin matrix: withheld effect vs diagnosis (green: a right answer"
+                 + ("; dashed orange: the twin's\nother withheld difference, itself a candidate, named)" if others
+                    else ")"))
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
