@@ -42,16 +42,21 @@ TEST(StudyProbe, EstimateIsTheProbedRatesTimesEachBatchsWork) {
   EXPECT_NEAR(e.particle_steps, 5 * r.particles * r.steps, 1e-9 * e.particle_steps);
 }
 
-TEST(StudyProbe, PlanBatchesTakesTheQueueKAtATime) {
+TEST(StudyProbe, PlanBatchesSpreadsTheQueueEvenlyOverTheProcesses) {
   const std::string dir = study_temp("batches");
   const auto runs = five_runs(dir);
   const auto s = study::parse_study_file(dir + "/p.toml");
   study::write_plan(dir + "/st", s, runs);
-  const auto b = study::plan_batches(dir + "/st", {4, 0, 1, 3}, 3);
-  ASSERT_EQ(b.size(), 2u);
-  EXPECT_EQ(b[0], (std::vector<size_t>{4, 0, 1}));
-  EXPECT_EQ(b[1], (std::vector<size_t>{3}));
-  EXPECT_EQ(study::plan_batches(dir + "/st", {0, 1}, 1).size(), 2u);
+  using B = std::vector<std::vector<size_t>>;
+  // At most `batch` a run, in queue order, as few batches as that allows, of even sizes.
+  EXPECT_EQ(study::plan_batches(dir + "/st", {4, 0, 1, 3}, 3), (B{{4, 0}, {1, 3}}));
+  EXPECT_EQ(study::plan_batches(dir + "/st", {4, 0, 1, 3, 2}, 3), (B{{4, 0, 1}, {3, 2}}));
+  EXPECT_EQ(study::plan_batches(dir + "/st", {0, 1}, 1), (B{{0}, {1}}));
+  // Two processes: a multiple of two batches where there are runs enough (no process idles in a last round).
+  EXPECT_EQ(study::plan_batches(dir + "/st", {0, 1, 2, 3, 4}, 4, 2), (B{{0, 1, 2}, {3, 4}}));
+  EXPECT_EQ(study::plan_batches(dir + "/st", {0, 1, 2}, 4, 2), (B{{0, 1}, {2}}));
+  EXPECT_EQ(study::plan_batches(dir + "/st", {0, 1, 2, 3, 4}, 2, 2), (B{{0, 1}, {2}, {3}, {4}}));
+  EXPECT_EQ(study::plan_batches(dir + "/st", {0, 1}, 4, 3), (B{{0}, {1}}));
 }
 
 }  // namespace

@@ -86,7 +86,7 @@ std::vector<size_t> batch_of(const std::string& dir, const StudyIndex& ix, size_
 }  // namespace
 
 std::vector<std::vector<size_t>> plan_batches(const std::string& dir, const std::vector<size_t>& todo,
-                                              size_t batch) {
+                                              size_t batch, size_t jobs) {
   const StudyIndex ix = read_index(dir);
   std::vector<std::vector<size_t>> out;
   std::vector<bool> taken(ix.runs.size(), false);
@@ -97,13 +97,20 @@ std::vector<std::vector<size_t>> plan_batches(const std::string& dir, const std:
     for (size_t m : b) taken[m] = true;
     out.push_back(b);
   }
-  std::vector<size_t> cur;
-  for (size_t i : todo) {
-    if (i >= ix.runs.size() || taken[i]) continue;
-    cur.push_back(i);
-    if (cur.size() >= std::max<size_t>(1, batch)) out.push_back(cur), cur.clear();
+  std::vector<size_t> rest;
+  for (size_t i : todo)
+    if (i < ix.runs.size() && !taken[i]) rest.push_back(i), taken[i] = true;
+  if (rest.empty()) return out;
+  // k batches: as few as the cap allows, raised to a multiple of the processes (at most one run each); the
+  // first n mod k get one run more.
+  const size_t n = rest.size(), cap = std::max<size_t>(1, batch), j = std::max<size_t>(1, jobs);
+  size_t k = (n + cap - 1) / cap;
+  k = std::min(n, (k + j - 1) / j * j);
+  for (size_t b = 0, at = 0; b < k; ++b) {
+    const size_t size = n / k + (b < n % k ? 1 : 0);
+    out.emplace_back(rest.begin() + long(at), rest.begin() + long(at + size));
+    at += size;
   }
-  if (!cur.empty()) out.push_back(cur);
   return out;
 }
 
@@ -308,7 +315,8 @@ ExecReport run_study(const std::string& dir, const ExecOptions& opt) {
   const size_t batch = std::max<size_t>(1, opt.batch);
   // The processes' work: batches stopped with a checkpoint first, whole, then `batch` runs at a time.
   std::deque<std::vector<size_t>> batches;
-  for (auto& b : plan_batches(dir, std::vector<size_t>(queue.begin(), queue.end()), batch))
+  for (auto& b : plan_batches(dir, std::vector<size_t>(queue.begin(), queue.end()), batch,
+                              size_t(std::max(1, opt.jobs))))
     batches.push_back(b);
   queue.clear();
   size_t queued = todo;

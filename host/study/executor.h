@@ -35,10 +35,13 @@ std::vector<OneResult> run_batch_of(
     const std::function<void(const IndexEntry&, app::RunOptions&)>& configure = {});
 
 // How the runs `todo` (indices, in order) are handed out: first every batch stopped with a checkpoint (all
-// its runs, in the order they were stepped: app/run/ensemble.h), then the others `batch` at a time. Used by
-// run_study and `study slurm --batch` alike, so a cluster runs the same ensembles.
+// its runs, in the order they were stepped: app/run/ensemble.h), then the others in batches of at most
+// `batch`. With `jobs` > 1 processes at a time, the others are split evenly over a number of batches that is
+// a multiple of `jobs` where there are runs enough, so that no process idles through a last round (12 runs,
+// batch 4, 2 jobs: four batches of 3, not three of 4). Used by run_study and `study slurm --batch` (jobs 1)
+// alike, so a cluster runs the same ensembles.
 std::vector<std::vector<size_t>> plan_batches(const std::string& dir, const std::vector<size_t>& todo,
-                                              size_t batch);
+                                              size_t batch, size_t jobs = 1);
 
 struct ExecOptions {
   int jobs = 1;

@@ -45,7 +45,8 @@ SlurmScript write_slurm(const std::string& dir, const SlurmOptions& opt) {
     s.indices.push_back(e.index);
   }
   if (s.indices.empty()) return s;
-  // Batches: the same ones `study run --batch` would step (and any batch stopped with a checkpoint, whole).
+  // Batches: the ones `study run --batch` steps with one process (and any batch stopped with a checkpoint,
+  // whole).
   std::vector<std::vector<size_t>> b = plan_batches(d.string(), s.indices, opt.batch);
   const bool batched =
       opt.batch > 1 || std::any_of(b.begin(), b.end(), [](const auto& v) { return v.size() > 1; });
