@@ -92,16 +92,13 @@ void RunBook::want(Condition& c, const Variant& v, const std::vector<uint64_t>& 
       }
     const std::string key = c.label + "|" + v.label() + "|" + std::to_string(r.seed);
     if (key_to_hash_.count(key)) continue;
-    // A run whose physics is an earlier one's (a liquid-only effect at a dry condition:
+    // A run whose physics is an earlier one's (the same hash, or a liquid-only effect at a dry condition:
     // app::physics_identity) is that run: the same bits, computed once.
     if (const std::string same = same_physics(r); !same.empty()) {
       key_to_hash_[key] = same;
       continue;
     }
     key_to_hash_[key] = r.hash;
-    bool known = false;
-    for (const study::PlannedRun& q : runs_) known = known || q.hash == r.hash;
-    if (known) continue;
     r.point = points_.size();
     points_.push_back(r.values);
     r.index = runs_.size();

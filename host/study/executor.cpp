@@ -313,7 +313,8 @@ ExecReport run_study(const std::string& dir, const ExecOptions& opt) {
   }
   const size_t todo = queue.size();
   const size_t batch = std::max<size_t>(1, opt.batch);
-  // The processes' work: batches stopped with a checkpoint first, whole, then `batch` runs at a time.
+  // The processes' work: batches stopped with a checkpoint first, whole, then even batches of at most
+  // `batch`.
   std::deque<std::vector<size_t>> batches;
   for (auto& b : plan_batches(dir, std::vector<size_t>(queue.begin(), queue.end()), batch,
                               size_t(std::max(1, opt.jobs))))

@@ -17,11 +17,9 @@ Case physics_identity(const Case& c) {
     id.liquid.wetted_fraction = none.wetted_fraction;
     id.absorption = AbsorptionSpec{};
   }
-  // Words, not physics.
+  // Words, not physics (the only ones case_to_json echoes).
   id.name.clear();
   id.description.clear();
-  id.source.clear();
-  id.notes.clear();
   return id;
 }
 
