@@ -62,6 +62,10 @@ def row_of(d, t):
             "perturbed": bool(t.get("perturb")), "also": t.get("also_effect"),
             "also_strength": t.get("also_strength"), "verdict": j["verdict"], "effect": j["effect"],
             "tied": j.get("tied") or [],
+            # A second effect fitted on top of the first when that one explained the gap only in part
+            # (diagnosis.md, "A second effect"): named by `effect` and `partial` verdicts.
+            "second": (j.get("second") or {}).get("effect"),
+            "second_strength": (j.get("second") or {}).get("strength"),
             "strength": best["strength"] if best else None,
             "interval": best["strength_interval"] if best else None,
             "interval_open": best.get("strength_interval_open") if best else None,
@@ -144,6 +148,10 @@ def summarize(rows, wall, device, out_dir, spec_path):
              and r["effect"] == r["also"]]
     other_within = [r for r in other if r["strength"] and r.get("also_strength")
                     and abs(r["strength"] / r["also_strength"] - 1) <= 0.25]
+    # The truth named first or as the second effect; both withheld differences named (two-difference twins).
+    named = [r for r in eff if r["verdict"] in ("effect", "partial") and r["truth"] in (r["effect"], r.get("second"))]
+    both = [r for r in eff if r.get("also") and r["verdict"] in ("effect", "partial")
+            and {r["truth"], r["also"]} == {r["effect"], r.get("second")}]
     quiet = [r for r in rows if not is_effect_twin(r)]
     confident_wrong = [r for r in quiet if r["verdict"] == "effect"]
     out = {"matrix": spec_path, "rows": rows, "effect_twins": len(eff), "top1": len(right),
@@ -151,6 +159,7 @@ def summarize(rows, wall, device, out_dir, spec_path):
            "in_reported_set": sum(1 for r in eff if r["effect"] == r["truth"] or r["truth"] in r["tied"]),
            "median_held_out_shrink": statistics.median(shrinks) if shrinks else None,
            "strength_within_25pc": len(within), "interval_covers_truth": len(covered),
+           "named_first_or_second": len(named), "both_withheld_named": len(both),
            "found_other_candidate": len(other), "other_candidate_within_25pc": len(other_within),
            "nulls_and_outside": len(quiet), "confident_wrong": len(confident_wrong),
            "device": device, "wall_s": wall}
@@ -166,6 +175,8 @@ def summarize(rows, wall, device, out_dir, spec_path):
             fit = f"{r['strength']:.3g} [{'≤ ' if op[0] else ''}{lo:.3g}, {hi:.3g}{' ≤' if op[1] else ''}]"
         ts = "" if r["truth_strength"] is None else f"{r['truth_strength']:.3g}"
         chosen = (r["effect"] or "-") + (f" ({', '.join(r['tied'])})" if r["tied"] else "")
+        if r.get("second"):
+            chosen += f" + `{r['second']}`" + (f" {r['second_strength']:.3g}" if r.get("second_strength") else "")
         also = "yes" if r["perturbed"] else ""
         if r.get("also"):
             also = f"yes (`{r['also']}` {r['also_strength']:.3g})"
@@ -178,12 +189,14 @@ def summarize(rows, wall, device, out_dir, spec_path):
     n = len(right)
     md.append(
         f"Top-1 identification {len(right)}/{len(eff)} ({100 * (out['top1_rate'] or 0):.0f} %) over the effect twins "
-        f"(truth in the reported set, chosen or tied: {out['in_reported_set']}/{len(eff)}); median held-out "
+        f"(truth in the reported set, chosen or tied: {out['in_reported_set']}/{len(eff)}; named first or as a "
+        f"second effect: {len(named)}/{len(eff)}); median held-out "
         f"shrink {'-' if not shrinks else f'{100 * statistics.median(shrinks):.0f} %'} over the {n} identified; "
         f"fitted strength within ±25 % of the truth for {len(within)}/{n}, interval covering the truth for "
         f"{len(covered)}/{n}; "
         + (f"the twin's other withheld difference, itself a candidate, named instead: {len(other)}/"
-           f"{sum(1 for r in eff if r.get('also'))} (its strength within ±25 % for {len(other_within)}); "
+           f"{sum(1 for r in eff if r.get('also'))} (its strength within ±25 % for {len(other_within)}), both "
+           f"withheld differences named: {len(both)}; "
            if any(r.get("also") for r in eff) else "")
         + f"nulls and outside effects given an `effect` verdict (a confident wrong answer): "
         f"{len(confident_wrong)}/{len(quiet)}. Device {device}; wall {wall:.0f} s.")

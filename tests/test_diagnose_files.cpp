@@ -55,6 +55,11 @@ TEST(DiagnoseFiles, ShippedFilesParse) {
   const DiagnosisSpec r = parse_diagnosis_file(dir + "diagnose_refit.toml");
   ASSERT_EQ(r.refit.size(), 1u);
   EXPECT_EQ(refit_settings(r.refit).size(), 3u);
+  EXPECT_TRUE(d.second_effect) << "a partial verdict fits a second effect unless the file says not";
+  EXPECT_FALSE(
+      parse_diagnosis_file(std::string(WETDEM_SOURCE_DIR) + "/tests/diagnose/micro_ci_one_effect.toml")
+          .second_effect);
+  EXPECT_EQ(parse_twin_file(dir + "twin_spread_absorption.toml").truth.size(), 3u);
   EXPECT_EQ(parse_twin_file(dir + "twin_spread_vmax.toml").truth.size(), 2u);
   EXPECT_EQ(parse_twin_file(dir + "twin_vmax.toml").truth,
             (std::vector<std::string>{"liquid.v_max=\"2 %\""}));
@@ -87,6 +92,7 @@ TEST(DiagnoseFiles, BadDiagnosisFilesNameTheKey) {
   EXPECT_NE(err("effects = [\"gravity\"]\n").find("unknown effect 'gravity'"), std::string::npos);
   EXPECT_NE(err("colour = 3\n").find("colour: unknown key"), std::string::npos);
   EXPECT_NE(err("replicates = 0\n").find("replicates"), std::string::npos);
+  EXPECT_NE(err("second_effect = 1\n").find("second_effect: true or false"), std::string::npos);
   EXPECT_NE(err("effects = [\"cohesion\"]\n[probes]\ncohesion = [0.1, 0.01]\n").find("ascending"),
             std::string::npos);
   EXPECT_NE(err("effects = [\"cohesion\"]\n[probes]\nviscous = [0.1]\n").find("not one of the effects"),

@@ -46,9 +46,10 @@ class Impl : public study::Commands {
           d.observations = std::filesystem::absolute(observations_).lexically_normal().string();
         }
         const nlohmann::json j = run_diagnosis(d, o_);
+        std::string named;  // "spread" or "spread + absorption" (a second effect on top of the first)
+        for (const auto& e : j["effects"]) named += (named.empty() ? "" : " + ") + e.get<std::string>();
         std::printf("verdict: %s%s\nreport: %s/report.md\n", j["verdict"].get<std::string>().c_str(),
-                    j["effect"].is_string() ? (" (" + j["effect"].get<std::string>() + ")").c_str() : "",
-                    o_.out.c_str());
+                    named.empty() ? "" : (" (" + named + ")").c_str(), o_.out.c_str());
       } else {
         const TwinSpec t = parse_twin_file(file_);
         run_twin(t, o_);

@@ -8,6 +8,7 @@
 #include "diagnose/procedure.h"
 #include "diagnose/report.h"
 #include "diagnose/screen.h"
+#include "diagnose/second_effect.h"
 #include "diagnose/shrink.h"
 
 namespace wetdem::diagnose {
@@ -31,6 +32,7 @@ nlohmann::json run_diagnosis(const DiagnosisSpec& d, const DiagnoseOptions& o) {
       if (Family f = c.family(p.baselines); !f.ems.empty()) fams.push_back(f);
     p.verdict = decide(p.tab.cells, p.baselines, fams, d.rule);  // 5. verdict
     run_shrink(p);                                               // 6. shrink (and the verdict settled)
+    run_second_effect(p);                                        // 6b. a second effect, when partial
     run_next_experiment(p);                                      // 7. next experiment (ties)
   }
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -77,10 +77,10 @@ std::string toml_text_of_written(const std::string& w) {
 DiagnosisSpec parse_diagnosis_file(const std::string& path_in) {
   const std::string path = fs::absolute(path_in).lexically_normal().string();
   const toml::table root = load(path);
-  reject_unknown(
-      root, path,
-      {"name", "case", "observations", "effects", "replicates", "screen_top", "refine", "extend", "confirm",
-       "max_cost", "next_conditions", "set", "probes", "shapes", "verdict", "refit", "refit_values"});
+  reject_unknown(root, path,
+                 {"name", "case", "observations", "effects", "replicates", "screen_top", "refine", "extend",
+                  "confirm", "max_cost", "next_conditions", "second_effect", "set", "probes", "shapes",
+                  "verdict", "refit", "refit_values"});
   DiagnosisSpec d;
   d.path = path;
   d.name = root["name"].value_or(fs::path(path).stem().string());
@@ -132,6 +132,12 @@ DiagnosisSpec parse_diagnosis_file(const std::string& path_in) {
     const auto r = root["confirm"].value<int64_t>();
     if (!r || *r < 0 || *r > 3) throw DiagnoseError(fmt::format("{}: confirm: an integer in [0, 3]", path));
     d.confirm = int(*r);
+  }
+  if (root.contains("second_effect")) {
+    // as_boolean, not value<bool>: toml++ would read 1 as true, and a number here is a mistake.
+    const auto* r = root["second_effect"].as_boolean();
+    if (!r) throw DiagnoseError(fmt::format("{}: second_effect: true or false", path));
+    d.second_effect = r->get();
   }
   if (root.contains("max_cost")) {
     const auto r = root["max_cost"].value<double>();

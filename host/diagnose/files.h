@@ -36,6 +36,7 @@ struct DiagnosisSpec {
   size_t next_conditions = 6;  // conditions the next-experiment stage may propose and run (0: none)
   int replicates = 2;          // baseline and shrink seeds
   size_t screen_top = 3;       // candidates fitted after the screen
+  bool second_effect = true;   // a partial verdict fits a second candidate on top (second_effect.h)
   int refine = 2;              // per fitted candidate: runs added at its fitted strength, then refitted (0-5)
   VerdictRule rule;
   std::vector<RefitKey> refit;  // `refit` + [refit_values] (refit.h); empty: nothing re-fitted

@@ -98,6 +98,34 @@ std::string verdict_paragraph(const Report& r) {
         "without it (held-out shrink), and {}",
         ns, n, where, c.effect, e.fingerprint, e.strength, strength_text(c, r.runs_of(c.effect)),
         has_refit(r) ? " and " + refit_phrase(r, c.refit) : "", 100 * r.verdict.held_out_shrink, fresh);
+    if (const Candidate* b = r.second_named()) {
+      const FreshCheck* f2 = r.second_fresh();
+      const EffectSpec& eb = effect_spec(b->effect);
+      std::string left2;
+      if (f2)
+        for (size_t k = 0; k < n; ++k)
+          if (f2->gaps_after[k].significant)
+            left2 += fmt::format("{}{} at {} (z = {:+.1f})", left2.empty() ? "" : "; ", r.cells[k].observable,
+                                 r.cell_condition[k], f2->gaps_after[k].z);
+      const std::string pair = fmt::format(
+          "`{}` alone left cells significant, so the other candidates were fitted on top of it: `{}` ({}) "
+          "with "
+          "{} = {} explains what it leaves (held-out χ² {:.1f} against {:.1f} for `{}` alone){}",
+          c.effect, b->effect, eb.fingerprint, eb.strength, strength_text(*b, r.second_runs_of(b->effect)),
+          b->loco, r.second.verdict.null_loco, c.effect,
+          f2 ? fmt::format(", and fresh runs of both bring χ² to {:.1f}", chi2_of(f2->gaps_after)) : "");
+      if (r.verdict.kind == "effect")
+        return fmt::format(
+            "**Gap explained by `{}` and `{}` together.** {}. {}, none still significant.{}{}{} Add both to "
+            "the model (or measure them directly) before trusting predictions at new conditions.",
+            c.effect, b->effect, head, pair, limit_sentence(r, c.effect), null_refit_sentence(r),
+            tie_sentence(r));
+      return fmt::format(
+          "**Gap explained in part by `{}` and `{}`.** {}. {}, but cells stay significant: {}. These need "
+          "another cause; treat the fitted strengths as provisional until they are understood.{}{}",
+          c.effect, b->effect, head, pair, left2.empty() ? "unknown (no fresh runs)" : left2,
+          null_refit_sentence(r), tie_sentence(r));
+    }
     if (r.verdict.kind == "effect")
       return fmt::format(
           "**Gap explained by `{}`.** {}, none still significant.{}{}{} Add `{}` to the model (or "
@@ -115,10 +143,17 @@ std::string verdict_paragraph(const Report& r) {
         "**Gap explained in part by `{}`.** {}{}.{} What `{}` does not explain: {}. These cells need another "
         "cause (a second effect, a parameter to re-calibrate, or a measurement bias); treat the fitted "
         "strength "
-        "as provisional until they are understood.{}{}",
+        "as provisional until they are understood.{}{}{}",
         c.effect, head, ok ? fmt::format(", but {} cell(s) stay significant", n_left) : std::string(""),
         limit_sentence(r, c.effect), c.effect, ok ? left : std::string("unknown (no fresh runs)"),
-        null_refit_sentence(r), tie_sentence(r));
+        null_refit_sentence(r), tie_sentence(r),
+        r.second.outcome == "none"
+            ? " No other candidate, fitted on top of it, explains them by the rule's margin."
+        : r.second.outcome == "noise"
+            ? fmt::format(" With the baseline's seeds the model with `{}` leaves no cell significant: "
+                          "the cells its fresh seeds left may be seed-to-seed scatter.",
+                          c.effect)
+            : "");
   }
   const double ratio = r.spec->rule.ratio;
   // With refit, the model without any effect may close the gap at a re-fitted setting (decide: "refit").

@@ -1,7 +1,7 @@
 // The state of one diagnosis as its stages fill it in (diagnosis.md §4), and the runs they share. A reader
 // follows the procedure by file name: baseline.cpp, where.cpp, screen.cpp, fit_stage.cpp (with the statistics
-// of fit.cpp), verdict.cpp, shrink.cpp, next_experiment.cpp; driver.cpp calls them in that order and
-// report.cpp writes what they found.
+// of fit.cpp), verdict.cpp, shrink.cpp, second_effect.cpp, next_experiment.cpp; driver.cpp calls them in that
+// order and report.cpp writes what they found.
 #pragma once
 
 #include <limits>
@@ -68,6 +68,23 @@ struct NextExperiment {
   std::string note;                 // why none was run, when none was
 };
 
+// The second round (second_effect.h): a second candidate fitted on top of the first effect when that one
+// explains the gap only in part.
+struct SecondRound {
+  std::string base_effect;  // the first effect, at its fitted strength, refit setting and shape
+  double base_strength = 0.0;
+  double base_shape = std::numeric_limits<double>::quiet_NaN();
+  size_t refit = 0;
+  std::vector<Prediction> base;       // the model with the first effect, seeds 1..R: the round's null
+  std::vector<CellGap> base_gaps;     // the cells it leaves
+  std::vector<Screened> screened;     // the other candidates against what it leaves, best first
+  std::vector<CandidateRuns> fitted;  // their runs on top of it (one member each)
+  Verdict verdict;                    // step 5's rule with the first effect as the null
+  FreshCheck fresh;                   // the pair at the fitted strength, fresh seeds (effect: the second)
+  std::string outcome;                // second_outcome(); "" when the round did not run
+  std::vector<std::string> notes;
+};
+
 class Procedure {
  public:
   Procedure(const DiagnosisSpec& d, const DiagnoseOptions& o);
@@ -92,6 +109,7 @@ class Procedure {
   Verdict verdict;
   std::vector<FreshCheck> fresh;  // the chosen effect first, then any tied one
   NextExperiment next;
+  SecondRound second;
   std::vector<std::string> notes;  // failed runs, cut ranges, what could not be probed
 
   // The effect (none: "") at strength s, refit setting j, shape value (NaN: the effect's default shape).

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <map>
 
 #include "app/output/summary.h"
 #include "diagnose/effects.h"
@@ -44,6 +45,12 @@ const CandidateRuns* Report::runs_of(const std::string& effect) const {
   return nullptr;
 }
 
+const CandidateRuns* Report::second_runs_of(const std::string& effect) const {
+  for (const CandidateRuns& c : second.fitted)
+    if (c.effect == effect) return &c;
+  return nullptr;
+}
+
 const FreshCheck* Report::fresh_of(const std::string& effect) const {
   for (const FreshCheck& f : fresh)
     if (f.effect == effect) return &f;
@@ -69,7 +76,9 @@ Report make_report(const Procedure& p, double wall_s) {
   }
   r.fresh = p.fresh;
   r.next = p.next;
+  r.second = p.second;
   r.notes = p.notes;
+  r.notes.insert(r.notes.end(), p.second.notes.begin(), p.second.notes.end());
   r.not_measured = p.tab.not_measured;
   r.runs = p.book.runs();
   r.computed = p.book.computed();
@@ -112,6 +121,89 @@ std::string strength_text(const Candidate& c, const CandidateRuns* runs) {
   return fmt::format("{:.3g}{} ({})", f.strength, shape, interval);
 }
 
+nlohmann::json second_json(const Report& r) {
+  using nlohmann::json;
+  const SecondRound& s = r.second;
+  if (s.outcome.empty()) return nullptr;
+  json j = {
+      {"outcome", s.outcome},
+      {"first", {{"effect", s.base_effect}, {"strength", s.base_strength}, {"shape", num(s.base_shape)}}},
+      {"first_chi2", chi2_of(s.base_gaps)},
+      {"first_significant_cells", significant(s.base_gaps)},
+      {"null_loco_chi2", s.verdict.null_loco},
+      {"screen", json::array()},
+      {"ranking", json::array()}};
+  for (const Screened& x : s.screened) j["screen"].push_back({{"effect", x.effect}, {"score", x.score}});
+  for (const Candidate& c : s.verdict.ranking) {
+    const CandidateRuns* cr = r.second_runs_of(c.effect);
+    j["ranking"].push_back({{"effect", c.effect},
+                            {"screen", c.screen},
+                            {"loco_chi2", c.loco},
+                            {"strength", c.fit.strength},
+                            {"strength_interval", {c.fit.lo, c.fit.hi}},
+                            {"strength_interval_open", {c.fit.open_lo, c.fit.open_hi}},
+                            {"strength_meaning", effect_spec(c.effect).strength},
+                            {"probed", cr ? cr->members.front().strengths : std::vector<double>{}},
+                            {"notes", cr ? cr->notes : std::vector<std::string>{}},
+                            {"text", strength_text(c, cr)}});
+  }
+  const Candidate* b = r.second_named();
+  j["effect"] = b ? json(b->effect) : json(nullptr);
+  if (b) {
+    // Held out, against the first effect alone, and against the model as calibrated (the first effect's
+    // strength fitted on every condition, so this one is a little optimistic).
+    j["held_out_shrink"] = s.verdict.null_loco > 0 ? 1.0 - b->loco / s.verdict.null_loco : 0.0;
+    j["held_out_shrink_total"] = r.verdict.null_loco > 0 ? 1.0 - b->loco / r.verdict.null_loco : 0.0;
+  }
+  if (const FreshCheck* f = r.second_fresh()) {
+    j["strength"] = f->strength;
+    j["shape"] = num(f->shape);
+    j["chi2_after"] = chi2_of(f->gaps_after);
+    j["shrink"] = 1.0 - chi2_of(f->gaps_after) / std::max(1e-300, chi2_of(r.gaps));
+    j["significant_cells"] = significant(f->gaps_after);
+    json rem = json::array();
+    for (size_t k = 0; k < r.cells.size(); ++k)
+      if (f->gaps_after[k].significant) rem.push_back(r.cell_condition[k] + " / " + r.cells[k].observable);
+    j["remaining_gap"] = rem;
+  }
+  return j;
+}
+
+std::string second_markdown(const Report& r) {
+  const SecondRound& s = r.second;
+  if (s.outcome.empty()) return "";
+  std::string md = fmt::format(
+      "## A second effect on top of `{}`\n\n`{}` at {:.3g} explains the gap only in part, so the other "
+      "candidates were screened against what it leaves ({} significant cells, χ² {:.1f} with seeds 1..R) and "
+      "the best fitted on top of it, with the model with `{}` as the null (held-out χ² {:.1f}).\n\n",
+      s.base_effect, s.base_effect, s.base_strength, significant(s.base_gaps), chi2_of(s.base_gaps),
+      s.base_effect, s.verdict.null_loco);
+  if (!s.verdict.ranking.empty()) {
+    md +=
+        "| second effect | screen score | held-out χ² (LOCO) | fitted strength (interval) "
+        "|\n|---|---|---|---|\n";
+    for (const Candidate& c : s.verdict.ranking)
+      md += fmt::format("| {} | {:.2f} | {:.2f} | {} {} |\n", c.effect, c.screen, c.loco,
+                        effect_spec(c.effect).strength, strength_text(c, r.second_runs_of(c.effect)));
+    md += "\n";
+  }
+  const std::map<std::string, std::string> says = {
+      {"closes", "the pair leaves no cell significant in its fresh-seed runs: both effects are named"},
+      {"part",
+       "the second effect passes the rule against the first alone, but cells stay significant with "
+       "both"},
+      {"noise",
+       "with the first effect and seeds 1..R no cell is significant: nothing is left for a second "
+       "effect (only the fresh seeds left cells)"},
+      {"none", "no second candidate explains what the first leaves by the rule's margin"}};
+  md += "Outcome: **" + s.outcome + "**: " + says.at(s.outcome) + ".";
+  if (const FreshCheck* f = r.second_fresh())
+    md += fmt::format(" Fresh runs of `{}` + `{}` at {:.3g}: χ² {:.1f} over the {} cells, {} significant.",
+                      s.base_effect, f->effect, f->strength, chi2_of(f->gaps_after), r.cells.size(),
+                      significant(f->gaps_after));
+  return md + "\n\n";
+}
+
 nlohmann::json write_report(const std::string& dir, const Report& r, bool figures) {
   fs::create_directories(dir);
   using nlohmann::json;
@@ -124,6 +216,9 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
   j["observations"] = r.spec->observations;
   j["verdict"] = r.verdict.kind;
   j["effect"] = named ? json(r.verdict.effect) : json(nullptr);
+  j["effects"] = json::array();  // every effect the verdict names: the first, then a second on top of it
+  if (named) j["effects"].push_back(r.verdict.effect);
+  if (named && r.second_named()) j["effects"].push_back(r.second_named()->effect);
   j["tied"] = r.verdict.tied;
   j["rule"] = {{"fdr", r.spec->rule.q},
                {"ratio", r.spec->rule.ratio},
@@ -152,6 +247,11 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
                     {"model_se", chosen->after[k].se},
                     {"z", chosen->gaps_after[k].z},
                     {"significant", bool(chosen->gaps_after[k].significant)}};
+    if (const FreshCheck* f2 = r.second_fresh())
+      c["after_second"] = {{"model", f2->after[k].mean},
+                           {"model_se", f2->after[k].se},
+                           {"z", f2->gaps_after[k].z},
+                           {"significant", bool(f2->gaps_after[k].significant)}};
     j["cells"].push_back(c);
   }
   for (const Screened& s : r.screened)
@@ -260,6 +360,7 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
     j["next_experiment"] = {
         {"effects", {r.next.effect_a, r.next.effect_b}}, {"proposals", props}, {"note", r.next.note}};
   }
+  j["second"] = second_json(r);
   j["notes"] = r.notes;
   j["not_measured"] = r.not_measured;
   j["runs"] = r.runs;
@@ -353,6 +454,7 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
     }
     md += "\n";
   }
+  md += second_markdown(r);
   if (!r.notes.empty()) {
     md += "## Runs that could not be made\n\n";
     for (const std::string& n : r.notes) md += "- " + n + "\n";

@@ -26,6 +26,7 @@ struct Report {
   Verdict verdict;
   std::vector<FreshCheck> fresh;  // the chosen effect's fresh-seed runs first, then any tied one's
   NextExperiment next;
+  SecondRound second;                     // a second effect on top of the first (second_effect.h)
   std::vector<std::string> notes;         // failed runs, cut ranges
   std::vector<std::string> not_measured;  // table rows that say a quantity was not measured
   size_t runs = 0, computed = 0;
@@ -36,6 +37,17 @@ struct Report {
   const FreshCheck* fresh_of(const std::string& effect) const;
   // The chosen effect's fresh check (nullptr when none was made).
   const FreshCheck* chosen() const { return fresh.empty() ? nullptr : &fresh.front(); }
+  // The second effect the verdict names with the first (its round's best, passing the rule), or nullptr.
+  const Candidate* second_named() const {
+    return (second.outcome == "closes" || second.outcome == "part") && !second.verdict.ranking.empty()
+               ? &second.verdict.ranking.front()
+               : nullptr;
+  }
+  // The pair's fresh check when its runs were made, else nullptr.
+  const FreshCheck* second_fresh() const {
+    return second_named() && !second.fresh.after.empty() ? &second.fresh : nullptr;
+  }
+  const CandidateRuns* second_runs_of(const std::string& effect) const;
 };
 
 Report make_report(const Procedure& p, double wall_s);
@@ -59,5 +71,9 @@ std::string refit_phrase(const Report& r, size_t j);
 // A fitted strength with its interval, honest about open ends: "0.05 (0.03-0.08)", "0.2 (>= 0.12: the
 // interval reaches the strongest strength probed)".
 std::string strength_text(const Candidate& c, const CandidateRuns* runs);
+
+// The second round as diagnosis.json's "second" (null when it did not run) and its section of report.md.
+nlohmann::json second_json(const Report& r);
+std::string second_markdown(const Report& r);
 
 }  // namespace wetdem::diagnose

@@ -1,0 +1,227 @@
+#include "diagnose/second_effect.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include "diagnose/effects.h"
+#include "diagnose/fit.h"
+#include "diagnose/screen.h"
+#include "diagnose/shrink.h"
+#include "diagnose/verdict.h"
+
+namespace wetdem::diagnose {
+
+std::string second_outcome(const Verdict& second, const std::vector<CellGap>& pair_after) {
+  if (second.kind == "no_gap") return "noise";
+  if (second.kind != "effect") return "none";
+  const bool left =
+      std::any_of(pair_after.begin(), pair_after.end(), [](const CellGap& g) { return g.significant; });
+  return pair_after.empty() || left ? "part" : "closes";
+}
+
+namespace {
+
+std::string key_of(const std::string& override_line) {
+  return override_line.substr(0, override_line.find('='));
+}
+
+// The first effect's variant with `effect` added on top at strength s and shape: the first's overrides (its
+// refit setting's included), then the second's own. Its label names both, so its runs never mix with either
+// alone. Empty effect when the two set the same key (the second would overwrite the first).
+Variant on_top(const Procedure& p, const Variant& first, const std::string& effect, double s, double shape) {
+  const size_t j = p.second.refit;
+  const Variant b = p.variant(effect, s, j, shape);
+  Variant v = first;
+  v.effect = fmt::format("{}@{:.6g}", first.effect, first.strength);
+  if (!std::isnan(first.shape)) v.effect += fmt::format("~{:.6g}", first.shape);
+  v.effect += "+" + effect;
+  v.strength = s;
+  v.shape = b.shape;
+  std::set<std::string> keys;
+  for (const std::string& o : first.overrides) keys.insert(key_of(o));
+  for (size_t i = p.settings.at(j).overrides.size(); i < b.overrides.size(); ++i) {
+    if (keys.count(key_of(b.overrides[i]))) return Variant{};
+    v.overrides.push_back(b.overrides[i]);
+  }
+  return v;
+}
+
+// A single-seed run on top of the first effect as a knot: common random numbers against the first effect's
+// seed 1, on top of its replicate mean; SE as Procedure::probe (s √(2 + 1/R)).
+std::vector<Prediction> knot_on_top(const Procedure& p, const Variant& v,
+                                    const std::vector<Prediction>& seed1) {
+  std::vector<Prediction> k = p.predict(v, p.probe_seed);
+  const double r = double(p.base_seeds.size());
+  for (size_t i = 0; i < k.size(); ++i) {
+    const double s = std::max(p.spread[i], std::isfinite(k[i].se) ? k[i].se : 0.0);
+    if (std::isnan(k[i].mean) || std::isnan(seed1[i].mean)) {
+      k[i] = {p.second.base[i].mean, 3.0 * s * std::sqrt(2.0 + 1.0 / r)};
+      continue;
+    }
+    k[i] = {p.second.base[i].mean + (k[i].mean - seed1[i].mean), s * std::sqrt(2.0 + 1.0 / r)};
+  }
+  return k;
+}
+
+double shape_of_fit(const Procedure& p, const std::string& effect) {
+  for (const Candidate& c : p.verdict.ranking)
+    if (c.effect == effect)
+      for (const CandidateRuns& r : p.fitted)
+        if (r.effect == effect) return r.shapes.at(c.shape);
+  return std::nan("");
+}
+
+Verdict decide_second(const Procedure& p) {
+  std::vector<Family> fams;
+  for (const CandidateRuns& c : p.second.fitted)
+    if (Family f = c.family({p.second.base}); !f.ems.empty()) fams.push_back(f);
+  return decide(p.tab.cells, std::vector<std::vector<Prediction>>{p.second.base}, fams, p.d.rule);
+}
+
+}  // namespace
+
+void run_second_effect(Procedure& p) {
+  SecondRound& sr = p.second;
+  sr = SecondRound{};
+  if (!p.d.second_effect || p.verdict.kind != "partial" || p.fresh.empty() || p.fresh.front().after.empty())
+    return;
+  const FreshCheck& a = p.fresh.front();
+  sr.base_effect = a.effect;
+  sr.base_strength = a.strength;
+  sr.base_shape = a.shape;
+  sr.refit = a.refit;
+  const Variant first = p.variant(a.effect, a.strength, a.refit, a.shape);
+  // 1. The first effect at its fitted strength with the baseline's seeds: the null of this round.
+  if (const std::string why = p.want(first, p.base_seeds); !why.empty()) {
+    sr.notes.push_back("second effect: the first effect's runs " + why);
+    return;
+  }
+  p.run();
+  if (const std::string why = p.failure(first, p.base_seeds); !why.empty()) {
+    sr.notes.push_back("second effect: the first effect's runs failed: " + why);
+    return;
+  }
+  sr.base = p.predict(first, p.base_seeds);
+  const std::vector<Prediction> seed1 = p.predict(first, p.probe_seed);
+  sr.base_gaps = where(p.tab.cells, sr.base, p.d.rule.q);
+  // 2. The screen against what the first effect leaves: each other candidate's screen probe (its response
+  // on the calibrated model, no new run) projected on the z-vector of the first effect's model.
+  for (const Screened& s : p.screened) {
+    if (s.effect == a.effect || s.strength <= 0) continue;
+    if (on_top(p, first, s.effect, s.strength, std::nan("")).effect.empty()) continue;  // same key
+    std::vector<Prediction> probe = p.predict(p.variant(s.effect, s.strength), p.probe_seed);
+    for (size_t k = 0; k < probe.size(); ++k)
+      probe[k].mean = sr.base[k].mean + (probe[k].mean - p.seed1[0][k].mean);
+    sr.screened.push_back({screen_score(p.tab.cells, sr.base, probe), s.effect, s.strength});
+  }
+  std::stable_sort(sr.screened.begin(), sr.screened.end(),
+                   [](const Screened& x, const Screened& y) { return x.score > y.score; });
+  // 3. The best (screen_top - 1, at least one, with a positive score) at every probe strength on top, at the
+  // shape the first round fitted (else the middle of its shapes); member m of a candidate is its shape m.
+  const size_t n_fit = std::max<size_t>(1, p.d.screen_top - 1);
+  std::vector<size_t> m0;  // per candidate: the shape its probes run at
+  for (const Screened& s : sr.screened) {
+    if (sr.fitted.size() >= n_fit || s.score <= 0) break;
+    CandidateRuns c;
+    c.effect = s.effect;
+    c.screen = s.score;
+    c.shapes = p.d.shapes.count(s.effect) ? p.d.shapes.at(s.effect) : std::vector<double>{NAN};
+    size_t m = c.shapes.size() / 2;
+    const double fitted = shape_of_fit(p, s.effect);
+    for (size_t i = 0; i < c.shapes.size(); ++i)
+      if (c.shapes[i] == fitted) m = i;
+    sr.fitted.push_back(c);
+    m0.push_back(m);
+  }
+  if (sr.fitted.empty()) {
+    sr.outcome = "none";
+    sr.notes.push_back("second effect: no other candidate moves the model towards what the first leaves");
+    return;
+  }
+  struct Knot {
+    size_t c = 0, m = 0;
+    double s = 0.0;
+  };
+  std::vector<Knot> pending;
+  const auto variant_of = [&](const Knot& k) {
+    const CandidateRuns& c = sr.fitted[k.c];
+    return on_top(p, first, c.effect, k.s, c.shapes[k.m]);
+  };
+  const auto want_knot = [&](const Knot& k) {
+    const Variant v = variant_of(k);
+    if (const std::string why = p.want(v, p.probe_seed); !why.empty())
+      sr.fitted[k.c].notes.push_back(fmt::format("{} {}", v.label(), why));
+    else
+      pending.push_back(k);
+  };
+  const auto collect = [&]() {
+    p.run();
+    for (const Knot& k : pending) {
+      const Variant v = variant_of(k);
+      if (const std::string why = p.failure(v, p.probe_seed); !why.empty())
+        sr.fitted[k.c].notes.push_back("run failed: " + why);
+      else
+        add_knot(sr.fitted[k.c].member(0, k.m), k.s, knot_on_top(p, v, seed1));
+    }
+    pending.clear();
+    sr.verdict = decide_second(p);
+  };
+  for (size_t ci = 0; ci < sr.fitted.size(); ++ci)
+    for (double s : p.d.probes.at(sr.fitted[ci].effect)) want_knot({ci, m0[ci], s});
+  collect();
+  // 4. For the best candidate: its other shapes at the strength fitted (a profile over the second parameter,
+  // as in step 4), then one refinement knot at the fit; step 5's rule against the first effect alone.
+  const auto best = [&]() -> size_t {
+    for (size_t ci = 0; ci < sr.fitted.size(); ++ci)
+      if (!sr.verdict.ranking.empty() && sr.fitted[ci].effect == sr.verdict.ranking.front().effect) return ci;
+    return sr.fitted.size();
+  };
+  if (const size_t ci = best(); ci < sr.fitted.size() && sr.fitted[ci].shapes.size() > 1) {
+    const double s = rounded_strength(sr.verdict.ranking.front().fit.strength);
+    for (size_t m = 0; m < sr.fitted[ci].shapes.size(); ++m)
+      if (m != m0[ci]) want_knot({ci, m, s});
+    collect();
+  }
+  if (const size_t ci = best(); ci < sr.fitted.size()) {
+    const Candidate& c = sr.verdict.ranking.front();
+    const Family fam = sr.fitted[ci].family({sr.base});
+    const size_t m = fam.shape_of.at(c.member);
+    if (const double s = next_knot(p.tab.cells, sr.base, sr.fitted[ci].member(0, m)); s > 0) {
+      want_knot({ci, m, s});
+      collect();
+    }
+  }
+  // 5. The pair at the fitted strength and shape, fresh seeds.
+  if (sr.verdict.kind == "effect") {
+    const Candidate& b = sr.verdict.ranking.front();
+    const CandidateRuns& cr = sr.fitted.at(best());
+    sr.fresh.effect = b.effect;
+    sr.fresh.strength = rounded_strength(b.fit.strength);
+    sr.fresh.refit = sr.refit;
+    sr.fresh.shape = cr.shapes.at(b.shape);
+    const Variant v = on_top(p, first, b.effect, sr.fresh.strength, sr.fresh.shape);
+    sr.fresh.failure = p.want(v, p.fresh_seeds);
+    if (sr.fresh.failure.empty()) {
+      p.run();
+      sr.fresh.failure = p.failure(v, p.fresh_seeds);
+    }
+    if (sr.fresh.failure.empty()) {
+      sr.fresh.after = p.predict(v, p.fresh_seeds);
+      sr.fresh.gaps_after = where(p.tab.cells, sr.fresh.after, p.d.rule.q);
+    } else {
+      sr.notes.push_back("second effect: the pair's fresh runs failed: " + sr.fresh.failure);
+    }
+  }
+  sr.outcome = second_outcome(sr.verdict, sr.fresh.gaps_after);
+  if (sr.outcome == "closes") p.verdict.kind = "effect";
+  if (sr.outcome == "noise")
+    sr.notes.push_back(fmt::format(
+        "second effect: with seeds 1..{} the model with {} leaves no cell significant; only its fresh seeds "
+        "did, so nothing is left for a second effect",
+        p.base_seeds.size(), a.effect));
+}
+
+}  // namespace wetdem::diagnose
