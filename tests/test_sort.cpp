@@ -68,12 +68,13 @@ class Sort : public GpuTest {
  protected:
   // Sorts on the GPU with a sorter of capacity max(n, capacity) (a larger one exercises n < max_n).
   Pairs run(const std::vector<uint32_t>& keys, const std::vector<uint32_t>& vals, uint32_t key_bits,
-            uint32_t capacity = 0) {
+            uint32_t capacity = 0, bool one_tile = true) {
     const uint32_t n = uint32_t(keys.size());
     vk::Buffer k(gpu(), uint64_t(n) * 4), v(gpu(), uint64_t(n) * 4);
     k.upload(keys);
     v.upload(vals);
     gpu::RadixSort sort(gpu(), std::max(n, capacity));
+    sort.set_one_tile(one_tile);
     gpu::DirectDispatcher disp;
     gpu().submit_now(
         [&](VkCommandBuffer cb) { sort.record(cb, disp, k.address(), v.address(), n, key_bits); });
@@ -177,6 +178,33 @@ TEST_F(Sort, DispatchSizesDependOnlyOnN) {
   EXPECT_EQ(d1.log, d2.log);
   // Per pass: count, scan of 3 tiles x 16 digits (one block: 1 dispatch), scatter; 5 passes (odd): copy.
   EXPECT_EQ(d1.log.size(), 5u * (1 + 1 + 1) + 1);
+}
+
+// Up to one tile (2,048 pairs) the whole sort is one dispatch (radix_sort_tile.comp): the same pairs in the
+// same order as the multi-pass sort and std::stable_sort, at every pass count and with many ties.
+TEST_F(Sort, OneTileSortIsTheMultiPassSort) {
+  for (size_t n : {1, 2, 7, 255, 410, 1000, 2047, 2048})
+    for (uint32_t bits : {0u, 1u, 4u, 5u, 12u, 17u, 32u}) {
+      const std::string what = "n=" + std::to_string(n) + " key_bits=" + std::to_string(bits);
+      const auto keys = random_keys(n, bits == 1 ? 0xffffffffu : 0x3f3u, uint32_t(n + bits));
+      const auto vals = random_keys(n, 0xffffffffu, uint32_t(7 * n + bits));
+      const Pairs want = reference_sort(keys, vals, bits);
+      EXPECT_EQ(run(keys, vals, bits, 0, true), want) << what << ", one tile";
+      EXPECT_EQ(run(keys, vals, bits, 0, false), want) << what << ", multi-pass";
+    }
+  // One dispatch up to a tile, the passes beyond (and with the one-tile sort off).
+  vk::Buffer k(gpu(), 4096 * 4), v(gpu(), 4096 * 4);
+  gpu::RadixSort sort(gpu(), 4096);
+  LoggingDispatcher one, two, off;
+  gpu().submit_now([&](VkCommandBuffer cb) {
+    sort.record(cb, one, k.address(), v.address(), 410, 17);
+    sort.record(cb, two, k.address(), v.address(), 2049, 17);
+    sort.set_one_tile(false);
+    sort.record(cb, off, k.address(), v.address(), 410, 17);
+  });
+  EXPECT_EQ(one.log, (std::vector<std::pair<std::string, uint32_t>>{{"radix_sort_tile", 1u}}));
+  EXPECT_EQ(two.log.size(), 5u * 3 + 1);
+  EXPECT_EQ(off.log.size(), 5u * 3 + 1);
 }
 
 TEST_F(Sort, RejectsBadArguments) {

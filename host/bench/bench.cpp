@@ -297,6 +297,12 @@ nlohmann::json bench_case(vk::Context& ctx, const app::Case& c, const std::strin
     j["levers"]["liquid_gate"] = lever(so);
   }
   {
+    // The one-dispatch sort of a bed of up to one tile (2,048 particles): off, the multi-pass sort.
+    SystemOptions so;
+    so.one_tile_sort = false;
+    j["levers"]["one_tile_sort"] = lever(so);
+  }
+  {
     // The planner's threshold: split rebuilds at any interval (the default records the gated chain into
     // every step while rebuilds come less than split_min_interval steps apart).
     SystemOptions so;
@@ -445,6 +451,8 @@ int main(int argc, char** argv) {
   app.add_option("--fused-step", o.timed_options.fused_step, "with --timed-only: SystemOptions::fused_step");
   app.add_option("--liquid-gate", o.timed_options.liquid_gate,
                  "with --timed-only: SystemOptions::liquid_gate");
+  app.add_option("--one-tile-sort", o.timed_options.one_tile_sort,
+                 "with --timed-only: SystemOptions::one_tile_sort");
   app.add_option("--split-min-interval", o.timed_options.split_min_interval,
                  "with --timed-only: SystemOptions::split_min_interval");
   app.add_option("--soak", soak_steps,

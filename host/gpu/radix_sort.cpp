@@ -30,6 +30,10 @@ struct CopyPush {
   uint64_t src_keys, src_vals, dst_keys, dst_vals;
   uint32_t n;
 };
+struct TilePush {
+  uint64_t keys, vals;
+  uint32_t n, key_bits;
+};
 }  // namespace
 
 RadixSort::RadixSort(vk::Context& ctx, uint32_t max_n)
@@ -37,6 +41,7 @@ RadixSort::RadixSort(vk::Context& ctx, uint32_t max_n)
       count_(ctx, "radix_count"),
       scatter_(ctx, "radix_scatter"),
       copy_(ctx, "radix_copy"),
+      tile_(ctx, "radix_sort_tile"),
       tmp_keys_(ctx, uint64_t(max_n) * 4),
       tmp_vals_(ctx, uint64_t(max_n) * 4),
       hist_(ctx, uint64_t(tiles(max_n)) * kDigits * 4),
@@ -50,6 +55,12 @@ void RadixSort::record(VkCommandBuffer cb, Dispatcher& disp, uint64_t keys_addr,
   if (key_bits > 32) throw std::invalid_argument(fmt::format("RadixSort: key_bits {} > 32", key_bits));
   if (n == 0 || key_bits == 0) return;  // nothing to reorder
   const uint32_t nt = tiles(n);
+  if (nt == 1 && one_tile_) {
+    TilePush t{keys_addr, vals_addr, n, key_bits};
+    disp.dispatch(cb, tile_, 1, &t, sizeof(t));
+    vk::barrier(cb);
+    return;
+  }
   const uint32_t passes = (key_bits + kDigitBits - 1) / kDigitBits;
   uint64_t src_k = keys_addr, src_v = vals_addr, dst_k = tmp_keys_.address(), dst_v = tmp_vals_.address();
   for (uint32_t p = 0; p < passes; ++p) {

@@ -26,16 +26,23 @@ class RadixSort {
   // Records a stable sort of the n pairs (keys[i], vals[i]) by the low key_bits bits of the key
   // (0..32; higher key bits are ignored and carried along). The result is back in keys/vals. Passes =
   // ceil(key_bits / 4), each: count (per-tile digit histograms), scan, scatter; one copy pass when the
-  // pass count is odd. Every dispatch goes through `disp` and its size depends only on n; barriers are
-  // inserted between passes and after the last one. Throws if n > max_n or key_bits > 32.
+  // pass count is odd. Up to one tile (n <= kTile) and with one_tile() on, every pass runs in one
+  // workgroup and one dispatch instead (radix_sort_tile.comp), with the same result bit for bit. Every
+  // dispatch goes through `disp` and its size depends only on n; barriers are inserted between passes and
+  // after the last one. Throws if n > max_n or key_bits > 32.
   void record(VkCommandBuffer cb, Dispatcher& disp, uint64_t keys_addr, uint64_t vals_addr, uint32_t n,
               uint32_t key_bits);
 
   uint32_t max_n() const { return max_n_; }
+  // The one-dispatch sort of a single tile (on by default; off: the multi-pass sort at any n, for the
+  // benchmark's lever and the test that holds the two together).
+  bool one_tile() const { return one_tile_; }
+  void set_one_tile(bool on) { one_tile_ = on; }
 
  private:
   uint32_t max_n_;
-  vk::Kernel count_, scatter_, copy_;
+  bool one_tile_ = true;
+  vk::Kernel count_, scatter_, copy_, tile_;
   vk::Buffer tmp_keys_, tmp_vals_, hist_;
   Scan scan_;
 };

@@ -63,6 +63,7 @@ System::Impl::Impl(vk::Context& c, const std::vector<SimParams>& runs, const std
     kernels[nm] = std::make_unique<vk::Kernel>(ctx, nm, std::vector<uint32_t>{uint32_t(runs.size())});
   fused = opt.fused_step && ctx.info().int64_atomics;
   sort = std::make_unique<gpu::RadixSort>(ctx, n);
+  sort->set_one_tile(opt.one_tile_sort);
   scan = std::make_unique<gpu::Scan>(ctx, n);
   VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
   WETDEM_VK(vkCreateFence(ctx.device(), &fci, nullptr, &fence));

@@ -36,6 +36,9 @@ struct SystemOptions {
   // ... and 4b-4d closed (zero-sized dispatches) on steps where no contact is flagged for a liquid event and
   // no sink is on: they would change nothing.
   bool liquid_gate = true;
+  // The neighbour sort of up to 2,048 particles in one dispatch (radix_sort_tile.comp) instead of ~3 per
+  // 4-bit pass: a small bed rebuilds every few steps. Bitwise the same order (benchmarks turn it off).
+  bool one_tile_sort = true;
 };
 
 struct PassTiming {
