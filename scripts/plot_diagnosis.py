@@ -24,9 +24,13 @@ def main(d):
     conds = list(dict.fromkeys(c["condition"] for c in cells))
     obs = list(dict.fromkeys(c["observable"] for c in cells))
     after = all("after" in c for c in cells)
+    # A second effect fitted on top of the first (diagnosis.md, "A second effect"): the pair's fresh runs.
+    second = (j.get("second") or {}).get("effect") if all("after_second" in c for c in cells) else None
 
     # Gap map.
     panels = [("baseline", lambda c: c["z"])] + ([("with " + str(j["effect"]), lambda c: c["after"]["z"])] if after else [])
+    if second:
+        panels.append((f"with {j['effect']} + {second}", lambda c: c["after_second"]["z"]))
     # The panels share the condition axis (labels on the first only); a cell without an observation is grey
     # with a dash, not white (white is z = 0); |z| > 3 is written in white on the dark colours.
     fig, axes = plt.subplots(1, len(panels), figsize=(4 + 2.2 * len(panels) * max(1, len(obs)) / 2, 1.2 + 0.45 * len(conds)),
@@ -103,6 +107,13 @@ def main(d):
                                 color="tab:orange", alpha=0.35,
                                 label=f"with {j['effect']}, fresh seeds (±2 SE)" if first else None)
                 ax.plot(x, ma, color="tab:orange", ls=ls)
+            if second:
+                ma = [c["after_second"]["model"] for c in cs]
+                sa = [2 * c["after_second"]["model_se"] for c in cs]
+                ax.fill_between(x, [a - b for a, b in zip(ma, sa)], [a + b for a, b in zip(ma, sa)],
+                                color="tab:purple", alpha=0.3,
+                                label=f"with {j['effect']} + {second}, fresh seeds (±2 SE)" if first else None)
+                ax.plot(x, ma, color="tab:purple", ls=ls)
             ax.errorbar(x, [c["y"] for c in cs], yerr=[c["sigma"] for c in cs], fmt=mk, color="k", capsize=3,
                         label="observed (±σ)" + sfx)
         ax.set_xlabel(xlabel if xkey else "condition")
@@ -110,7 +121,8 @@ def main(d):
     # One legend for the figure (the first panel's entries: bands, then each group's observations).
     handles, labels = axes.flat[0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="lower center", ncol=min(len(labels), 5), fontsize=8, frameon=False)
-    title = f"{j['name']}: verdict {j['verdict']}" + (f" ({j['effect']})" if j["effect"] else "")
+    named = " + ".join(j.get("effects") or ([j["effect"]] if j["effect"] else []))
+    title = f"{j['name']}: verdict {j['verdict']}" + (f" ({named})" if named else "")
     if j.get("tied"):
         title += ", tied with " + ", ".join(j["tied"])
     fig.suptitle(title, fontsize=10)
