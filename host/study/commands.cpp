@@ -288,6 +288,7 @@ class Impl : public Commands {
     const StudySpec s = parse_study_file(file_);
     const std::vector<PlannedRun> runs = expand(s);  // every override validated before anything runs
     const std::string dir = dir_.empty() ? default_dir(s) : dir_;
+    const StoreLock lock(dir);  // the plan is this process's until its runs are done
     write_plan(dir, s, runs);
     // Runs another study already computed: the same hash is the same computation (study_file.h), copied.
     for (const std::string& other : reuse_) {
@@ -369,6 +370,9 @@ class Impl : public Commands {
     const StudySpec s = parse_study_file(file_);
     const std::vector<PlannedRun> runs = expand(s);
     const std::string dir = fs::absolute(dir_.empty() ? default_dir(s) : dir_).string();
+    // Held while the plan and the script are written; the array's jobs read index.json later, so a store
+    // submitted to Slurm is not planned into by another process until the array is done (docs/studies.md).
+    const StoreLock lock(dir);
     write_plan(dir, s, runs);
     const SlurmScript sc = write_slurm(dir, so_);
     if (sc.indices.empty()) {

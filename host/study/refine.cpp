@@ -54,6 +54,7 @@ std::string refine(const std::string& dir, const RefineOptions& opt) {
      << root << '\n';
   app::write_file_atomic(file.string(), os.str());
   const StudySpec s = parse_study_file(file.string());
+  const StoreLock lock(dir);
   write_plan(dir, s, expand(s));
   ExecOptions eo;
   eo.jobs = opt.jobs;

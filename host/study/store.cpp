@@ -1,9 +1,15 @@
 #include "study/store.h"
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -169,6 +175,21 @@ RunState run_state(const std::string& run_dir, std::string* reason) {
     return RunState::Failed;
   }
   return ckpt ? RunState::Resumable : RunState::Partial;
+}
+
+StoreLock::StoreLock(const std::string& dir) {
+  fs::create_directories(dir);
+  const std::string path = (fs::path(dir) / ".lock").string();
+  fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd_ < 0) throw StudyError(fmt::format("{}: cannot open the store's lock file", path));
+  if (::flock(fd_, LOCK_EX | LOCK_NB) == 0) return;
+  std::fprintf(stderr, "waiting for another process using the run store %s\n", dir.c_str());
+  while (::flock(fd_, LOCK_EX) != 0)
+    if (errno != EINTR) throw StudyError(fmt::format("{}: cannot lock the store", path));
+}
+
+StoreLock::~StoreLock() {
+  if (fd_ >= 0) ::close(fd_);  // releases the flock
 }
 
 }  // namespace wetdem::study

@@ -40,6 +40,22 @@ StudyIndex write_plan(const std::string& dir, const StudySpec& s, const std::vec
 StudyIndex read_index(const std::string& dir);  // throws StudyError when DIR holds no study
 nlohmann::json index_to_json(const StudyIndex& ix);
 
+// Exclusive use of a store while its plan is written and run: index.json is the plan the run-one processes
+// read by index, so two processes planning into one store at once (two diagnoses sharing --store, a twin
+// beside a diagnosis) would run each other's runs and find their own missing. An advisory flock on
+// DIR/.lock, held from construction to destruction (close-on-exec: the run-one children do not hold it); a
+// second process waits, saying so once on stderr. Released by the kernel if the holder dies.
+class StoreLock {
+ public:
+  explicit StoreLock(const std::string& dir);
+  ~StoreLock();
+  StoreLock(const StoreLock&) = delete;
+  StoreLock& operator=(const StoreLock&) = delete;
+
+ private:
+  int fd_ = -1;
+};
+
 enum class RunState { Missing, Partial, Resumable, Interrupted, Failed, Complete };
 const char* state_name(RunState s);
 // Partial: a folder without summary or checkpoint (killed before its first checkpoint): restarts fresh.
