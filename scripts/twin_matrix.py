@@ -69,7 +69,8 @@ def row_of(d, t):
             "strength": best["strength"] if best else None,
             "interval": best["strength_interval"] if best else None,
             "interval_open": best.get("strength_interval_open") if best else None,
-            "held_out_shrink": j["held_out_shrink"], "runs_computed": j.get("runs_computed"),
+            "held_out_shrink": j["held_out_shrink"], "held_out_gap_shrink": j.get("held_out_gap_shrink"),
+            "runs_computed": j.get("runs_computed"),
             "wall_s": j.get("wall_s"), "device": j["device"]}
 
 
@@ -139,6 +140,8 @@ def summarize(rows, wall, device, out_dir, spec_path):
     eff = [r for r in rows if is_effect_twin(r)]
     right = [r for r in eff if r["verdict"] in ("effect", "partial") and r["effect"] == r["truth"]]
     shrinks = [r["held_out_shrink"] for r in right if r["held_out_shrink"] is not None]
+    # The share of the gap (the null's held-out χ² above its noise floor) the chosen effect removes.
+    gap_shrinks = [r["held_out_gap_shrink"] for r in right if r.get("held_out_gap_shrink") is not None]
     within = [r for r in right if r["strength"] and r["truth_strength"]
               and abs(r["strength"] / r["truth_strength"] - 1) <= 0.25]
     covered = [r for r in right if r["interval"] and r["truth_strength"]
@@ -158,6 +161,7 @@ def summarize(rows, wall, device, out_dir, spec_path):
            "top1_rate": len(right) / len(eff) if eff else None,
            "in_reported_set": sum(1 for r in eff if r["effect"] == r["truth"] or r["truth"] in r["tied"]),
            "median_held_out_shrink": statistics.median(shrinks) if shrinks else None,
+           "median_held_out_gap_shrink": statistics.median(gap_shrinks) if gap_shrinks else None,
            "strength_within_25pc": len(within), "interval_covers_truth": len(covered),
            "named_first_or_second": len(named), "both_withheld_named": len(both),
            "found_other_candidate": len(other), "other_candidate_within_25pc": len(other_within),
@@ -191,7 +195,8 @@ def summarize(rows, wall, device, out_dir, spec_path):
         f"Top-1 identification {len(right)}/{len(eff)} ({100 * (out['top1_rate'] or 0):.0f} %) over the effect twins "
         f"(truth in the reported set, chosen or tied: {out['in_reported_set']}/{len(eff)}; named first or as a "
         f"second effect: {len(named)}/{len(eff)}); median held-out "
-        f"shrink {'-' if not shrinks else f'{100 * statistics.median(shrinks):.0f} %'} over the {n} identified; "
+        f"shrink {'-' if not shrinks else f'{100 * statistics.median(shrinks):.0f} %'} over the {n} identified "
+        f"(of the gap above the noise floor: {'-' if not gap_shrinks else f'{100 * statistics.median(gap_shrinks):.0f} %'}); "
         f"fitted strength within ±25 % of the truth for {len(within)}/{n}, interval covering the truth for "
         f"{len(covered)}/{n}; "
         + (f"the twin's other withheld difference, itself a candidate, named instead: {len(other)}/"

@@ -214,3 +214,50 @@ TEST(DiagnoseVerdict, TwinNoiseStaysInsideThePossibleRange) {
     negative = negative || noisy_measurement("surface_velocity_mps", 0.0, 0.1, rng) < 0;
   EXPECT_TRUE(negative);
 }
+
+// The effect margin counts the gap, not the noise (verdict.h, noise_floor): in a table of 48 cells whose gap
+// is a weak effect (one or two cells significant), halving the whole held-out χ² is out of reach even for the
+// truth, since ~48 of it is noise; removing half of what lies above the noise floor is not. A decoy that
+// moves other cells does not pass, and on noise alone no candidate does.
+TEST(DiagnoseVerdict, TheMarginCountsTheGapNotTheNoise) {
+  const std::vector<Prediction> base(48, Prediction{30.0, 0.1});
+  std::vector<double> phi, slope(48, 0.0), decoy(48, 0.0);
+  for (size_t k = 0; k < 48; ++k) phi.push_back(0.01 * double(k % 6));
+  // One observable, growing with the content: z of 0.3-4 at the truth (χ² ~26 over the noise's ~48).
+  const double z_truth[6] = {0.3, 0.6, 1.0, 1.5, 2.5, 4.0};
+  for (size_t k = 0; k < 6; ++k) slope[6 + k] = z_truth[k] * std::sqrt(0.1) / 2.477;
+  for (size_t k = 0; k < 48; k += 5) decoy[k] = 1.0;
+  const Response r = linear("cohesion", {0.01, 0.1, 1.0}, slope, 30.0);
+  const Response d = linear("viscous", {0.01, 0.1, 1.0}, decoy, 30.0);
+  const double u = std::log10(0.3) - (std::log10(0.01) - 1.0);  // the truth: 0.3
+  int truth_new = 0, truth_old = 0, runs = 0, decoy_new = 0, noise_new = 0;
+  for (uint64_t seed = 1; seed <= 20; ++seed) {
+    std::mt19937_64 rng(seed);
+    std::normal_distribution<double> noise(0.0, std::sqrt(0.3 * 0.3 + 0.1 * 0.1));
+    std::vector<double> y, y0;
+    for (size_t k = 0; k < 48; ++k) {
+      const double e = noise(rng);
+      y.push_back(30.0 + slope[k] * u + e);
+      y0.push_back(30.0 + e);
+    }
+    const std::vector<Cell> cells = cells_at(phi, y, 0.3);
+    const Verdict v = decide(cells, base, {r, d}, {1.0, 0.5});
+    if (v.kind == "no_gap") continue;
+    ++runs;
+    const Candidate* c = nullptr;
+    const Candidate* dc = nullptr;
+    for (const Candidate& x : v.ranking) (x.effect == "cohesion" ? c : dc) = &x;
+    EXPECT_GT(v.floor, 25.0) << "seed " << seed << ": ~48 of noise";
+    truth_new += passes_margin(c->loco, v, VerdictRule{});
+    truth_old += c->loco <= 0.5 * v.null_loco && v.null_loco - c->loco >= 4.0;
+    decoy_new += passes_margin(dc->loco, v, VerdictRule{});
+    const Verdict v0 = decide(cells_at(phi, y0, 0.3), base, {r, d}, {1.0, 0.5});
+    for (const Candidate& x : v0.ranking)
+      noise_new += v0.kind != "no_gap" && passes_margin(x.loco, v0, VerdictRule{});
+  }
+  ASSERT_GE(runs, 15) << "the weak effect leaves a significant cell in most draws";
+  EXPECT_GE(truth_new, 3 * runs / 4) << "the truth passes the margin on the gap (15 of 17 draws)";
+  EXPECT_LE(truth_old, runs / 4) << "it would rarely pass a margin on the whole χ² (1 of 17)";
+  EXPECT_EQ(decoy_new, 0);
+  EXPECT_LE(noise_new, 1);
+}

@@ -184,7 +184,7 @@ void run_fit(Procedure& p) {
     std::vector<bool> contend(cands.size(), false);
     for (size_t r = 0; r < v.ranking.size(); ++r) {
       const Candidate& c = v.ranking[r];
-      const bool passes = c.loco <= p.d.rule.ratio * v.null_loco && v.null_loco - c.loco >= p.d.rule.min_drop;
+      const bool passes = passes_margin(c.loco, v, p.d.rule);
       const bool close = !clearly_worse(v.ranking.front(), c, p.d.rule);
       for (size_t i = 0; i < fams.size(); ++i)
         if (fams[i].effect == c.effect) contend[of[i]] = r == 0 || passes || close;

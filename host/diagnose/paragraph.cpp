@@ -172,24 +172,25 @@ std::string verdict_paragraph(const Report& r) {
   }
   // Unexplained: either the best candidate helps but not by the rule's margin (a lead worth more data), or
   // none helps (the cause lies outside the candidates).
-  if (!r.verdict.ranking.empty() && r.verdict.held_out_shrink >= 0.5 * (1.0 - ratio)) {
+  // The shares are of the gap: the null's held-out χ² above its noise floor (verdict.h).
+  if (!r.verdict.ranking.empty() && r.verdict.held_out_gap_shrink >= 0.5 * (1.0 - ratio)) {
     const Candidate& c = r.verdict.ranking.front();
     return fmt::format(
         "**Gap not explained (a lead: `{}`).** The model departs from the observations at {} of {} cells "
-        "({}). "
-        "The best candidate, `{}` ({}), improves the held-out predictions by {:.0f} % (at {} = {:.3g}), "
-        "short "
-        "of the {:.0f} % the rule asks: the data point to it but do not single it out. To decide, measure "
-        "more "
-        "conditions where its fingerprint is strongest, or repeat the measurements to shrink their error "
-        "bars.{}",
-        c.effect, ns, n, where, c.effect, effect_spec(c.effect).fingerprint, 100 * r.verdict.held_out_shrink,
-        effect_spec(c.effect).strength, c.fit.strength, 100 * (1.0 - ratio), null_refit_sentence(r));
+        "({}). The best candidate, `{}` ({}), removes {:.0f} % of the gap in the held-out predictions (at {} "
+        "= {:.3g}; held-out χ² {:.1f} against the model's {:.1f}, noise floor {:.1f}), short of the rule: "
+        "{:.0f} % of the gap and a drop of {:g}. The data point to it but do not single it out. To decide, "
+        "measure more conditions where its fingerprint is strongest, or repeat the measurements to shrink "
+        "their error bars.{}",
+        c.effect, ns, n, where, c.effect, effect_spec(c.effect).fingerprint,
+        100 * r.verdict.held_out_gap_shrink, effect_spec(c.effect).strength, c.fit.strength, c.loco,
+        r.verdict.null_loco, r.verdict.floor, 100 * (1.0 - ratio), r.spec->rule.min_drop,
+        null_refit_sentence(r));
   }
   std::string best = r.verdict.ranking.empty()
                          ? "none was fitted"
-                         : fmt::format("the best, `{}`, improves the held-out predictions by only {:.0f} %",
-                                       r.verdict.ranking.front().effect, 100 * r.verdict.held_out_shrink);
+                         : fmt::format("the best, `{}`, removes only {:.0f} % of the gap held out",
+                                       r.verdict.ranking.front().effect, 100 * r.verdict.held_out_gap_shrink);
   return fmt::format(
       "**Gap not explained.** The model departs from the observations at {} of {} cells ({}), but none of "
       "the "

@@ -318,6 +318,8 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
     }
   j["null_loco_chi2"] = r.verdict.null_loco;
   j["held_out_shrink"] = r.verdict.ranking.empty() ? json(nullptr) : json(r.verdict.held_out_shrink);
+  j["held_out_gap_shrink"] = r.verdict.ranking.empty() ? json(nullptr) : json(r.verdict.held_out_gap_shrink);
+  j["noise_floor_chi2"] = r.verdict.floor;
   j["chi2_before"] = chi2_of(r.gaps);
   j["dof"] = r.cells.size();
   j["fresh"] = json::array();
@@ -433,14 +435,15 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
   md += "\nScreen scores of every candidate: ";
   for (const Screened& s : r.screened) md += fmt::format("{} {:.2f}; ", s.effect, s.score);
   md += fmt::format(
-      "\n\nRule: `effect` when the best held-out χ² ≤ {} × the null's and lower by ≥ {}, and the fresh-seed "
-      "runs "
-      "at its fitted strength leave no cell significant (else `partial`); a runner-up that also passes is "
-      "*tied* unless its held-out χ² exceeds the best's by ≥ {} × max(1, χ²_best/n); cells significant by "
-      "Benjamini-Hochberg at {}. Intervals: Δχ² = max(1, χ²_min/(n − 1)), widened to the fit ± the jackknife "
-      "over conditions' standard error "
-      "when that is wider.\n\n",
-      r.spec->rule.ratio, r.spec->rule.min_drop, r.spec->rule.tie_delta, r.spec->rule.q);
+      "\n\nRule: `effect` when the best held-out χ² ≤ floor + {} × (the null's − floor) and lower than the "
+      "null's by ≥ {} (the null's {:.1f}, its noise floor {:.1f}: the mean z² of the cells not significant, "
+      "times the cells), and the fresh-seed runs at its fitted strength leave no cell significant (else "
+      "`partial`); a runner-up that also passes is *tied* unless its held-out χ² exceeds the best's by ≥ {} "
+      "× "
+      "max(1, χ²_best/n); cells significant by Benjamini-Hochberg at {}. Intervals: Δχ² = max(1, χ²_min/(n − "
+      "1)), widened to the fit ± the jackknife over conditions' standard error when that is wider.\n\n",
+      r.spec->rule.ratio, r.spec->rule.min_drop, r.verdict.null_loco, r.verdict.floor, r.spec->rule.tie_delta,
+      r.spec->rule.q);
   if (!r.next.proposals.empty()) {
     md += fmt::format("## Next experiment: `{}` or `{}`?\n\n", r.next.effect_a, r.next.effect_b);
     md += fmt::format("| condition | observable | `{}` | `{}` | noise σ | separation (σ) | in the table |\n",

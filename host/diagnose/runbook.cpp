@@ -109,6 +109,7 @@ void RunBook::want(Condition& c, const Variant& v, const std::vector<uint64_t>& 
 size_t RunBook::run() {
   study::StudySpec s = spec();
   s.points = points_;
+  const study::StoreLock lock(dir_);  // the plan is this book's until its runs are done
   study::write_plan(dir_, s, runs_);
   const study::ExecReport rep = study::run_study(dir_, exec_);
   wall_s_ += rep.wall_s;

@@ -8,6 +8,24 @@
 
 namespace wetdem::diagnose {
 
+double noise_floor(const std::vector<double>& null_cells, const std::vector<CellGap>& gaps) {
+  double sum = 0;
+  size_t quiet = 0, finite = 0;
+  for (size_t k = 0; k < null_cells.size() && k < gaps.size(); ++k) {
+    if (!std::isfinite(null_cells[k])) continue;
+    ++finite;
+    if (gaps[k].significant) continue;
+    sum += null_cells[k];
+    ++quiet;
+  }
+  return quiet ? sum / double(quiet) * double(finite) : 0.0;
+}
+
+bool passes_margin(double loco, const Verdict& v, const VerdictRule& rule) {
+  const double floor = std::min(v.floor, v.null_loco);
+  return loco <= floor + rule.ratio * (v.null_loco - floor) && v.null_loco - loco >= rule.min_drop;
+}
+
 bool clearly_worse(const Candidate& a, const Candidate& b, const VerdictRule& rule) {
   const double n = double(std::max<size_t>(1, a.loco_cells.size()));
   return b.loco - a.loco >= rule.tie_delta * std::max(1.0, a.loco / n);
@@ -46,8 +64,12 @@ Verdict decide(const std::vector<Cell>& cells, const std::vector<std::vector<Pre
                    [](const Candidate& a, const Candidate& b) { return a.loco < b.loco; });
   const std::vector<CellGap> g = where(cells, baselines.front(), rule.q);
   const bool any = std::any_of(g.begin(), g.end(), [](const CellGap& x) { return x.significant; });
-  if (!v.ranking.empty())
+  v.floor = noise_floor(v.null_loco_cells, g);
+  if (!v.ranking.empty()) {
     v.held_out_shrink = v.null_loco > 0 ? 1.0 - v.ranking.front().loco / v.null_loco : 0.0;
+    const double excess = v.null_loco - std::min(v.floor, v.null_loco);
+    v.held_out_gap_shrink = excess > 0 ? (v.null_loco - v.ranking.front().loco) / excess : 0.0;
+  }
   // With refit, a gap the null closes at its re-fitted setting (no cell significant there, by the same rule)
   // needs no effect: the analogue of no_gap for the re-fitted model.
   const auto closed = [&] {
@@ -55,9 +77,7 @@ Verdict decide(const std::vector<Cell>& cells, const std::vector<std::vector<Pre
     const std::vector<CellGap> r = where(cells, baselines[v.null_refit], rule.q);
     return std::none_of(r.begin(), r.end(), [](const CellGap& x) { return x.significant; });
   };
-  const auto passes = [&](const Candidate& c) {
-    return c.loco <= rule.ratio * v.null_loco && v.null_loco - c.loco >= rule.min_drop;
-  };
+  const auto passes = [&](const Candidate& c) { return passes_margin(c.loco, v, rule); };
   if (!any) {
     v.kind = "no_gap";
   } else if (closed()) {

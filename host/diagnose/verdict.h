@@ -9,6 +9,7 @@
 #include "diagnose/cells.h"
 #include "diagnose/emulator.h"
 #include "diagnose/fit.h"
+#include "diagnose/where.h"
 
 namespace wetdem::diagnose {
 
@@ -17,8 +18,9 @@ namespace wetdem::diagnose {
 //  refit       (with refit only) else, when the null at its re-fitted setting leaves no cell significant at
 //              FDR q: re-fitting closes the gap, no effect is chosen;
 //  effect      else, the candidate with the lowest held-out (LOCO) score when it beats the null by a clear
-//              margin: LOCO_best <= ratio x LOCO_null and LOCO_null - LOCO_best >= min_drop, and (after the
-//              fresh-seed runs at its fitted strength) no cell is left significant;
+//              margin (passes_margin: it removes `ratio` of the null's held-out χ² above the noise floor, and
+//              LOCO_null - LOCO_best >= min_drop), and (after the fresh-seed runs at its fitted strength) no
+//              cell is left significant;
 //  partial     as effect, but cells stay significant after the fresh-seed runs: the effect explains part of
 //              the gap, the report names the cells it leaves;
 //  unexplained otherwise (the ranking is still reported).
@@ -53,6 +55,13 @@ struct Candidate {
   size_t member = 0, refit = 0, shape = 0;
 };
 
+// The noise floor of the held-out χ²: what a model that explained the whole gap would still score, from the
+// cells the baseline does not call significant (their mean z² times the cells with a finite z). The table's
+// σ need not be exact (a twin's is conservative: a right model scores ~0.5 per cell on the flowing drum), and
+// with 48 cells and a one-cell gap, halving the whole χ² is impossible even for the truth. 0 when every cell
+// is significant. null_cells: the null's held-out z² per cell; gaps: the baseline's where().
+double noise_floor(const std::vector<double>& null_cells, const std::vector<CellGap>& gaps);
+
 struct Verdict {
   std::string kind;                // "no_gap", "effect", "partial", "refit", "unexplained"
   std::string effect;              // the chosen effect for "effect" and "partial"
@@ -62,7 +71,15 @@ struct Verdict {
   std::vector<double> null_loco_cells;
   size_t null_refit = 0;         // the null's refit setting fitted on all cells (0 without refit)
   double held_out_shrink = 0.0;  // 1 - LOCO_best / LOCO_null (the left-out predictions)
+  double floor = 0.0;            // noise_floor() of the null's held-out χ²
+  double held_out_gap_shrink =
+      0.0;  // (LOCO_null - LOCO_best) / (LOCO_null - floor): of the gap, not the noise
 };
+
+// The effect margin against the null: LOCO <= floor + ratio x (LOCO_null - floor), i.e. the candidate removes
+// at least `ratio` of the null's held-out χ² above the noise floor, and LOCO_null - LOCO >= min_drop. With
+// floor 0 this is the rule LOCO <= ratio x LOCO_null.
+bool passes_margin(double loco, const Verdict& v, const VerdictRule& rule);
 
 // Everything but the fresh-seed check: kind is "no_gap", "refit", "effect" (provisional) or "unexplained".
 Verdict decide(const std::vector<Cell>& cells, const std::vector<std::vector<Prediction>>& baselines,
