@@ -100,20 +100,18 @@ def main(d):
                                 color="tab:green", alpha=0.25,
                                 label=f"no effect, {j['null_refit']['label']} (±2 SE)" if first else None)
                 ax.plot(x, mr, color="tab:green", ls=ls)
-            if after:
-                ma = [c["after"]["model"] for c in cs]
-                sa = [2 * c["after"]["model_se"] for c in cs]
+            # Fresh-seed bands of the chosen effect and of the pair (a second effect on top), ±2 SE.
+            for key, on, colour, alpha, name in (("after", after, "tab:orange", 0.35, j["effect"]),
+                                                 ("after_second", second, "tab:purple", 0.3,
+                                                  f"{j['effect']} + {second}")):
+                if not on:
+                    continue
+                ma = [c[key]["model"] for c in cs]
+                sa = [2 * c[key]["model_se"] for c in cs]
                 ax.fill_between(x, [a - b for a, b in zip(ma, sa)], [a + b for a, b in zip(ma, sa)],
-                                color="tab:orange", alpha=0.35,
-                                label=f"with {j['effect']}, fresh seeds (±2 SE)" if first else None)
-                ax.plot(x, ma, color="tab:orange", ls=ls)
-            if second:
-                ma = [c["after_second"]["model"] for c in cs]
-                sa = [2 * c["after_second"]["model_se"] for c in cs]
-                ax.fill_between(x, [a - b for a, b in zip(ma, sa)], [a + b for a, b in zip(ma, sa)],
-                                color="tab:purple", alpha=0.3,
-                                label=f"with {j['effect']} + {second}, fresh seeds (±2 SE)" if first else None)
-                ax.plot(x, ma, color="tab:purple", ls=ls)
+                                color=colour, alpha=alpha,
+                                label=f"with {name}, fresh seeds (±2 SE)" if first else None)
+                ax.plot(x, ma, color=colour, ls=ls)
             ax.errorbar(x, [c["y"] for c in cs], yerr=[c["sigma"] for c in cs], fmt=mk, color="k", capsize=3,
                         label="observed (±σ)" + sfx)
         ax.set_xlabel(xlabel if xkey else "condition")
