@@ -196,18 +196,43 @@ TEST(DiagnoseVerdict, NextExperimentProposesConditionsBeyondTheTable) {
   EXPECT_EQ(propose_conditions(table, table[2], 30.0, 3.0, 2).size(), 2u);
 }
 
-// A twin's noise never leaves an observable's possible range: f_wet at 0 % liquid (mean 0) stays in [0, 1].
-TEST(DiagnoseVerdict, TwinNoiseStaysInsideThePossibleRange) {
+// A twin's noise never leaves an observable's possible range and does not bias the mean (twin.h): f_wet near
+// 0 % stays in [0, 1] with the truth's mean, a surface clump size of 1.3 +- 1 stays >= 1 with mean 1.3 (a
+// Gaussian truncated at 1 would give ~2.0: every dry cell of a flowing twin showed clumps the model lacks),
+// and a quantity on its bound is that bound. Far from the bounds the noise is plain Gaussian, negative values
+// too.
+TEST(DiagnoseVerdict, TwinNoiseStaysInsideThePossibleRangeWithoutBias) {
   std::mt19937_64 rng(5);
-  double sum = 0;
-  for (int i = 0; i < 2000; ++i) {
-    const double y = noisy_measurement("f_wet_mean", 0.0, 0.02, rng);
-    ASSERT_GE(y, 0.0);
-    ASSERT_LE(y, 1.0);
-    sum += y;
+  const auto moments = [&](const std::string& obs, double mean, double sd, double lo, double hi) {
+    double s = 0, s2 = 0;
+    const int n = 20000;
+    for (int i = 0; i < n; ++i) {
+      const double y = noisy_measurement(obs, mean, sd, rng);
+      EXPECT_GE(y, lo);
+      EXPECT_LE(y, hi);
+      s += y;
+      s2 += y * y;
+    }
+    return std::pair<double, double>{s / n, std::sqrt(std::max(0.0, s2 / n - (s / n) * (s / n)))};
+  };
+  {
+    const auto [m, sd] = moments("f_wet_mean", 0.01, 0.02, 0.0, 1.0);  // two bounds: beta
+    EXPECT_NEAR(m, 0.01, 0.0005) << "the truncated Gaussian's mean was ~0.02";
+    EXPECT_GT(sd, 0.005);
   }
-  EXPECT_NEAR(sum / 2000, 0.02 * std::sqrt(2.0 / 3.14159265358979323846), 0.002) << "half-normal mean";
-  for (int i = 0; i < 200; ++i) EXPECT_GE(noisy_measurement("surface_agglomerate_size", 1.0, 0.5, rng), 1.0);
+  {
+    const auto [m, sd] = moments("surface_agglomerate_size", 1.3, 1.0, 1.0, 1e300);  // one bound: gamma
+    EXPECT_NEAR(m, 1.3, 0.03);
+    EXPECT_NEAR(sd, 1.0, 0.1);
+  }
+  {
+    const auto [m, sd] = moments("aor_deg_std", 12.0, 1.0, 0.0, 1e300);  // far from 0: Gaussian
+    EXPECT_NEAR(m, 12.0, 0.03);
+    EXPECT_NEAR(sd, 1.0, 0.03);
+  }
+  EXPECT_EQ(noisy_measurement("f_wet_mean", 0.0, 0.02, rng), 0.0) << "a dry bed has no bridges to mismeasure";
+  EXPECT_EQ(noisy_measurement("surface_agglomerate_size", 1.0, 0.5, rng), 1.0);
+  EXPECT_EQ(noisy_measurement("f_wet_mean", -0.1, 0.02, rng), 0.0) << "a mean outside is put on its edge";
   // An unbounded observable is plain Gaussian: negative values occur.
   bool negative = false;
   for (int i = 0; i < 200; ++i)

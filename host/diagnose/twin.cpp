@@ -19,13 +19,38 @@ namespace wetdem::diagnose {
 double noisy_measurement(const std::string& observable, double mean, double sd, std::mt19937_64& rng) {
   const ObservableSpec* o = find_observable(observable);
   const double lo = o ? o->lo : -1e300, hi = o ? o->hi : 1e300;
+  const bool has_lo = lo > -1e299, has_hi = hi < 1e299;
   const double m = std::clamp(mean, lo, hi);
-  std::normal_distribution<double> unit(0.0, 1.0);
-  for (int i = 0; i < 10000; ++i) {
-    const double y = m + sd * unit(rng);
-    if (y >= lo && y <= hi) return y;
+  if (!(sd > 0)) return m;
+  const double below = has_lo ? (m - lo) / sd : 1e300, above = has_hi ? (hi - m) / sd : 1e300;
+  if (std::min(below, above) >= 6) {
+    // Far from every bound (a draw outside has p < 1e-9): plain Gaussian, redrawn in the impossible case.
+    std::normal_distribution<double> unit(0.0, 1.0);
+    for (int i = 0; i < 100; ++i) {
+      const double y = m + sd * unit(rng);
+      if (y >= lo && y <= hi) return y;
+    }
+    return m;
   }
-  return m;  // unreachable for any sd > 0 with m inside [lo, hi] (each draw lands inside with p >= ~1/2)
+  // Near a bound a Gaussian truncated there has a mean above the truth (the half-normal's 0.8 sd at the
+  // bound) and would show every dry cell a gap the model does not have. A distribution on the possible range
+  // with the truth's mean and the given sd has no such bias: a gamma on one side of one bound, a beta between
+  // two. A mean on a bound is the bound itself (a dry bed's f_wet is 0, a camera with no clumps sees size 1).
+  if (below == 0 || above == 0) return m;
+  const auto gamma = [&](double d) {  // mean d, sd sd: shape (d/sd)^2, scale sd^2/d
+    std::gamma_distribution<double> g((d / sd) * (d / sd), sd * sd / d);
+    return g(rng);
+  };
+  if (has_lo && !has_hi) return lo + gamma(m - lo);
+  if (has_hi && !has_lo) return hi - gamma(hi - m);
+  const double w = hi - lo, mu = (m - lo) / w;
+  // The largest variance a distribution on [0, 1] with mean mu can have is mu (1 - mu); a sd beyond it (a
+  // fraction near 0 with noise 0.5) is capped just below, so the draw stays a proper beta.
+  const double v = std::min((sd / w) * (sd / w), 0.9 * mu * (1 - mu));
+  const double c = mu * (1 - mu) / v - 1;
+  std::gamma_distribution<double> ga(mu * c, 1.0), gb((1 - mu) * c, 1.0);
+  const double a = ga(rng), b = gb(rng);
+  return a + b > 0 ? lo + w * a / (a + b) : m;
 }
 
 nlohmann::json run_twin(const TwinSpec& t, const DiagnoseOptions& o) {
@@ -103,7 +128,9 @@ nlohmann::json run_twin(const TwinSpec& t, const DiagnoseOptions& o) {
   truth_json["noise"] = t.noise;
   truth_json["noise_seed"] = t.noise_seed;
   truth_json["noise_rule"] =
-      "Gaussian with the given sd, truncated to the observable's physically possible range (redrawn)";
+      "Gaussian with the given sd; within 6 sd of a bound of the observable's possible range a gamma (one "
+      "bound) or beta (two) with the same mean and sd, so the noise never leaves the range nor biases the "
+      "mean";
   for (const Condition& c : conds) {
     for (const auto& [obs, sd] : t.noise) {
       // A quantity the truth does not have at this condition (liquid_free_fraction of a dry bed) is no

@@ -15,9 +15,11 @@ namespace wetdem::diagnose {
 // reach at some condition, an observable the model cannot produce).
 nlohmann::json run_twin(const TwinSpec& t, const DiagnoseOptions& o);
 
-// A measurement of `mean` with noise sd: Gaussian, truncated to the observable's physically possible range
-// (observables.h: a fraction stays in [0, 1], a size >= 1), by redrawing, so a bounded observable never gets
-// an impossible value (a negative f_wet at 0 % liquid). A mean outside the range is first put on its edge.
+// A measurement of `mean` with noise sd that never leaves the observable's physically possible range
+// (observables.h: a fraction stays in [0, 1], a size >= 1) and whose expectation is the mean: Gaussian far
+// from the bounds, a gamma or beta of the same mean and sd within 6 sd of one (a truncated Gaussian there
+// would bias the twin). A mean outside the range is first put on its edge; a mean on an edge is returned as
+// is.
 double noisy_measurement(const std::string& observable, double mean, double sd, std::mt19937_64& rng);
 
 }  // namespace wetdem::diagnose
