@@ -5,6 +5,7 @@
 #include "diagnose/baseline.h"
 #include "diagnose/fit_stage.h"
 #include "diagnose/next_experiment.h"
+#include "diagnose/power.h"
 #include "diagnose/procedure.h"
 #include "diagnose/report.h"
 #include "diagnose/screen.h"
@@ -35,6 +36,7 @@ nlohmann::json run_diagnosis(const DiagnosisSpec& d, const DiagnoseOptions& o) {
     run_second_effect(p);                                        // 6b. a second effect, when partial
     run_next_experiment(p);                                      // 7. next experiment (ties)
   }
+  p.reach = table_reach(p);  // 8. what the table can see of each candidate (its probe runs, no new ones)
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return write_report(o.out, make_report(p, wall_s), o.figures);
 }

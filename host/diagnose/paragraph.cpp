@@ -67,9 +67,41 @@ std::string limit_sentence(const Report& r, const std::string& e) {
   return "";
 }
 
+// The candidates this table cannot show (power.h): what the verdict is silent on, and where each comes
+// closest.
+std::string blind_sentence(const Report& r) {
+  std::string list;
+  size_t n = 0;
+  for (const Reach& x : r.reach) {
+    if (x.visible) continue;
+    list += list.empty() ? "" : "; ";
+    list += x.strongest <= 0 ? fmt::format("`{}` (no probe of it could run)", x.effect)
+                             : fmt::format(
+                                   "`{}` moves no cell by more than {:.1f} σ up to {} = {:.3g} (closest: "
+                                   "{} at {})",
+                                   x.effect, x.max_z, effect_spec(x.effect).strength, x.strongest,
+                                   r.cells[x.cell].observable, r.cell_condition[x.cell]);
+    ++n;
+  }
+  if (n == 0) return "";
+  return fmt::format(
+      " **What this table cannot see:** {}. The verdict neither finds nor excludes {}: measurements with "
+      "smaller error bars where {} comes closest, or conditions beyond the table in that direction (a higher "
+      "drum speed for a force that grows with speed), are what could.",
+      list, n == 1 ? "it" : "them", n == 1 ? "it" : "each");
+}
+
+std::string verdict_core(const Report& r);
+
 }  // namespace
 
 std::string verdict_paragraph(const Report& r) {
+  return verdict_core(r) + blind_sentence(r);
+}
+
+namespace {
+
+std::string verdict_core(const Report& r) {
   const size_t n = r.cells.size(), ns = significant(r.gaps);
   if (r.verdict.kind == "no_gap")
     return fmt::format(
@@ -198,5 +230,7 @@ std::string verdict_paragraph(const Report& r) {
       "(another mechanism, a measurement bias, or a model parameter to re-calibrate).{}",
       ns, n, where, best, null_refit_sentence(r));
 }
+
+}  // namespace
 
 }  // namespace wetdem::diagnose

@@ -1,7 +1,7 @@
 // The state of one diagnosis as its stages fill it in (diagnosis.md §4), and the runs they share. A reader
 // follows the procedure by file name: baseline.cpp, where.cpp, screen.cpp, fit_stage.cpp (with the statistics
-// of fit.cpp), verdict.cpp, shrink.cpp, second_effect.cpp, next_experiment.cpp; driver.cpp calls them in that
-// order and report.cpp writes what they found.
+// of fit.cpp), verdict.cpp, shrink.cpp, second_effect.cpp, next_experiment.cpp, power.cpp; driver.cpp calls
+// them in that order and report.cpp writes what they found.
 #pragma once
 
 #include <limits>
@@ -12,6 +12,7 @@
 #include "diagnose/driver.h"
 #include "diagnose/effects.h"
 #include "diagnose/files.h"
+#include "diagnose/power.h"
 #include "diagnose/runbook.h"
 #include "diagnose/table.h"
 #include "diagnose/verdict.h"
@@ -110,6 +111,7 @@ class Procedure {
   std::vector<FreshCheck> fresh;  // the chosen effect first, then any tied one
   NextExperiment next;
   SecondRound second;
+  std::vector<Reach> reach;        // what the table can see of every candidate (power.h)
   std::vector<std::string> notes;  // failed runs, cut ranges, what could not be probed
 
   // The effect (none: "") at strength s, refit setting j, shape value (NaN: the effect's default shape).

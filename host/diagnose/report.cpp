@@ -77,6 +77,7 @@ Report make_report(const Procedure& p, double wall_s) {
   r.fresh = p.fresh;
   r.next = p.next;
   r.second = p.second;
+  r.reach = p.reach;
   r.notes = p.notes;
   r.notes.insert(r.notes.end(), p.second.notes.begin(), p.second.notes.end());
   r.not_measured = p.tab.not_measured;
@@ -202,6 +203,28 @@ std::string second_markdown(const Report& r) {
                       s.base_effect, f->effect, f->strength, chi2_of(f->gaps_after), r.cells.size(),
                       significant(f->gaps_after));
   return md + "\n\n";
+}
+
+// What the table can see (power.h): every candidate's largest shift over its probe runs.
+std::string reach_markdown(const Report& r) {
+  if (r.reach.empty()) return "";
+  std::string md = fmt::format(
+      "## What this table can see\n\nThe largest shift each candidate's probe runs make in any cell, in "
+      "units of that cell's noise (|probe − baseline| / √(σ² + se²)). A candidate under {:g} σ everywhere, "
+      "even at the strongest strength probed, is one this table cannot show: the verdict says nothing about "
+      "it.\n\n| effect | strongest probed | largest shift (σ) | at strength | cell | visible |\n"
+      "|---|---|---|---|---|---|\n",
+      kVisibleZ);
+  for (const Reach& x : r.reach) {
+    if (x.strongest <= 0) {
+      md += fmt::format("| {} | (no probe could run) | | | | no |\n", x.effect);
+      continue;
+    }
+    md +=
+        fmt::format("| {} | {:.3g} | {:.1f} | {:.3g} | {} at {} | {} |\n", x.effect, x.strongest, x.max_z,
+                    x.at, r.cells[x.cell].observable, r.cell_condition[x.cell], x.visible ? "yes" : "**no**");
+  }
+  return md + "\n";
 }
 
 nlohmann::json write_report(const std::string& dir, const Report& r, bool figures) {
@@ -363,6 +386,16 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
         {"effects", {r.next.effect_a, r.next.effect_b}}, {"proposals", props}, {"note", r.next.note}};
   }
   j["second"] = second_json(r);
+  j["reach"] = json::array();
+  for (const Reach& x : r.reach)
+    j["reach"].push_back(
+        {{"effect", x.effect},
+         {"strongest_probed", x.strongest},
+         {"max_abs_z", x.max_z},
+         {"at_strength", x.at},
+         {"cell",
+          x.strongest > 0 ? r.cells[x.cell].observable + " at " + r.cell_condition[x.cell] : std::string()},
+         {"visible", x.visible}});
   j["notes"] = r.notes;
   j["not_measured"] = r.not_measured;
   j["runs"] = r.runs;
@@ -458,6 +491,7 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
     md += "\n";
   }
   md += second_markdown(r);
+  md += reach_markdown(r);
   if (!r.notes.empty()) {
     md += "## Runs that could not be made\n\n";
     for (const std::string& n : r.notes) md += "- " + n + "\n";

@@ -27,6 +27,7 @@ struct Report {
   std::vector<FreshCheck> fresh;  // the chosen effect's fresh-seed runs first, then any tied one's
   NextExperiment next;
   SecondRound second;                     // a second effect on top of the first (second_effect.h)
+  std::vector<Reach> reach;               // what the table can see of each candidate (power.h)
   std::vector<std::string> notes;         // failed runs, cut ranges
   std::vector<std::string> not_measured;  // table rows that say a quantity was not measured
   size_t runs = 0, computed = 0;

@@ -18,6 +18,10 @@ echo "withheld spread: $(J "$D/ds/diagnosis.json" 'j["verdict"], j["effect"], ro
 expect "$D/ds/diagnosis.json" 'j["verdict"] == "effect"' "verdict is not effect" "$D/ds/report.md"
 expect "$D/ds/diagnosis.json" 'j["effect"] == "spread"' "wrong effect" "$D/ds/report.md"
 expect "$D/ds/diagnosis.json" 'j["held_out_shrink"] >= 0.5' "shrink < 0.5"
+# What the table can see (power.h): every candidate is listed, and the one found is visible there.
+expect "$D/ds/diagnosis.json" 'len(j["reach"]) == len(j["screen"])' "reach does not list every candidate"
+expect "$D/ds/diagnosis.json" 'any(r["effect"] == "spread" and r["visible"] and r["max_abs_z"] >= 3 for r in j["reach"])' \
+  "the effect found is not visible in its reach"
 
 "$W" twin "$SRC/assets/diagnosis/micro/twin_null.toml" --out "$D/tn" --store "$D/store" --quiet
 mv "$D/tn/truth.json" "$D/truth-null.json"

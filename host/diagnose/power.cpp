@@ -1,0 +1,61 @@
+#include "diagnose/power.h"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include "diagnose/procedure.h"
+
+namespace wetdem::diagnose {
+
+std::pair<double, size_t> largest_shift(const std::vector<Cell>& cells,
+                                        const std::vector<Prediction>& baseline,
+                                        const std::vector<Prediction>& probe) {
+  double best = 0.0;
+  size_t at = 0;
+  for (size_t k = 0; k < cells.size() && k < baseline.size() && k < probe.size(); ++k) {
+    const double s = std::sqrt(cells[k].sigma * cells[k].sigma + probe[k].se * probe[k].se);
+    const double z = std::fabs(probe[k].mean - baseline[k].mean) / s;
+    if (std::isfinite(z) && z > best) best = z, at = k;
+  }
+  return {best, at};
+}
+
+std::vector<Reach> table_reach(const Procedure& p) {
+  std::vector<Reach> out;
+  for (const std::string& e : p.effects) {
+    Reach r;
+    r.effect = e;
+    // The strengths with runs: the catalogue's probes (the screen ran one, the fit more) and whatever the fit
+    // and the second round added (an extended range, refinement knots), at every shape value they ran.
+    std::set<double> strengths;
+    std::vector<double> shapes = {std::nan("")};  // NaN: the effect's default shape (not in a std::set)
+    if (auto it = p.d.probes.find(e); it != p.d.probes.end())
+      strengths.insert(it->second.begin(), it->second.end());
+    for (const std::vector<CandidateRuns>* list : {&p.fitted, &p.second.fitted})
+      for (const CandidateRuns& c : *list) {
+        if (c.effect != e) continue;
+        for (size_t m = 0; m < c.members.size(); ++m) {
+          if (c.refit_of[m] != 0) continue;
+          strengths.insert(c.members[m].strengths.begin(), c.members[m].strengths.end());
+          const double sh = c.shape_of[m] < c.shapes.size() ? c.shapes[c.shape_of[m]] : std::nan("");
+          if (!std::isnan(sh) && std::find(shapes.begin(), shapes.end(), sh) == shapes.end())
+            shapes.push_back(sh);
+        }
+      }
+    for (const double s : strengths)
+      for (const double shape : shapes) {
+        const Variant v = p.variant(e, s, 0, shape);
+        if (!p.book.has_summaries(p.tab.conditions, v, p.probe_seed) || !p.failure(v, p.probe_seed).empty())
+          continue;
+        const auto [z, k] = largest_shift(p.tab.cells, p.baselines[0], p.probe(v, 0));
+        r.strongest = std::max(r.strongest, s);
+        if (z > r.max_z) r.max_z = z, r.at = s, r.cell = k;
+      }
+    r.visible = r.max_z >= kVisibleZ;
+    out.push_back(r);
+  }
+  return out;
+}
+
+}  // namespace wetdem::diagnose

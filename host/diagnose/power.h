@@ -1,0 +1,42 @@
+// What the table can see (diagnosis.md §4, after the fit; no runs of its own): for every candidate, the
+// largest shift any of its probe runs makes in any cell, in units of that cell's noise. A candidate that
+// moves no cell by kVisibleZ even at the strongest strength probed is one this table cannot show: a `no_gap`
+// does not exclude it, and an `unexplained` does not rule it out. The report says so, with the cell where it
+// comes closest, so the engineer knows which effects the verdict is silent on.
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "diagnose/cells.h"
+#include "diagnose/table.h"
+
+namespace wetdem::diagnose {
+
+class Procedure;
+
+// One cell shifted by kVisibleZ is what a lab would call a significant difference; the issue's "just
+// detectable" strength is the one that reaches it at one condition.
+constexpr double kVisibleZ = 3.0;
+
+struct Reach {
+  std::string effect;
+  double strongest = 0.0;  // the strongest strength with probe runs at every condition (0: none could run)
+  double max_z = 0.0;      // the largest |probe - baseline| / sqrt(sigma² + se²) over cells and probes
+  double at = 0.0;         // the strength it came from
+  size_t cell = 0;         // and its cell
+  bool visible = false;    // max_z >= kVisibleZ
+};
+
+// The largest |probe - baseline| / sqrt(sigma² + probe se²) over the cells with finite values, and its cell.
+// The probe's SE already counts the run-to-run spread against the baseline (Procedure::probe).
+std::pair<double, size_t> largest_shift(const std::vector<Cell>& cells,
+                                        const std::vector<Prediction>& baseline,
+                                        const std::vector<Prediction>& probe);
+
+// Every candidate's reach over the probe runs already in the store (the screen's, the fit's, the second
+// round's at refit setting 0), in the order of p.effects.
+std::vector<Reach> table_reach(const Procedure& p);
+
+}  // namespace wetdem::diagnose
