@@ -10,7 +10,9 @@ counted apart (neither a hit on the named truth nor a confident wrong answer). F
 writes a twin file with truth seeds and a noise seed of its own, runs `wetdem twin` and `wetdem diagnose`
 (the diagnosis never sees truth.json), all through one shared run store, and writes OUT/matrix.json, OUT/matrix.md and OUT/matrix.png:
   - the confusion matrix (truth -> outcome: the chosen effect for `effect`/`partial`, else the verdict);
-  - top-1: the chosen effect is the truth (`effect` or `partial`), over the effect twins;
+  - identified (top-1): the truth is named (`effect` or `partial`; first, or as the second effect fitted on
+    top) and nothing the twin did not withhold is named, over the effect twins; apart, over the twins whose
+    truth the table can show at all (signal: the noiseless truth moves some cell by >= 3 sigma);
   - the median held-out shrink over the correctly identified twins;
   - strength: the fitted strength within +-25 % of the truth, and the interval covering it, over those twins;
   - nulls and outside effects: any `effect` verdict is a confident wrong answer (`partial` is hedged);
@@ -55,6 +57,28 @@ def twin_text(base, base_dir, seeds, noise_seed, overrides):
     return text
 
 
+def signal(d, j):
+    """How visible the withheld truth is in this table, before any noise: the noiseless truth (truth.json) against
+    the diagnosis's baseline model, z = (truth - model) / sqrt(sigma^2 + model_se^2) per cell. A twin whose
+    largest |z| is under 3 carries no cell a lab would call significant even without noise: no method can be
+    asked to find its effect there (the issue's "weak": just detectable, ~3 sigma at one condition)."""
+    path = os.path.join(d, "twin", "truth.json")
+    if not os.path.exists(path):
+        return None
+    noiseless = {(n["condition"], n["observable"]): n["mean"] for n in json.load(open(path)).get("noiseless", [])}
+    zs = []
+    for c in j.get("cells") or []:
+        m = noiseless.get((c["condition"], c["observable"]))
+        if m is None or c.get("sigma") is None or c.get("model") is None:
+            continue
+        zs.append(((m - c["model"]) / (c["sigma"] ** 2 + (c.get("model_se") or 0) ** 2) ** 0.5,
+                   f"{c['observable']} at {c['condition']}"))
+    if not zs:
+        return None
+    z, where = max(zs, key=lambda x: abs(x[0]))
+    return {"max_abs_z": abs(z), "where": where, "chi2": sum(x * x for x, _ in zs), "cells": len(zs)}
+
+
 def row_of(d, t):
     j = json.load(open(os.path.join(d, "diagnosis", "diagnosis.json")))
     best = next((r for r in j.get("ranking") or [] if r["effect"] == j["effect"]), None)
@@ -66,16 +90,33 @@ def row_of(d, t):
             # (diagnosis.md, "A second effect"): named by `effect` and `partial` verdicts.
             "second": (j.get("second") or {}).get("effect"),
             "second_strength": (j.get("second") or {}).get("strength"),
+            "second_interval": next((x.get("strength_interval") for x in (j.get("second") or {}).get("ranking") or []
+                                     if x["effect"] == (j.get("second") or {}).get("effect")), None),
+            "second_interval_open": next((x.get("strength_interval_open") for x in
+                                          (j.get("second") or {}).get("ranking") or []
+                                          if x["effect"] == (j.get("second") or {}).get("effect")), None),
+            # The pair's share of the null's held-out chi2 (the first effect's shrink and the second's on top).
+            "second_shrink_total": (j.get("second") or {}).get("held_out_shrink_total"),
             "strength": best["strength"] if best else None,
             "interval": best["strength_interval"] if best else None,
             "interval_open": best.get("strength_interval_open") if best else None,
             "held_out_shrink": j["held_out_shrink"], "held_out_gap_shrink": j.get("held_out_gap_shrink"),
-            "runs_computed": j.get("runs_computed"),
+            "runs_computed": j.get("runs_computed"), "signal": signal(d, j),
             "wall_s": j.get("wall_s"), "device": j["device"]}
 
 
+def identified(r):
+    """The truth named (first, or as the second effect on top) and nothing the twin did not withhold."""
+    return (r["verdict"] in ("effect", "partial") and r["truth"] in (r["effect"], r.get("second"))
+            and {r["effect"], r.get("second")} - {None} <= {r["truth"], r.get("also")})
+
+
 def outcome(r):
-    return r["effect"] if r["verdict"] in ("effect", "partial") else r["verdict"]
+    """The confusion matrix's column: the truth when identified (a withheld pair named in either order counts
+    under the twin's named truth), else the chosen effect, else the verdict."""
+    if r["verdict"] not in ("effect", "partial"):
+        return r["verdict"]
+    return r["truth"] if identified(r) else r["effect"]
 
 
 def is_effect_twin(r):
@@ -138,7 +179,20 @@ def plot(rows, path):
 
 def summarize(rows, wall, device, out_dir, spec_path):
     eff = [r for r in rows if is_effect_twin(r)]
-    right = [r for r in eff if r["verdict"] in ("effect", "partial") and r["effect"] == r["truth"]]
+    # Identified: the truth is named (first, or as the second effect on top) and nothing the twin did not
+    # withhold is named. A twin that withholds two candidates (l = 4 is `scale` 0.2 plus its effect) is
+    # identified by naming both, in either order; naming its other difference alone is counted apart.
+    right = [r for r in eff if identified(r)]
+    first = [r for r in eff if r["verdict"] in ("effect", "partial") and r["effect"] == r["truth"]]
+    # Twins whose truth the table can show at all (signal: the noiseless truth moves a cell by >= 3 sigma).
+    visible = [r for r in eff if (r.get("signal") or {}).get("max_abs_z", 0) >= 3]
+    right_visible = [r for r in right if r in visible]
+    for r in right:  # the fitted strength of the truth, whether it was named first or second
+        if r["effect"] != r["truth"]:
+            r["strength"], r["interval"] = r.get("second_strength"), r.get("second_interval")
+            r["interval_open"] = r.get("second_interval_open")
+        if r.get("second") and r.get("second_shrink_total") is not None:  # the named pair's shrink
+            r["held_out_shrink"] = r["second_shrink_total"]
     shrinks = [r["held_out_shrink"] for r in right if r["held_out_shrink"] is not None]
     # The share of the gap (the null's held-out χ² above its noise floor) the chosen effect removes.
     gap_shrinks = [r["held_out_gap_shrink"] for r in right if r.get("held_out_gap_shrink") is not None]
@@ -158,7 +212,8 @@ def summarize(rows, wall, device, out_dir, spec_path):
     quiet = [r for r in rows if not is_effect_twin(r)]
     confident_wrong = [r for r in quiet if r["verdict"] == "effect"]
     out = {"matrix": spec_path, "rows": rows, "effect_twins": len(eff), "top1": len(right),
-           "top1_rate": len(right) / len(eff) if eff else None,
+           "top1_rate": len(right) / len(eff) if eff else None, "truth_chosen_first": len(first),
+           "visible_effect_twins": len(visible), "top1_visible": len(right_visible),
            "in_reported_set": sum(1 for r in eff if r["effect"] == r["truth"] or r["truth"] in r["tied"]),
            "median_held_out_shrink": statistics.median(shrinks) if shrinks else None,
            "median_held_out_gap_shrink": statistics.median(gap_shrinks) if gap_shrinks else None,
@@ -168,12 +223,12 @@ def summarize(rows, wall, device, out_dir, spec_path):
            "nulls_and_outside": len(quiet), "confident_wrong": len(confident_wrong),
            "device": device, "wall_s": wall}
     json.dump(out, open(os.path.join(out_dir, "matrix.json"), "w"), indent=2)
-    md = ["| twin | truth | truth strength | also differs | verdict | chosen (tied) | fitted strength [interval] | "
-          "held-out shrink | wall |", "|---|---|---|---|---|---|---|---|---|"]
+    md = ["| twin | truth | truth strength | also differs | signal max z | verdict | chosen (tied) | "
+          "fitted strength [interval] | held-out shrink | wall |", "|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         s = r["held_out_shrink"]
         fit = ""
-        if r["strength"] is not None:
+        if r["strength"] is not None and r["interval"]:
             lo, hi = r["interval"]
             op = r["interval_open"] or [False, False]
             fit = f"{r['strength']:.3g} [{'≤ ' if op[0] else ''}{lo:.3g}, {hi:.3g}{' ≤' if op[1] else ''}]"
@@ -184,7 +239,9 @@ def summarize(rows, wall, device, out_dir, spec_path):
         also = "yes" if r["perturbed"] else ""
         if r.get("also"):
             also = f"yes (`{r['also']}` {r['also_strength']:.3g})"
+        sig = r.get("signal")
         md.append(f"| {r['twin']} | {r['truth'] or 'none'} | {ts} | {also} | "
+                  f"{'' if not sig else '%.1f' % sig['max_abs_z']} | "
                   f"{r['verdict']} | {chosen} | {fit} | {'' if s is None else f'{100 * s:.0f} %'} | "
                   f"{'' if r['wall_s'] is None else '%.0f s' % r['wall_s']} |")
     md.append("")
@@ -192,9 +249,10 @@ def summarize(rows, wall, device, out_dir, spec_path):
     md.append("")
     n = len(right)
     md.append(
-        f"Top-1 identification {len(right)}/{len(eff)} ({100 * (out['top1_rate'] or 0):.0f} %) over the effect twins "
-        f"(truth in the reported set, chosen or tied: {out['in_reported_set']}/{len(eff)}; named first or as a "
-        f"second effect: {len(named)}/{len(eff)}); median held-out "
+        f"Identified {len(right)}/{len(eff)} ({100 * (out['top1_rate'] or 0):.0f} %) of the effect twins "
+        f"(the truth named, first or as a second effect, and nothing not withheld; chosen first: {len(first)}; in the "
+        f"reported set, chosen or tied: {out['in_reported_set']}), {len(right_visible)}/{len(visible)} of those "
+        f"whose truth moves a cell by >= 3 sigma without noise (signal max z); median held-out "
         f"shrink {'-' if not shrinks else f'{100 * statistics.median(shrinks):.0f} %'} over the {n} identified "
         f"(of the gap above the noise floor: {'-' if not gap_shrinks else f'{100 * statistics.median(gap_shrinks):.0f} %'}); "
         f"fitted strength within ±25 % of the truth for {len(within)}/{n}, interval covering the truth for "
