@@ -36,7 +36,7 @@ nlohmann::json run_diagnosis(const DiagnosisSpec& d, const DiagnoseOptions& o) {
     run_second_effect(p);                                        // 6b. a second effect, when partial
     run_next_experiment(p);                                      // 7. next experiment (ties)
   }
-  p.reach = table_reach(p);  // 8. what the table can see of each candidate (its probe runs, no new ones)
+  run_reach(p);  // 8. what the table can see of each candidate (its strongest probe if none shows it)
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return write_report(o.out, make_report(p, wall_s), o.figures);
 }

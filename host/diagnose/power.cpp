@@ -1,5 +1,7 @@
 #include "diagnose/power.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <set>
@@ -56,6 +58,37 @@ std::vector<Reach> table_reach(const Procedure& p) {
     out.push_back(r);
   }
   return out;
+}
+
+void run_reach(Procedure& p) {
+  p.reach = table_reach(p);
+  std::vector<Variant> asked;
+  for (const Reach& r : p.reach) {
+    if (r.visible) continue;
+    const auto it = p.d.probes.find(r.effect);
+    if (it == p.d.probes.end()) continue;
+    // The strongest probe that has not failed and may run; none when the strongest run so far is it.
+    std::vector<double> probes = it->second;
+    std::sort(probes.rbegin(), probes.rend());
+    for (const double s : probes) {
+      if (s <= r.strongest) break;
+      const Variant v = p.variant(r.effect, s);
+      if (!p.failure(v, p.probe_seed).empty()) continue;
+      if (const std::string why = p.want(v, p.probe_seed); !why.empty()) {
+        p.notes.push_back(fmt::format("reach: {} {}", v.label(), why));
+        continue;
+      }
+      asked.push_back(v);
+      break;
+    }
+  }
+  if (asked.empty()) return;
+  p.run();
+  for (const Variant& v : asked)
+    if (const std::string why = p.failure(v, p.probe_seed); !why.empty())
+      p.notes.push_back(
+          fmt::format("reach: {} failed ({}); the reach is that of a weaker probe", v.label(), why));
+  p.reach = table_reach(p);
 }
 
 }  // namespace wetdem::diagnose

@@ -1,8 +1,8 @@
-// What the table can see (diagnosis.md §4, after the fit; no runs of its own): for every candidate, the
-// largest shift any of its probe runs makes in any cell, in units of that cell's noise. A candidate that
-// moves no cell by kVisibleZ even at the strongest strength probed is one this table cannot show: a `no_gap`
-// does not exclude it, and an `unexplained` does not rule it out. The report says so, with the cell where it
-// comes closest, so the engineer knows which effects the verdict is silent on.
+// What the table can see (diagnosis.md §4, stage 8, after the others): for every candidate, the largest shift
+// any of its probe runs makes in any cell, in units of that cell's noise. A candidate that moves no cell by
+// kVisibleZ even at the strongest strength of its catalogue is one this table cannot show: a `no_gap` does
+// not exclude it, and an `unexplained` does not rule it out. The report says so, with the cell where it comes
+// closest, so the engineer knows which effects the verdict is silent on.
 #pragma once
 
 #include <string>
@@ -38,5 +38,12 @@ std::pair<double, size_t> largest_shift(const std::vector<Cell>& cells,
 // Every candidate's reach over the probe runs already in the store (the screen's, the fit's, the second
 // round's at refit setting 0), in the order of p.effects.
 std::vector<Reach> table_reach(const Procedure& p);
+
+// Stage 8: table_reach, after running the strongest catalogue probe (one seed, every condition) of each
+// candidate that no run so far shows: the screen runs the middle probe only, and "cannot see X up to the
+// middle" says little. Such runs are shared by every diagnosis of the model in the store. A probe that the
+// cost guard refuses or that fails is noted, and the reach stays at the strongest one that ran. Fills
+// p.reach.
+void run_reach(Procedure& p);
 
 }  // namespace wetdem::diagnose
