@@ -172,6 +172,12 @@ TEST(DiagnoseVerdict, TieRuleAndPartial) {
   Verdict q = alone;
   settle_verdict(q, std::vector<bool>(5, false));
   EXPECT_EQ(q.kind, "effect");
+  // The fresh runs must reproduce an improvement (fresh_confirms): the flowing null-2 twin's hysteresis fit
+  // at its probe edge passed the held-out rule, and its fresh runs gave χ² 91.1 against the model's 59.9.
+  EXPECT_TRUE(fresh_confirms(116.1, 6.4, VerdictRule{}));
+  EXPECT_FALSE(fresh_confirms(59.9, 91.1, VerdictRule{})) << "worse on fresh seeds";
+  EXPECT_FALSE(fresh_confirms(59.9, 57.0, VerdictRule{})) << "within min_drop of the model: noise";
+  EXPECT_TRUE(fresh_confirms(59.9, 59.9 - VerdictRule{}.min_drop, VerdictRule{}));
 }
 
 // The next experiment proposes conditions beyond and between the table's, in the table's units, then another

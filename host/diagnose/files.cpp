@@ -79,8 +79,8 @@ DiagnosisSpec parse_diagnosis_file(const std::string& path_in) {
   const toml::table root = load(path);
   reject_unknown(root, path,
                  {"name", "case", "observations", "effects", "replicates", "screen_top", "refine", "extend",
-                  "confirm", "max_cost", "next_conditions", "second_effect", "set", "probes", "shapes",
-                  "verdict", "refit", "refit_values"});
+                  "confirm", "max_cost", "next_conditions", "reach_conditions", "second_effect", "set",
+                  "probes", "shapes", "verdict", "refit", "refit_values"});
   DiagnosisSpec d;
   d.path = path;
   d.name = root["name"].value_or(fs::path(path).stem().string());
@@ -149,6 +149,12 @@ DiagnosisSpec parse_diagnosis_file(const std::string& path_in) {
     if (!r || *r < 0 || *r > 20)
       throw DiagnoseError(fmt::format("{}: next_conditions: an integer in [0, 20]", path));
     d.next_conditions = size_t(*r);
+  }
+  if (root.contains("reach_conditions")) {
+    const auto r = root["reach_conditions"].value<int64_t>();
+    if (!r || *r < 0 || *r > 20)
+      throw DiagnoseError(fmt::format("{}: reach_conditions: an integer in [0, 20]", path));
+    d.reach_conditions = size_t(*r);
   }
   if (const auto* t = root["set"].as_table()) d.set = overrides_of(*t, path, "set");
   // [probes] (strengths) and [shapes] (second parameters): positive, ascending, inside the physical range

@@ -34,10 +34,12 @@ struct DiagnosisSpec {
   int confirm = 1;             // re-fits of the chosen effect with its fresh runs as a knot (0-3, shrink.h)
   double max_cost = 10;        // a run needing more than this many times a baseline run's steps is not run
   size_t next_conditions = 6;  // conditions the next-experiment stage may propose and run (0: none)
-  int replicates = 2;          // baseline and shrink seeds
-  size_t screen_top = 3;       // candidates fitted after the screen
-  bool second_effect = true;   // a partial verdict fits a second candidate on top (second_effect.h)
-  int refine = 2;              // per fitted candidate: runs added at its fitted strength, then refitted (0-5)
+  size_t reach_conditions =
+      3;                      // conditions beyond the table where a candidate it cannot see is run (power.h)
+  int replicates = 2;         // baseline and shrink seeds
+  size_t screen_top = 3;      // candidates fitted after the screen
+  bool second_effect = true;  // a partial verdict fits a second candidate on top (second_effect.h)
+  int refine = 2;             // per fitted candidate: runs added at its fitted strength, then refitted (0-5)
   VerdictRule rule;
   std::vector<RefitKey> refit;  // `refit` + [refit_values] (refit.h); empty: nothing re-fitted
 };

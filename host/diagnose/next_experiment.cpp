@@ -86,6 +86,17 @@ std::vector<Condition> propose_conditions(const std::vector<Condition>& table, c
   return unique;
 }
 
+std::map<std::string, double> median_sigma(const std::vector<Cell>& cells) {
+  std::map<std::string, std::vector<double>> sig;
+  for (const Cell& c : cells) sig[c.observable].push_back(c.sigma);
+  std::map<std::string, double> sigma;
+  for (auto& [o, v] : sig) {
+    std::sort(v.begin(), v.end());
+    sigma[o] = v[v.size() / 2];
+  }
+  return sigma;
+}
+
 void run_next_experiment(Procedure& p) {
   p.next = {};
   if (p.verdict.tied.empty()) return;
@@ -96,14 +107,7 @@ void run_next_experiment(Procedure& p) {
   const FreshCheck &a = p.fresh[0], &b = p.fresh[1];
   p.next.effect_a = a.effect;
   p.next.effect_b = b.effect;
-  // The noise of a measurement of each observable: the table's median sigma.
-  std::map<std::string, std::vector<double>> sig;
-  for (const Cell& c : p.tab.cells) sig[c.observable].push_back(c.sigma);
-  std::map<std::string, double> sigma;
-  for (auto& [o, v] : sig) {
-    std::sort(v.begin(), v.end());
-    sigma[o] = v[v.size() / 2];
-  }
+  std::map<std::string, double> sigma = median_sigma(p.tab.cells);
   const auto separation = [&](const std::string& obs, const Prediction& x, const Prediction& y) {
     return std::fabs(x.mean - y.mean) / std::sqrt(sigma[obs] * sigma[obs] + x.se * x.se + y.se * y.se);
   };

@@ -5,6 +5,9 @@
 // they differ most relative to the noise is what the engineer should measure next.
 #pragma once
 
+#include <map>
+#include <string>
+
 #include "diagnose/procedure.h"
 
 namespace wetdem::diagnose {
@@ -18,5 +21,8 @@ void run_next_experiment(Procedure& p);
 // the unit the table uses for the key. Pure (tests).
 std::vector<Condition> propose_conditions(const std::vector<Condition>& table, const Condition& base,
                                           double model_rpm, double model_duration_s, size_t max);
+
+// The noise of a new measurement of each observable: the table's median sigma for it.
+std::map<std::string, double> median_sigma(const std::vector<Cell>& cells);
 
 }  // namespace wetdem::diagnose

@@ -67,8 +67,18 @@ std::string limit_sentence(const Report& r, const std::string& e) {
   return "";
 }
 
-// The candidates this table cannot show (power.h): what the verdict is silent on, and where each comes
-// closest.
+// Where a candidate the table cannot see would show, from its runs beyond the table (power.h).
+std::string beyond_clause(const Reach& x) {
+  if (x.beyond_tried.empty()) return "";
+  if (x.beyond_z >= kVisibleZ)
+    return fmt::format("; **to see it, measure {} at {}**, where it would move by {:.1f} σ",
+                       x.beyond_observable, x.beyond_condition, x.beyond_z);
+  return fmt::format(", nor at {} condition(s) beyond the table (at most {:.1f} σ: {} at {})",
+                     x.beyond_tried.size(), x.beyond_z, x.beyond_observable, x.beyond_condition);
+}
+
+// The candidates this table cannot show (power.h): what the verdict is silent on, where each comes closest,
+// and where it would show.
 std::string blind_sentence(const Report& r) {
   std::string list;
   size_t n = 0;
@@ -78,16 +88,16 @@ std::string blind_sentence(const Report& r) {
     list += x.strongest <= 0 ? fmt::format("`{}` (no probe of it could run)", x.effect)
                              : fmt::format(
                                    "`{}` moves no cell by more than {:.1f} σ up to {} = {:.3g} (closest: "
-                                   "{} at {})",
+                                   "{} at {}){}",
                                    x.effect, x.max_z, effect_spec(x.effect).strength, x.strongest,
-                                   r.cells[x.cell].observable, r.cell_condition[x.cell]);
+                                   r.cells[x.cell].observable, r.cell_condition[x.cell], beyond_clause(x));
     ++n;
   }
   if (n == 0) return "";
   return fmt::format(
-      " **What this table cannot see:** {}. The verdict neither finds nor excludes {}: measurements with "
-      "smaller error bars where {} comes closest, or conditions beyond the table in that direction (a higher "
-      "drum speed for a force that grows with speed), are what could.",
+      " **What this table cannot see:** {}. The verdict neither finds nor excludes {}; a measurement where "
+      "{} "
+      "would move by 3 σ or more is what could.",
       list, n == 1 ? "it" : "them", n == 1 ? "it" : "each");
 }
 
@@ -201,6 +211,25 @@ std::string verdict_core(const Report& r) {
         "observations at "
         "{} of {} cells ({}).{}{} Re-calibrate the model with these values rather than add an effect.",
         ns, n, where, null_refit_sentence(r), best);
+  }
+  // Unexplained because the chosen effect's fresh runs did not reproduce its improvement (verdict.h,
+  // fresh_confirms).
+  if (r.verdict.fresh_rejected && !r.verdict.ranking.empty() && r.chosen() && !r.chosen()->after.empty()) {
+    const Candidate& c = r.verdict.ranking.front();
+    const FreshCheck& f = *r.chosen();
+    return fmt::format(
+        "**Gap not explained.** The model departs from the observations at {} of {} cells ({}). The best "
+        "candidate, `{}` ({}), passed the held-out rule at {} = {:.3g} (held-out χ² {:.1f} against the "
+        "model's "
+        "{:.1f}), but fresh runs at that strength do not reproduce it: χ² {:.1f} over the {} cells against "
+        "the "
+        "calibrated model's {:.1f}, not lower by {:g}. Its fit followed the seed noise of its probe runs, "
+        "not "
+        "the data, so no effect is named. The cause may lie outside the candidates, or the gap may be noise; "
+        "repeating the measurements at the cells above would tell.{}",
+        ns, n, where, c.effect, effect_spec(c.effect).fingerprint, effect_spec(c.effect).strength, f.strength,
+        c.loco, r.verdict.null_loco, chi2_of(f.gaps_after), n, chi2_of(r.gaps), r.spec->rule.min_drop,
+        null_refit_sentence(r));
   }
   // Unexplained: either the best candidate helps but not by the rule's margin (a lead worth more data), or
   // none helps (the cause lies outside the candidates).

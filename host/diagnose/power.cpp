@@ -6,6 +6,7 @@
 #include <cmath>
 #include <set>
 
+#include "diagnose/next_experiment.h"
 #include "diagnose/procedure.h"
 
 namespace wetdem::diagnose {
@@ -60,6 +61,54 @@ std::vector<Reach> table_reach(const Procedure& p) {
   return out;
 }
 
+namespace {
+
+// Where a candidate the table cannot see would show (run_reach, second part).
+void run_beyond(Procedure& p) {
+  if (p.d.reach_conditions == 0) return;
+  const Variant none = p.variant("", 0.0);
+  std::vector<std::vector<Condition>> conds(p.reach.size());
+  for (size_t i = 0; i < p.reach.size(); ++i) {
+    const Reach& r = p.reach[i];
+    if (r.visible || r.strongest <= 0) continue;
+    const Variant v = p.variant(r.effect, r.strongest);
+    for (Condition& c : propose_conditions(p.tab.conditions, p.tab.conditions[p.tab.cell_condition[r.cell]],
+                                           p.models[0].rpm, p.models[0].duration_s, p.d.reach_conditions)) {
+      try {
+        p.book.want(c, none, p.probe_seed);
+        p.book.want(c, v, p.probe_seed);
+        conds[i].push_back(c);
+      } catch (const study::StudyError& e) {
+        p.notes.push_back(fmt::format("reach: {} at {} cannot be run: {}", r.effect, c.label, e.what()));
+      }
+    }
+  }
+  p.run();
+  const std::map<std::string, double> sigma = median_sigma(p.tab.cells);
+  for (size_t i = 0; i < p.reach.size(); ++i) {
+    Reach& r = p.reach[i];
+    const Variant v = p.variant(r.effect, r.strongest);
+    for (const Condition& c : conds[i]) {
+      const std::string why = p.book.failure({c}, none, p.probe_seed) + p.book.failure({c}, v, p.probe_seed);
+      if (!why.empty()) {
+        p.notes.push_back(fmt::format("reach: {} at {}: {}", r.effect, c.label, why));
+        continue;
+      }
+      r.beyond_tried.push_back(c.label);
+      for (const auto& [obs, sd] : sigma) {
+        if (!p.book.reports(c, v, p.probe_seed, obs) || !p.book.reports(c, none, p.probe_seed, obs)) continue;
+        const Prediction x = p.book.predict(c, v, p.probe_seed, obs),
+                         y = p.book.predict(c, none, p.probe_seed, obs);
+        const double z = std::fabs(x.mean - y.mean) / std::sqrt(sd * sd + x.se * x.se + y.se * y.se);
+        if (std::isfinite(z) && z > r.beyond_z)
+          r.beyond_z = z, r.beyond_condition = c.label, r.beyond_observable = obs;
+      }
+    }
+  }
+}
+
+}  // namespace
+
 void run_reach(Procedure& p) {
   p.reach = table_reach(p);
   std::vector<Variant> asked;
@@ -82,13 +131,15 @@ void run_reach(Procedure& p) {
       break;
     }
   }
-  if (asked.empty()) return;
-  p.run();
-  for (const Variant& v : asked)
-    if (const std::string why = p.failure(v, p.probe_seed); !why.empty())
-      p.notes.push_back(
-          fmt::format("reach: {} failed ({}); the reach is that of a weaker probe", v.label(), why));
-  p.reach = table_reach(p);
+  if (!asked.empty()) {
+    p.run();
+    for (const Variant& v : asked)
+      if (const std::string why = p.failure(v, p.probe_seed); !why.empty())
+        p.notes.push_back(
+            fmt::format("reach: {} failed ({}); the reach is that of a weaker probe", v.label(), why));
+    p.reach = table_reach(p);
+  }
+  run_beyond(p);
 }
 
 }  // namespace wetdem::diagnose

@@ -27,6 +27,12 @@ struct Reach {
   double at = 0.0;         // the strength it came from
   size_t cell = 0;         // and its cell
   bool visible = false;    // max_z >= kVisibleZ
+  // Not visible: the strongest probe and the baseline (seed 1 each) at conditions beyond the table
+  // (propose_conditions around the cell where it comes closest), and where it would move most.
+  std::vector<std::string> beyond_tried;  // the conditions that ran
+  std::string beyond_condition, beyond_observable;
+  double beyond_z =
+      0.0;  // |probe - baseline| / sqrt(sigma² + se_probe² + se_baseline²), sigma the table's median
 };
 
 // The largest |probe - baseline| / sqrt(sigma² + probe se²) over the cells with finite values, and its cell.
@@ -42,8 +48,11 @@ std::vector<Reach> table_reach(const Procedure& p);
 // Stage 8: table_reach, after running the strongest catalogue probe (one seed, every condition) of each
 // candidate that no run so far shows: the screen runs the middle probe only, and "cannot see X up to the
 // middle" says little. Such runs are shared by every diagnosis of the model in the store. A probe that the
-// cost guard refuses or that fails is noted, and the reach stays at the strongest one that ran. Fills
-// p.reach.
+// cost guard refuses or that fails is noted, and the reach stays at the strongest one that ran. Then, for
+// each candidate still not visible, up to `reach_conditions` conditions beyond the table (the next-experiment
+// stage's proposals around its closest cell: one step past the largest measured value of each condition key,
+// the midpoints, another drum speed, a longer run) with its strongest probe and the baseline, seed 1 each
+// (common random numbers): the measurement that could show it. Fills p.reach.
 void run_reach(Procedure& p);
 
 }  // namespace wetdem::diagnose

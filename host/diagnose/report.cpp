@@ -14,19 +14,6 @@ namespace fs = std::filesystem;
 
 namespace wetdem::diagnose {
 
-double chi2_of(const std::vector<CellGap>& g) {
-  double s = 0;
-  for (const CellGap& x : g)
-    if (std::isfinite(x.z)) s += x.z * x.z;
-  return s;
-}
-
-size_t significant(const std::vector<CellGap>& g) {
-  size_t n = 0;
-  for (const CellGap& x : g) n += x.significant;
-  return n;
-}
-
 bool has_refit(const Report& r) {
   return !r.spec->refit.empty() && r.settings.size() > 1;
 }
@@ -212,17 +199,24 @@ std::string reach_markdown(const Report& r) {
       "## What this table can see\n\nThe largest shift each candidate's probe runs make in any cell, in "
       "units of that cell's noise (|probe − baseline| / √(σ² + se²)). A candidate under {:g} σ everywhere, "
       "even at the strongest strength probed, is one this table cannot show: the verdict says nothing about "
-      "it.\n\n| effect | strongest probed | largest shift (σ) | at strength | cell | visible |\n"
-      "|---|---|---|---|---|---|\n",
+      "it. Such a candidate was also run with the baseline at conditions beyond the table (seed 1 each, "
+      "noise "
+      "the table's median σ of the observable): where it would show.\n\n"
+      "| effect | strongest probed | largest shift (σ) | at strength | cell | visible | beyond the table |\n"
+      "|---|---|---|---|---|---|---|\n",
       kVisibleZ);
   for (const Reach& x : r.reach) {
     if (x.strongest <= 0) {
-      md += fmt::format("| {} | (no probe could run) | | | | no |\n", x.effect);
+      md += fmt::format("| {} | (no probe could run) | | | | no | |\n", x.effect);
       continue;
     }
-    md +=
-        fmt::format("| {} | {:.3g} | {:.1f} | {:.3g} | {} at {} | {} |\n", x.effect, x.strongest, x.max_z,
-                    x.at, r.cells[x.cell].observable, r.cell_condition[x.cell], x.visible ? "yes" : "**no**");
+    std::string beyond;
+    if (!x.beyond_condition.empty())
+      beyond = fmt::format("{:.1f} σ: {} at {} (of {} tried)", x.beyond_z, x.beyond_observable,
+                           x.beyond_condition, x.beyond_tried.size());
+    md += fmt::format("| {} | {:.3g} | {:.1f} | {:.3g} | {} at {} | {} | {} |\n", x.effect, x.strongest,
+                      x.max_z, x.at, r.cells[x.cell].observable, r.cell_condition[x.cell],
+                      x.visible ? "yes" : "**no**", beyond);
   }
   return md + "\n";
 }
@@ -238,6 +232,7 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
   j["case"] = r.spec->case_path;
   j["observations"] = r.spec->observations;
   j["verdict"] = r.verdict.kind;
+  j["fresh_rejected"] = r.verdict.fresh_rejected;  // the chosen fit did not reproduce on fresh seeds
   j["effect"] = named ? json(r.verdict.effect) : json(nullptr);
   j["effects"] = json::array();  // every effect the verdict names: the first, then a second on top of it
   if (named) j["effects"].push_back(r.verdict.effect);
@@ -395,7 +390,11 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
          {"at_strength", x.at},
          {"cell",
           x.strongest > 0 ? r.cells[x.cell].observable + " at " + r.cell_condition[x.cell] : std::string()},
-         {"visible", x.visible}});
+         {"visible", x.visible},
+         {"beyond_tried", x.beyond_tried},
+         {"beyond_condition", x.beyond_condition},
+         {"beyond_observable", x.beyond_observable},
+         {"beyond_max_abs_z", x.beyond_z}});
   j["notes"] = r.notes;
   j["not_measured"] = r.not_measured;
   j["runs"] = r.runs;

@@ -57,10 +57,7 @@ Report make_report(const Procedure& p, double wall_s);
 nlohmann::json write_report(const std::string& dir, const Report& r, bool figures);
 
 // The plain-language paragraph of report.md (paragraph.cpp).
-// chi^2 of a gap set (finite z only), its significant cells, and whether the report carries a re-fitted
-// parameter: shared by the report and its plain-language paragraph.
-double chi2_of(const std::vector<CellGap>& g);
-size_t significant(const std::vector<CellGap>& g);
+// Whether the report carries a re-fitted parameter: shared by the report and its plain-language paragraph.
 bool has_refit(const Report& r);
 
 std::string verdict_paragraph(const Report& r);

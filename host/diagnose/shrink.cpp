@@ -143,6 +143,16 @@ void run_shrink(Procedure& p) {
   std::vector<bool> sig;
   for (const CellGap& g : chosen.gaps_after) sig.push_back(g.significant);
   settle_verdict(p.verdict, sig);
+  const double before = chi2_of(p.gaps), after = chi2_of(chosen.gaps_after);
+  if (!fresh_confirms(before, after, p.d.rule)) {
+    p.notes.push_back(fmt::format(
+        "shrink: the fresh runs of {} at {:.3g} give χ² {:.1f} over the cells against the calibrated model's "
+        "{:.1f}: not lower by min_drop = {:g}, so the fit is not confirmed and the verdict is unexplained",
+        chosen.effect, chosen.strength, after, before, p.d.rule.min_drop));
+    p.verdict.kind = "unexplained";
+    p.verdict.fresh_rejected = true;
+    p.verdict.tied.clear();
+  }
 }
 
 }  // namespace wetdem::diagnose

@@ -105,6 +105,10 @@ Verdict decide(const std::vector<Cell>& cells, const std::vector<Prediction>& ba
   return decide(cells, std::vector<std::vector<Prediction>>{baseline}, fams, rule);
 }
 
+bool fresh_confirms(double chi2_before, double chi2_fresh, const VerdictRule& rule) {
+  return chi2_fresh <= chi2_before - rule.min_drop;
+}
+
 void settle_verdict(Verdict& v, const std::vector<bool>& significant_after) {
   if (v.kind != "effect") return;
   if (std::any_of(significant_after.begin(), significant_after.end(), [](bool b) { return b; }))

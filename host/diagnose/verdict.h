@@ -74,6 +74,9 @@ struct Verdict {
   double floor = 0.0;            // noise_floor() of the null's held-out χ²
   double held_out_gap_shrink =
       0.0;  // (LOCO_null - LOCO_best) / (LOCO_null - floor): of the gap, not the noise
+  // The chosen effect passed the rule, but its fresh-seed runs did not lower χ² over the cells by min_drop
+  // (fresh_confirms): the verdict became "unexplained" and says so.
+  bool fresh_rejected = false;
 };
 
 // The effect margin against the null: LOCO <= floor + ratio x (LOCO_null - floor), i.e. the candidate removes
@@ -94,5 +97,11 @@ bool clearly_worse(const Candidate& a, const Candidate& b, const VerdictRule& ru
 
 // The fresh-seed check: an `effect` whose runs leave significant cells becomes `partial`.
 void settle_verdict(Verdict& v, const std::vector<bool>& significant_after);
+
+// Whether the fresh-seed runs at the fitted strength reproduce an improvement: χ² over the cells (fresh seeds
+// R+1..2R) at least min_drop below the calibrated model's (seeds 1..R). A fit that followed the probes' seed
+// noise (a strength at a probe edge that the held-out score liked) gives fresh runs no better than the model
+// without it, or worse; naming it, even as `partial`, would be a confident answer the data do not support.
+bool fresh_confirms(double chi2_before, double chi2_fresh, const VerdictRule& rule);
 
 }  // namespace wetdem::diagnose

@@ -113,4 +113,17 @@ std::vector<std::string> describe_where(const std::vector<Cell>& cells, const st
   return out;
 }
 
+double chi2_of(const std::vector<CellGap>& g) {
+  double s = 0;
+  for (const CellGap& x : g)
+    if (std::isfinite(x.z)) s += x.z * x.z;
+  return s;
+}
+
+size_t significant(const std::vector<CellGap>& g) {
+  size_t n = 0;
+  for (const CellGap& x : g) n += x.significant;
+  return n;
+}
+
 }  // namespace wetdem::diagnose

@@ -30,4 +30,8 @@ std::vector<CellGap> where(const std::vector<Cell>& cells, const std::vector<Pre
 // alone.
 std::vector<std::string> describe_where(const std::vector<Cell>& cells, const std::vector<CellGap>& gaps);
 
+// χ² of a gap set (finite z only) and its significant cells.
+double chi2_of(const std::vector<CellGap>& g);
+size_t significant(const std::vector<CellGap>& g);
+
 }  // namespace wetdem::diagnose

@@ -29,4 +29,9 @@ mv "$D/tn/truth.json" "$D/truth-null.json"
   --store "$D/store" --quiet --no-figures
 echo "null: $(J "$D/dn/diagnosis.json" 'j["verdict"], j["effect"], j["runs_computed"]')"
 expect "$D/dn/diagnosis.json" 'j["verdict"] != "effect"' "a null twin got an effect" "$D/dn/report.md"
+# A candidate the table cannot see was run beyond the table (power.h, reach_conditions), and the verdict says so.
+expect "$D/dn/diagnosis.json" 'all(r["visible"] or r["beyond_tried"] for r in j["reach"] if r["strongest_probed"] > 0)' \
+  "a candidate the table cannot see was not tried beyond it" "$D/dn/report.md"
+expect "$D/dn/diagnosis.json" 'all(r["visible"] or ("`" + r["effect"] + "`") in j["paragraph"].split("cannot see")[-1] for r in j["reach"])' \
+  "the paragraph does not name a candidate the table cannot see" "$D/dn/report.md"
 echo "micro diagnosis e2e: $(($(date +%s) - t0)) s"
