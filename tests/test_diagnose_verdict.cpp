@@ -178,6 +178,21 @@ TEST(DiagnoseVerdict, TieRuleAndPartial) {
   EXPECT_FALSE(fresh_confirms(59.9, 91.1, VerdictRule{})) << "worse on fresh seeds";
   EXPECT_FALSE(fresh_confirms(59.9, 57.0, VerdictRule{})) << "within min_drop of the model: noise";
   EXPECT_TRUE(fresh_confirms(59.9, 59.9 - VerdictRule{}.min_drop, VerdictRule{}));
+  // A near tie held out is decided on fresh runs (near_tie, fresh_tie): on the flowing absorption-weak twin
+  // evaporation scored 18.5 held out and the truth, absorption, 25.3: 6.8 apart over 48 cells, past the tie
+  // margin of 4 but inside twice it.
+  Candidate ev, ab;
+  ev.loco = 18.5;
+  ev.loco_cells.assign(48, 18.5 / 48);
+  ab.loco = 25.3;
+  EXPECT_TRUE(clearly_worse(ev, ab, VerdictRule{}));
+  EXPECT_TRUE(near_tie(ev, ab, VerdictRule{}));
+  ab.loco = 27.0;
+  EXPECT_FALSE(near_tie(ev, ab, VerdictRule{})) << "8.5 apart: clearly worse even at twice the margin";
+  EXPECT_TRUE(fresh_tie(30.7, 33.0, 48, VerdictRule{}));
+  EXPECT_FALSE(fresh_tie(30.7, 35.0, 48, VerdictRule{}));
+  EXPECT_FALSE(fresh_tie(96.0, 105.0, 48, VerdictRule{})) << "the margin widens with chi2/n: 4 x 2 = 8";
+  EXPECT_TRUE(fresh_tie(96.0, 103.9, 48, VerdictRule{}));
 }
 
 // The next experiment proposes conditions beyond and between the table's, in the table's units, then another

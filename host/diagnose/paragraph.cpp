@@ -3,6 +3,7 @@
 // measurement that would separate them), or which cells stay unexplained.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "diagnose/effects.h"
@@ -36,10 +37,22 @@ std::string tie_sentence(const Report& r) {
   for (const std::string& e : r.verdict.tied) {
     const Candidate* c = candidate(r, e);
     if (!c || !best) continue;
-    s += fmt::format(
-        " **`{}` explains the data nearly as well** (held-out χ² {:.1f} against {:.1f}, not clearly worse by "
-        "the tie rule; {} = {}): the data do not single one out, and both are reported.",
-        e, c->loco, best->loco, effect_spec(e).strength, strength_text(*c, r.runs_of(e)));
+    const FreshCheck *fc = r.fresh_of(e), *fb = r.chosen();
+    const bool on_fresh = std::find(r.verdict.tied_on_fresh.begin(), r.verdict.tied_on_fresh.end(), e) !=
+                          r.verdict.tied_on_fresh.end();
+    s += on_fresh && fc && fb && !fc->after.empty() && !fb->after.empty()
+             ? fmt::format(
+                   " **`{}` explains the data nearly as well**: held out it scored {:.1f} against {:.1f}, "
+                   "close enough that both were run with fresh seeds, and there its χ² is {:.1f} against "
+                   "{:.1f}, not clearly worse by the tie rule ({} = {}). The data do not single one out, "
+                   "and both are reported.",
+                   e, c->loco, best->loco, chi2_of(fc->gaps_after), chi2_of(fb->gaps_after),
+                   effect_spec(e).strength, strength_text(*c, r.runs_of(e)))
+             : fmt::format(
+                   " **`{}` explains the data nearly as well** (held-out χ² {:.1f} against {:.1f}, not "
+                   "clearly worse by the tie rule; {} = {}): the data do not single one out, and both are "
+                   "reported.",
+                   e, c->loco, best->loco, effect_spec(e).strength, strength_text(*c, r.runs_of(e)));
   }
   if (!r.next.proposals.empty()) {
     const Proposal& q = r.next.proposals.front();
@@ -128,9 +141,13 @@ std::string verdict_core(const Report& r) {
     const EffectSpec& e = effect_spec(c.effect);
     const FreshCheck* f = r.chosen();
     const bool ok = f && !f->after.empty();
+    const std::string control = r.null_fresh.after.empty()
+                                    ? std::string()
+                                    : fmt::format(" (the model without it on the same fresh seeds: {:.1f})",
+                                                  chi2_of(r.null_fresh.gaps_after));
     const std::string fresh =
-        ok ? fmt::format("fresh runs at {} = {:.3g} bring χ² from {:.1f} to {:.1f} over the {} cells",
-                         e.strength, f->strength, chi2_of(r.gaps), chi2_of(f->gaps_after), n)
+        ok ? fmt::format("fresh runs at {} = {:.3g} bring χ² from {:.1f} to {:.1f} over the {} cells{}",
+                         e.strength, f->strength, chi2_of(r.gaps), chi2_of(f->gaps_after), n, control)
            : std::string("its fresh-seed runs could not be made");
     const std::string head = fmt::format(
         "The model departs from the observations at {} of {} cells ({}). Of the candidates, `{}` ({}) "
@@ -220,15 +237,16 @@ std::string verdict_core(const Report& r) {
     return fmt::format(
         "**Gap not explained.** The model departs from the observations at {} of {} cells ({}). The best "
         "candidate, `{}` ({}), passed the held-out rule at {} = {:.3g} (held-out χ² {:.1f} against the "
-        "model's "
-        "{:.1f}), but fresh runs at that strength do not reproduce it: χ² {:.1f} over the {} cells against "
-        "the "
-        "calibrated model's {:.1f}, not lower by {:g}. Its fit followed the seed noise of its probe runs, "
-        "not "
-        "the data, so no effect is named. The cause may lie outside the candidates, or the gap may be noise; "
-        "repeating the measurements at the cells above would tell.{}",
+        "model's {:.1f}), but fresh runs at that strength do not reproduce it: χ² {:.1f} over the {} cells "
+        "against {:.1f} for the model without it{}, not lower by {:g}. Its fit followed the seed noise of "
+        "its "
+        "probe runs, not the data, so no effect is named. The cause may lie outside the candidates, or the "
+        "gap "
+        "may be noise; repeating the measurements at the cells above would tell.{}",
         ns, n, where, c.effect, effect_spec(c.effect).fingerprint, effect_spec(c.effect).strength, f.strength,
-        c.loco, r.verdict.null_loco, chi2_of(f.gaps_after), n, chi2_of(r.gaps), r.spec->rule.min_drop,
+        c.loco, r.verdict.null_loco, chi2_of(f.gaps_after), n,
+        r.null_fresh.after.empty() ? chi2_of(r.gaps) : chi2_of(r.null_fresh.gaps_after),
+        r.null_fresh.after.empty() ? "" : " on the same fresh seeds", r.spec->rule.min_drop,
         null_refit_sentence(r));
   }
   // Unexplained: either the best candidate helps but not by the rule's margin (a lead worth more data), or

@@ -109,6 +109,7 @@ class Procedure {
   std::vector<CandidateRuns> fitted;
   Verdict verdict;
   std::vector<FreshCheck> fresh;  // the chosen effect first, then any tied one
+  FreshCheck null_fresh;          // the model without an effect at the fresh seeds (the shrink's control)
   NextExperiment next;
   SecondRound second;
   std::vector<Reach> reach;        // what the table can see of every candidate (power.h)

@@ -62,6 +62,7 @@ Report make_report(const Procedure& p, double wall_s) {
     r.null_refit_gaps = where(p.tab.cells, r.null_refit_pred, p.d.rule.q);
   }
   r.fresh = p.fresh;
+  r.null_fresh = p.null_fresh;
   r.next = p.next;
   r.second = p.second;
   r.reach = p.reach;
@@ -233,11 +234,14 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
   j["observations"] = r.spec->observations;
   j["verdict"] = r.verdict.kind;
   j["fresh_rejected"] = r.verdict.fresh_rejected;  // the chosen fit did not reproduce on fresh seeds
+  // The control of the fresh check: the model without an effect at the fresh seeds (null when not run).
+  j["chi2_null_fresh"] = r.null_fresh.after.empty() ? json(nullptr) : json(chi2_of(r.null_fresh.gaps_after));
   j["effect"] = named ? json(r.verdict.effect) : json(nullptr);
   j["effects"] = json::array();  // every effect the verdict names: the first, then a second on top of it
   if (named) j["effects"].push_back(r.verdict.effect);
   if (named && r.second_named()) j["effects"].push_back(r.second_named()->effect);
   j["tied"] = r.verdict.tied;
+  j["tied_on_fresh"] = r.verdict.tied_on_fresh;  // near ties held out that tie on fresh runs
   j["rule"] = {{"fdr", r.spec->rule.q},
                {"ratio", r.spec->rule.ratio},
                {"min_drop", r.spec->rule.min_drop},

@@ -25,6 +25,7 @@ struct Report {
   std::vector<CellGap> null_refit_gaps;
   Verdict verdict;
   std::vector<FreshCheck> fresh;  // the chosen effect's fresh-seed runs first, then any tied one's
+  FreshCheck null_fresh;          // the model without an effect at the fresh seeds (the shrink's control)
   NextExperiment next;
   SecondRound second;                     // a second effect on top of the first (second_effect.h)
   std::vector<Reach> reach;               // what the table can see of each candidate (power.h)

@@ -25,6 +25,20 @@ const Candidate* ranked(const Procedure& p, const std::string& effect) {
   return nullptr;
 }
 
+// The runners-up that pass the effect margin, are not tied, and are near ties of the chosen one (near_tie).
+std::vector<std::string> near_ties(const Procedure& p) {
+  std::vector<std::string> out;
+  const Verdict& v = p.verdict;
+  if (v.ranking.empty()) return out;
+  for (size_t i = 1; i < v.ranking.size(); ++i) {
+    const Candidate& c = v.ranking[i];
+    if (std::find(v.tied.begin(), v.tied.end(), c.effect) != v.tied.end()) continue;
+    if (passes_margin(c.loco, v, p.d.rule) && near_tie(v.ranking.front(), c, p.d.rule))
+      out.push_back(c.effect);
+  }
+  return out;
+}
+
 // The fresh check of a ranked candidate at its fitted strength, refit setting and shape (its runs wanted).
 FreshCheck want_fresh(Procedure& p, const Candidate& c) {
   FreshCheck f;
@@ -85,6 +99,7 @@ void fresh_all(Procedure& p) {
   std::vector<FreshCheck> next;
   std::vector<std::string> names = {p.verdict.effect};
   names.insert(names.end(), p.verdict.tied.begin(), p.verdict.tied.end());
+  for (const std::string& e : near_ties(p)) names.push_back(e);
   for (const std::string& e : names) {
     const Candidate* c = ranked(p, e);
     if (!c) continue;
@@ -95,9 +110,19 @@ void fresh_all(Procedure& p) {
         f = old;
     next.push_back(f);
   }
+  // The control: the model without an effect (at the chosen one's refit setting) with the same fresh seeds,
+  // so that the effect's fresh runs are judged against runs that differ from them in the effect alone, not in
+  // their seeds' luck. Shared by every diagnosis of the model in the store.
+  if (const Candidate* c = ranked(p, p.verdict.effect);
+      c && (p.null_fresh.gaps_after.empty() || p.null_fresh.refit != c->refit)) {
+    p.null_fresh = {};
+    p.null_fresh.refit = c->refit;
+    p.null_fresh.failure = p.want(p.variant("", 0.0, c->refit), p.fresh_seeds);
+  }
   p.run();
   for (FreshCheck& f : next)
     if (f.after.empty()) collect_fresh(p, f);
+  if (p.null_fresh.after.empty()) collect_fresh(p, p.null_fresh);
   p.fresh = next;
 }
 
@@ -143,16 +168,49 @@ void run_shrink(Procedure& p) {
   std::vector<bool> sig;
   for (const CellGap& g : chosen.gaps_after) sig.push_back(g.significant);
   settle_verdict(p.verdict, sig);
-  const double before = chi2_of(p.gaps), after = chi2_of(chosen.gaps_after);
+  // Against the model without the effect on the same fresh seeds (the calibrated model's own seeds when those
+  // runs failed).
+  const bool control = !p.null_fresh.after.empty();
+  const double before = control ? chi2_of(p.null_fresh.gaps_after) : chi2_of(p.gaps);
+  const double after = chi2_of(chosen.gaps_after);
   if (!fresh_confirms(before, after, p.d.rule)) {
     p.notes.push_back(fmt::format(
-        "shrink: the fresh runs of {} at {:.3g} give χ² {:.1f} over the cells against the calibrated model's "
-        "{:.1f}: not lower by min_drop = {:g}, so the fit is not confirmed and the verdict is unexplained",
-        chosen.effect, chosen.strength, after, before, p.d.rule.min_drop));
+        "shrink: the fresh runs of {} at {:.3g} give χ² {:.1f} over the cells against {:.1f} for the model "
+        "without it ({}): not lower by min_drop = {:g}, so the fit is not confirmed and the verdict is "
+        "unexplained",
+        chosen.effect, chosen.strength, after, before,
+        control ? "the same fresh seeds" : "the baseline's seeds; its fresh runs failed", p.d.rule.min_drop));
     p.verdict.kind = "unexplained";
     p.verdict.fresh_rejected = true;
     p.verdict.tied.clear();
+    return;
   }
+  // A near tie held out is decided on the fresh runs, which carry no probe's seed noise.
+  for (const FreshCheck& f : p.fresh) {
+    if (f.effect == chosen.effect || f.after.empty()) continue;
+    if (std::find(p.verdict.tied.begin(), p.verdict.tied.end(), f.effect) != p.verdict.tied.end()) continue;
+    const double other = chi2_of(f.gaps_after);
+    if (fresh_tie(after, other, p.tab.cells.size(), p.d.rule)) {
+      p.verdict.tied.push_back(f.effect);
+      p.verdict.tied_on_fresh.push_back(f.effect);
+      p.notes.push_back(
+          fmt::format("shrink: {} was a near tie held out; on fresh runs at {:.3g} its χ² is {:.1f} against "
+                      "{:.1f} for {}: "
+                      "tied",
+                      f.effect, f.strength, other, after, chosen.effect));
+    } else {
+      p.notes.push_back(
+          fmt::format("shrink: {} was a near tie held out; on fresh runs at {:.3g} its χ² is {:.1f} against "
+                      "{:.1f} for {}: "
+                      "clearly worse",
+                      f.effect, f.strength, other, after, chosen.effect));
+    }
+  }
+  // The chosen one first, then the tied ones (the next-experiment stage separates the first two).
+  const std::vector<std::string>& tied = p.verdict.tied;
+  std::stable_partition(p.fresh.begin() + 1, p.fresh.end(), [&](const FreshCheck& f) {
+    return std::find(tied.begin(), tied.end(), f.effect) != tied.end();
+  });
 }
 
 }  // namespace wetdem::diagnose

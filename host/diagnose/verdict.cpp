@@ -31,6 +31,16 @@ bool clearly_worse(const Candidate& a, const Candidate& b, const VerdictRule& ru
   return b.loco - a.loco >= rule.tie_delta * std::max(1.0, a.loco / n);
 }
 
+bool near_tie(const Candidate& a, const Candidate& b, const VerdictRule& rule) {
+  VerdictRule twice = rule;
+  twice.tie_delta = 2.0 * rule.tie_delta;
+  return !clearly_worse(a, b, twice);
+}
+
+bool fresh_tie(double chi2_a, double chi2_b, size_t n, const VerdictRule& rule) {
+  return chi2_b - chi2_a < rule.tie_delta * std::max(1.0, chi2_a / double(std::max<size_t>(1, n)));
+}
+
 Verdict decide(const std::vector<Cell>& cells, const std::vector<std::vector<Prediction>>& baselines,
                const std::vector<Family>& families, const VerdictRule& rule) {
   if (baselines.empty()) throw std::invalid_argument("decide: one baseline per refit setting, at least one");

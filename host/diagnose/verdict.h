@@ -77,6 +77,8 @@ struct Verdict {
   // The chosen effect passed the rule, but its fresh-seed runs did not lower χ² over the cells by min_drop
   // (fresh_confirms): the verdict became "unexplained" and says so.
   bool fresh_rejected = false;
+  std::vector<std::string> tied_on_fresh;  // the tied candidates that were near ties held out (near_tie) and
+                                           // tie on fresh runs (fresh_tie)
 };
 
 // The effect margin against the null: LOCO <= floor + ratio x (LOCO_null - floor), i.e. the candidate removes
@@ -95,13 +97,22 @@ Verdict decide(const std::vector<Cell>& cells, const std::vector<Prediction>& ba
 // Whether `b` is clearly worse than `a` on the held-out cells (the tie rule above).
 bool clearly_worse(const Candidate& a, const Candidate& b, const VerdictRule& rule);
 
+// A runner-up within twice the tie margin of the best on the held-out cells. Two held-out scores built on
+// single-seed probe runs also differ by those runs' seed noise, so such a runner-up gets fresh runs (R seeds,
+// no probe in them) beside the chosen effect's, and fresh_tie decides (shrink.cpp).
+bool near_tie(const Candidate& a, const Candidate& b, const VerdictRule& rule);
+// On fresh runs: b is tied with a unless its χ² over the n cells exceeds a's by tie_delta x max(1, χ²_a / n).
+bool fresh_tie(double chi2_a, double chi2_b, size_t n, const VerdictRule& rule);
+
 // The fresh-seed check: an `effect` whose runs leave significant cells becomes `partial`.
 void settle_verdict(Verdict& v, const std::vector<bool>& significant_after);
 
 // Whether the fresh-seed runs at the fitted strength reproduce an improvement: χ² over the cells (fresh seeds
-// R+1..2R) at least min_drop below the calibrated model's (seeds 1..R). A fit that followed the probes' seed
-// noise (a strength at a probe edge that the held-out score liked) gives fresh runs no better than the model
-// without it, or worse; naming it, even as `partial`, would be a confident answer the data do not support.
+// R+1..2R) at least min_drop below that of the model without the effect on the same fresh seeds (the
+// control: seeds differ in luck, and a comparison with the baseline's seeds 1..R credits an effect with it).
+// A fit that followed the probes' seed noise (a strength at a probe edge that the held-out score liked) gives
+// fresh runs no better than the control, or worse; naming it, even as `partial`, would be a confident answer
+// the data do not support.
 bool fresh_confirms(double chi2_before, double chi2_fresh, const VerdictRule& rule);
 
 }  // namespace wetdem::diagnose
