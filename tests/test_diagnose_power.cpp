@@ -24,22 +24,43 @@ TEST(DiagnosePower, TheLargestShiftIsCountedInEachCellsNoise) {
   const std::vector<Cell> cells = {cell(1.0), cell(3.0), cell(0.3)};
   const std::vector<Prediction> base = {{10.0, 0.5}, {20.0, 0.5}, {0.0, 0.5}};
   const std::vector<Prediction> probe = {{12.0, 0.0}, {26.0, 4.0}, {-0.9, 0.4}};
-  const auto [z, k] = largest_shift(cells, base, probe);
-  EXPECT_NEAR(z, 2.0, 1e-12);
-  EXPECT_EQ(k, 0u);
-  EXPECT_LT(z, kVisibleZ) << "2 sigma in one cell is not a shift a lab would call significant";
+  const Shift s = shift_of(cells, base, probe);
+  EXPECT_NEAR(s.max_z, 2.0, 1e-12);
+  EXPECT_EQ(s.cell, 0u);
+  EXPECT_EQ(s.cells, 3u);
+  // chi2 4 + 1.44 + 3.24 = 8.68, less what the probe's own noise gives: 0 + 16/25 + 0.16/0.25 = 1.28.
+  EXPECT_NEAR(s.chi2_excess, 8.68 - 1.28, 1e-12);
+  EXPECT_LT(s.max_z, kVisibleZ) << "2 sigma in one cell is not a shift a lab would call significant";
+  EXPECT_LT(s.chi2_excess, visible_chi2_excess(cells.size()));
 }
 
 TEST(DiagnosePower, CellsAProbeDoesNotReportAreSkipped) {
   // A probe that reports no value at a cell (NaN: the quantity does not exist there) never makes the largest
-  // shift, and a probe identical to the baseline has none.
+  // shift, and a probe identical to the baseline has none (its excess is minus its own noise).
   const std::vector<Cell> cells = {cell(1.0), cell(1.0)};
   const std::vector<Prediction> base = {{1.0, 0.1}, {5.0, 0.1}};
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  const auto [z, k] = largest_shift(cells, base, {{nan, nan}, {8.5, 0.0}});
-  EXPECT_NEAR(z, 3.5, 1e-12);
-  EXPECT_EQ(k, 1u);
-  EXPECT_EQ(largest_shift(cells, base, base).first, 0.0);
+  const Shift s = shift_of(cells, base, {{nan, nan}, {8.5, 0.0}});
+  EXPECT_NEAR(s.max_z, 3.5, 1e-12);
+  EXPECT_EQ(s.cell, 1u);
+  EXPECT_EQ(s.cells, 1u);
+  EXPECT_EQ(shift_of(cells, base, base).max_z, 0.0);
+  EXPECT_LT(shift_of(cells, base, base).chi2_excess, 0.0);
+}
+
+// Visible through the whole table: 48 cells each moved by 1.2 sigma (no single cell near 3 sigma) make a chi2
+// excess of 69, past the upper 1 % point of a chi2 with 48 degrees of freedom less its mean (73.7 - 48
+// = 25.7); 48 cells at 0.6 sigma (17.3) do not pass.
+TEST(DiagnosePower, ManySmallShiftsAreVisibleTogether) {
+  EXPECT_NEAR(visible_chi2_excess(48), 73.68 - 48, 0.05) << "chi2 with 48 dof: upper 1 % point 73.68";
+  EXPECT_NEAR(visible_chi2_excess(3), 11.34 - 3, 0.05) << "chi2 with 3 dof: upper 1 % point 11.34";
+  const std::vector<Cell> cells(48, cell(1.0));
+  const std::vector<Prediction> base(48, {0.0, 0.0});
+  const Shift many = shift_of(cells, base, std::vector<Prediction>(48, {1.2, 0.0}));
+  EXPECT_LT(many.max_z, kVisibleZ);
+  EXPECT_GE(many.chi2_excess, visible_chi2_excess(48));
+  EXPECT_LT(shift_of(cells, base, std::vector<Prediction>(48, {0.6, 0.0})).chi2_excess,
+            visible_chi2_excess(48));
 }
 
 }  // namespace

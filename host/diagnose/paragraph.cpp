@@ -84,8 +84,10 @@ std::string limit_sentence(const Report& r, const std::string& e) {
 std::string beyond_clause(const Reach& x) {
   if (x.beyond_tried.empty()) return "";
   if (x.beyond_z >= kVisibleZ)
-    return fmt::format("; **to see it, measure {} at {}**, where it would move by {:.1f} σ",
-                       x.beyond_observable, x.beyond_condition, x.beyond_z);
+    return fmt::format(
+        "; **to see it, measure {} at {}**, where one run of it and one of the model differ by "
+        "{:.1f} σ",
+        x.beyond_observable, x.beyond_condition, x.beyond_z);
   return fmt::format(", nor at {} condition(s) beyond the table (at most {:.1f} σ: {} at {})",
                      x.beyond_tried.size(), x.beyond_z, x.beyond_observable, x.beyond_condition);
 }
@@ -98,12 +100,14 @@ std::string blind_sentence(const Report& r) {
   for (const Reach& x : r.reach) {
     if (x.visible) continue;
     list += list.empty() ? "" : "; ";
-    list += x.strongest <= 0 ? fmt::format("`{}` (no probe of it could run)", x.effect)
-                             : fmt::format(
-                                   "`{}` moves no cell by more than {:.1f} σ up to {} = {:.3g} (closest: "
-                                   "{} at {}){}",
-                                   x.effect, x.max_z, effect_spec(x.effect).strength, x.strongest,
-                                   r.cells[x.cell].observable, r.cell_condition[x.cell], beyond_clause(x));
+    list += x.strongest <= 0
+                ? fmt::format("`{}` (no probe of it could run)", x.effect)
+                : fmt::format(
+                      "`{}` moves no cell by more than {:.1f} σ and the whole table by a χ² of {:.0f} "
+                      "(visible from {:.0f}) up to {} = {:.3g} (closest: {} at {}){}",
+                      x.effect, x.max_z, std::max(0.0, x.chi2_excess), visible_chi2_excess(r.cells.size()),
+                      effect_spec(x.effect).strength, x.strongest, r.cells[x.cell].observable,
+                      r.cell_condition[x.cell], beyond_clause(x));
     ++n;
   }
   if (n == 0) return "";

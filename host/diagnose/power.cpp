@@ -11,17 +11,25 @@
 
 namespace wetdem::diagnose {
 
-std::pair<double, size_t> largest_shift(const std::vector<Cell>& cells,
-                                        const std::vector<Prediction>& baseline,
-                                        const std::vector<Prediction>& probe) {
-  double best = 0.0;
-  size_t at = 0;
+double visible_chi2_excess(size_t cells) {
+  // Wilson-Hilferty: the p-quantile of a χ² with n degrees of freedom is n (1 - 2/(9n) + z_p √(2/(9n)))³,
+  // within 1 % for n >= 3; z = 2.326 for the upper 1 %.
+  const double n = double(std::max<size_t>(1, cells)), a = 2.0 / (9.0 * n);
+  return n * std::pow(1.0 - a + 2.326 * std::sqrt(a), 3) - n;
+}
+
+Shift shift_of(const std::vector<Cell>& cells, const std::vector<Prediction>& baseline,
+               const std::vector<Prediction>& probe) {
+  Shift s;
   for (size_t k = 0; k < cells.size() && k < baseline.size() && k < probe.size(); ++k) {
-    const double s = std::sqrt(cells[k].sigma * cells[k].sigma + probe[k].se * probe[k].se);
-    const double z = std::fabs(probe[k].mean - baseline[k].mean) / s;
-    if (std::isfinite(z) && z > best) best = z, at = k;
+    const double v = cells[k].sigma * cells[k].sigma + probe[k].se * probe[k].se;
+    const double z = std::fabs(probe[k].mean - baseline[k].mean) / std::sqrt(v);
+    if (!std::isfinite(z)) continue;
+    ++s.cells;
+    s.chi2_excess += z * z - probe[k].se * probe[k].se / v;
+    if (z > s.max_z) s.max_z = z, s.cell = k;
   }
-  return {best, at};
+  return s;
 }
 
 std::vector<Reach> table_reach(const Procedure& p) {
@@ -51,11 +59,12 @@ std::vector<Reach> table_reach(const Procedure& p) {
         const Variant v = p.variant(e, s, 0, shape);
         if (!p.book.has_summaries(p.tab.conditions, v, p.probe_seed) || !p.failure(v, p.probe_seed).empty())
           continue;
-        const auto [z, k] = largest_shift(p.tab.cells, p.baselines[0], p.probe(v, 0));
+        const Shift sh = shift_of(p.tab.cells, p.baselines[0], p.probe(v, 0));
         r.strongest = std::max(r.strongest, s);
-        if (z > r.max_z) r.max_z = z, r.at = s, r.cell = k;
+        if (sh.max_z > r.max_z) r.max_z = sh.max_z, r.at = s, r.cell = sh.cell;
+        if (sh.chi2_excess > r.chi2_excess) r.chi2_excess = sh.chi2_excess, r.chi2_at = s;
       }
-    r.visible = r.max_z >= kVisibleZ;
+    r.visible = r.max_z >= kVisibleZ || r.chi2_excess >= visible_chi2_excess(p.tab.cells.size());
     out.push_back(r);
   }
   return out;

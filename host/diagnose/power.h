@@ -20,13 +20,33 @@ class Procedure;
 // detectable" strength is the one that reaches it at one condition.
 constexpr double kVisibleZ = 3.0;
 
+// A shift can also be visible through the whole table without any one cell at kVisibleZ (many cells moved by
+// 1-2 sigma in the direction of a gap): its χ² over the n cells in excess of what the probe runs' own noise
+// gives, sum(z²) - sum(se²/(σ² + se²)), at least the upper 1 % point of a χ²_n less its mean n
+// (Wilson-Hilferty). For the flowing table's 48 cells that is 25.7; for 3 cells, 8.3.
+double visible_chi2_excess(size_t cells);
+
+// A probe's shift over the baseline in units of each cell's noise, z_k = (probe - baseline) / sqrt(σ² +
+// se²): its largest |z| and cell, and its χ² over the cells in excess of the probe runs' own noise. The
+// probe's SE already counts the run-to-run spread against the baseline (Procedure::probe).
+struct Shift {
+  double max_z = 0.0;
+  size_t cell = 0;
+  double chi2_excess = 0.0;
+  size_t cells = 0;  // with finite values
+};
+Shift shift_of(const std::vector<Cell>& cells, const std::vector<Prediction>& baseline,
+               const std::vector<Prediction>& probe);
+
 struct Reach {
   std::string effect;
-  double strongest = 0.0;  // the strongest strength with probe runs at every condition (0: none could run)
-  double max_z = 0.0;      // the largest |probe - baseline| / sqrt(sigma² + se²) over cells and probes
-  double at = 0.0;         // the strength it came from
-  size_t cell = 0;         // and its cell
-  bool visible = false;    // max_z >= kVisibleZ
+  double strongest = 0.0;    // the strongest strength with probe runs at every condition (0: none could run)
+  double max_z = 0.0;        // the largest |probe - baseline| / sqrt(sigma² + se²) over cells and probes
+  double at = 0.0;           // the strength it came from
+  size_t cell = 0;           // and its cell
+  double chi2_excess = 0.0;  // the largest table χ² excess over the probes (Shift)
+  double chi2_at = 0.0;      // the strength it came from
+  bool visible = false;      // max_z >= kVisibleZ, or chi2_excess >= visible_chi2_excess(cells)
   // Not visible: the strongest probe and the baseline (seed 1 each) at conditions beyond the table
   // (propose_conditions around the cell where it comes closest), and where it would move most.
   std::vector<std::string> beyond_tried;  // the conditions that ran
@@ -34,12 +54,6 @@ struct Reach {
   double beyond_z =
       0.0;  // |probe - baseline| / sqrt(sigma² + se_probe² + se_baseline²), sigma the table's median
 };
-
-// The largest |probe - baseline| / sqrt(sigma² + probe se²) over the cells with finite values, and its cell.
-// The probe's SE already counts the run-to-run spread against the baseline (Procedure::probe).
-std::pair<double, size_t> largest_shift(const std::vector<Cell>& cells,
-                                        const std::vector<Prediction>& baseline,
-                                        const std::vector<Prediction>& probe);
 
 // Every candidate's reach over the probe runs already in the store (the screen's, the fit's, the second
 // round's at refit setting 0), in the order of p.effects.

@@ -197,27 +197,32 @@ std::string second_markdown(const Report& r) {
 std::string reach_markdown(const Report& r) {
   if (r.reach.empty()) return "";
   std::string md = fmt::format(
-      "## What this table can see\n\nThe largest shift each candidate's probe runs make in any cell, in "
-      "units of that cell's noise (|probe − baseline| / √(σ² + se²)). A candidate under {:g} σ everywhere, "
-      "even at the strongest strength probed, is one this table cannot show: the verdict says nothing about "
-      "it. Such a candidate was also run with the baseline at conditions beyond the table (seed 1 each, "
-      "noise "
-      "the table's median σ of the observable): where it would show.\n\n"
-      "| effect | strongest probed | largest shift (σ) | at strength | cell | visible | beyond the table |\n"
-      "|---|---|---|---|---|---|---|\n",
-      kVisibleZ);
+      "## What this table can see\n\nEach candidate's probe runs against the baseline, in units of each "
+      "cell's noise (z = (probe − baseline) / √(σ² + se²)): the largest |z| in any cell, and the χ² over the "
+      "cells in excess of what the probe runs' own noise gives. A candidate is visible when some cell "
+      "reaches "
+      "{:g} σ or the excess reaches {:.1f} (the 1 % excess of a χ² over {} cells); one that is not, even at "
+      "the "
+      "strongest strength probed, is one this table cannot show, and the verdict says nothing about it. Such "
+      "a "
+      "candidate was also run beside the baseline at conditions beyond the table (one run each, noise the "
+      "table's median σ of the observable): where it would show.\n\n"
+      "| effect | strongest probed | largest shift (σ) | at strength | cell | χ² excess | visible | beyond "
+      "the "
+      "table |\n|---|---|---|---|---|---|---|---|\n",
+      kVisibleZ, visible_chi2_excess(r.cells.size()), r.cells.size());
   for (const Reach& x : r.reach) {
     if (x.strongest <= 0) {
-      md += fmt::format("| {} | (no probe could run) | | | | no | |\n", x.effect);
+      md += fmt::format("| {} | (no probe could run) | | | | | no | |\n", x.effect);
       continue;
     }
     std::string beyond;
     if (!x.beyond_condition.empty())
       beyond = fmt::format("{:.1f} σ: {} at {} (of {} tried)", x.beyond_z, x.beyond_observable,
                            x.beyond_condition, x.beyond_tried.size());
-    md += fmt::format("| {} | {:.3g} | {:.1f} | {:.3g} | {} at {} | {} | {} |\n", x.effect, x.strongest,
-                      x.max_z, x.at, r.cells[x.cell].observable, r.cell_condition[x.cell],
-                      x.visible ? "yes" : "**no**", beyond);
+    md += fmt::format("| {} | {:.3g} | {:.1f} | {:.3g} | {} at {} | {:.1f} | {} | {} |\n", x.effect,
+                      x.strongest, x.max_z, x.at, r.cells[x.cell].observable, r.cell_condition[x.cell],
+                      x.chi2_excess, x.visible ? "yes" : "**no**", beyond);
   }
   return md + "\n";
 }
@@ -394,6 +399,9 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
          {"at_strength", x.at},
          {"cell",
           x.strongest > 0 ? r.cells[x.cell].observable + " at " + r.cell_condition[x.cell] : std::string()},
+         {"chi2_excess", x.chi2_excess},
+         {"chi2_excess_at_strength", x.chi2_at},
+         {"chi2_excess_visible_from", visible_chi2_excess(r.cells.size())},
          {"visible", x.visible},
          {"beyond_tried", x.beyond_tried},
          {"beyond_condition", x.beyond_condition},
