@@ -144,6 +144,16 @@ def main(d):
         ax.set_xscale("log")
     for i, v in enumerate(vals):
         ax.text(v, i, f" {v:.3g}", va="center", fontsize=8)
+    # The rule's lines: the noise floor (what noise alone scores held out) and the effect margin a candidate
+    # must reach (the floor plus `ratio` of the gap above it, and min_drop below the null).
+    floor = j.get("noise_floor_chi2")
+    rule = j.get("rule") or {}
+    if floor is not None and vals and "ratio" in rule:
+        margin = min(floor + rule["ratio"] * (vals[0] - floor), vals[0] - rule.get("min_drop", 0.0))
+        if floor > 0:
+            ax.axvline(floor, color="0.4", ls="--", lw=1, label=f"noise floor {floor:.3g}")
+        ax.axvline(margin, color="tab:red", ls=":", lw=1.2, label=f"effect margin {margin:.3g}")
+        ax.legend(fontsize=7, loc="lower right", frameon=False)
     ax.set_xlim(right=max(vals) * (3.0 if ax.get_xscale() == "log" else 1.15) if vals else 1)
     ax.set_xlabel("held-out χ² (leave one condition out); lower is better")
     fig.tight_layout()
