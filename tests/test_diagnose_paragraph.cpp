@@ -74,3 +74,32 @@ TEST(DiagnoseParagraph, RefitNamesTheFittedValues) {
   r.verdict.held_out_shrink = 0.1;
   EXPECT_EQ(verdict_paragraph(r).find("closed by re-fitting"), std::string::npos);
 }
+
+// A tie is not a finding for the first-ranked effect: the headline names both and the advice waits for the
+// measurement that separates them (the flowing twin absorption-weak: evaporation and absorption tied on fresh
+// seeds, and the report still said "Add `evaporation` to the model").
+TEST(DiagnoseParagraph, ATieNamesBothAndAddsNeither) {
+  Report r = unexplained(0.8);
+  r.verdict.kind = "effect";
+  r.verdict.effect = "cohesion";
+  r.fresh.resize(1);
+  r.fresh[0].effect = "cohesion";
+  r.fresh[0].after.resize(3);
+  r.fresh[0].gaps_after.resize(3);
+  const std::string alone = verdict_paragraph(r);
+  EXPECT_NE(alone.find("**Gap explained by `cohesion`.**"), std::string::npos) << alone;
+  EXPECT_NE(alone.find("Add `cohesion` to the model"), std::string::npos) << alone;
+
+  Candidate v;
+  v.effect = "viscous";
+  v.loco = 1.0;
+  r.verdict.ranking.push_back(v);
+  r.verdict.tied = {"viscous"};
+  const std::string tied = verdict_paragraph(r);
+  EXPECT_NE(tied.find("**Gap explained by `cohesion` or `viscous`: the data do not single one out.**"),
+            std::string::npos)
+      << tied;
+  EXPECT_NE(tied.find("`viscous` explains the data nearly as well"), std::string::npos) << tied;
+  EXPECT_EQ(tied.find("Add `cohesion` to the model"), std::string::npos) << tied;
+  EXPECT_NE(tied.find("make the measurement that separates them"), std::string::npos) << tied;
+}

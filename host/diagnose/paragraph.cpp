@@ -189,6 +189,18 @@ std::string verdict_core(const Report& r) {
           c.effect, b->effect, head, pair, left2.empty() ? "unknown (no fresh runs)" : left2,
           null_refit_sentence(r), tie_sentence(r));
     }
+    if (r.verdict.kind == "effect" && !r.verdict.tied.empty()) {
+      // A tie is not a finding for the first-ranked effect: the headline and the advice name every tied one,
+      // and adding one waits for the measurement that tells them apart (tie_sentence names it).
+      std::string names = "`" + c.effect + "`";
+      for (const std::string& t : r.verdict.tied) names += " or `" + t + "`";
+      return fmt::format(
+          "**Gap explained by {}: the data do not single one out.** {}, none still significant.{}{}{} Do "
+          "not add either to the model on this table alone: make the measurement that separates them (or "
+          "measure one directly), then add the one it supports before trusting predictions at new "
+          "conditions.",
+          names, head, limit_sentence(r, c.effect), null_refit_sentence(r), tie_sentence(r));
+    }
     if (r.verdict.kind == "effect")
       return fmt::format(
           "**Gap explained by `{}`.** {}, none still significant.{}{}{} Add `{}` to the model (or "
