@@ -48,6 +48,10 @@ class Impl : public study::Commands {
         const nlohmann::json j = run_diagnosis(d, o_);
         std::string named;  // "spread" or "spread + absorption" (a second effect on top of the first)
         for (const auto& e : j["effects"]) named += (named.empty() ? "" : " + ") + e.get<std::string>();
+        // A tie is part of the verdict, not a detail of the report: "effect (evaporation; tied: absorption)".
+        std::string tied;
+        for (const auto& e : j["tied"]) tied += (tied.empty() ? "; tied: " : ", ") + e.get<std::string>();
+        named += tied;
         std::printf("verdict: %s%s\nreport: %s/report.md\n", j["verdict"].get<std::string>().c_str(),
                     named.empty() ? "" : (" (" + named + ")").c_str(), o_.out.c_str());
       } else {
