@@ -189,23 +189,25 @@ std::string verdict_core(const Report& r) {
           c.effect, b->effect, head, pair, left2.empty() ? "unknown (no fresh runs)" : left2,
           null_refit_sentence(r), tie_sentence(r));
     }
-    if (r.verdict.kind == "effect" && !r.verdict.tied.empty()) {
+    if (r.verdict.kind == "effect") {
       // A tie is not a finding for the first-ranked effect: the headline and the advice name every tied one,
       // and adding one waits for the measurement that tells them apart (tie_sentence names it).
       std::string names = "`" + c.effect + "`";
       for (const std::string& t : r.verdict.tied) names += " or `" + t + "`";
-      return fmt::format(
-          "**Gap explained by {}: the data do not single one out.** {}, none still significant.{}{}{} Do "
-          "not add either to the model on this table alone: make the measurement that separates them (or "
-          "measure one directly), then add the one it supports before trusting predictions at new "
-          "conditions.",
-          names, head, limit_sentence(r, c.effect), null_refit_sentence(r), tie_sentence(r));
+      const bool tie = !r.verdict.tied.empty();
+      const std::string advice =
+          tie ? std::string(
+                    " Do not add either to the model on this table alone: make the measurement that "
+                    "separates them (or measure one directly), then add the one it supports before "
+                    "trusting predictions at new conditions.")
+              : fmt::format(
+                    " Add {} to the model (or measure it directly) before trusting predictions at new "
+                    "conditions.",
+                    names);
+      return fmt::format("**Gap explained by {}{}** {}, none still significant.{}{}{}{}", names,
+                         tie ? ": the data do not single one out." : ".", head, limit_sentence(r, c.effect),
+                         null_refit_sentence(r), tie_sentence(r), advice);
     }
-    if (r.verdict.kind == "effect")
-      return fmt::format(
-          "**Gap explained by `{}`.** {}, none still significant.{}{}{} Add `{}` to the model (or "
-          "measure it directly) before trusting predictions at new conditions.",
-          c.effect, head, limit_sentence(r, c.effect), null_refit_sentence(r), tie_sentence(r), c.effect);
     std::string left;
     size_t n_left = 0;
     if (ok)
