@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "diagnose/baseline.h"
 #include "diagnose/power.h"
 
 namespace wetdem::diagnose {
@@ -61,6 +62,30 @@ TEST(DiagnosePower, ManySmallShiftsAreVisibleTogether) {
   EXPECT_GE(many.chi2_excess, visible_chi2_excess(48));
   EXPECT_LT(shift_of(cells, base, std::vector<Prediction>(48, {0.6, 0.0})).chi2_excess,
             visible_chi2_excess(48));
+}
+
+Cell cell_of(const std::string& observable) {
+  Cell c;
+  c.observable = observable;
+  c.sigma = 1.0;
+  return c;
+}
+
+TEST(DiagnoseWithinInflation, SeedSpreadOverOwnErrorPooledPerObservable) {
+  // Two seeds at two conditions of each observable. Clumps: the seeds differ by 4 and 2 (sample variances
+  // 8 and 2) with own SEs 1 (mean SE² 1 and 1): f² = (8 + 2) / (1 + 1) = 5. AoR: the seeds differ by 1 and 0
+  // with own SEs 2: f² = 0.5 / 8 < 1, floored at 1 (an own error is never shrunk). Velocity: a seed that does
+  // not report the cell leaves one value, no spread: f = 1.
+  const std::vector<Cell> cells = {cell_of("clumps"), cell_of("clumps"), cell_of("aor"), cell_of("aor"),
+                                   cell_of("velocity")};
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const std::vector<std::vector<Prediction>> seeds = {
+      {{20.0, 1.0}, {10.0, 1.0}, {30.0, 2.0}, {31.0, 2.0}, {0.1, 0.01}},
+      {{24.0, 1.0}, {12.0, 1.0}, {31.0, 2.0}, {31.0, 2.0}, {nan, nan}}};
+  const std::map<std::string, double> f = within_inflation(cells, seeds);
+  EXPECT_NEAR(f.at("clumps"), std::sqrt(5.0), 1e-12);
+  EXPECT_EQ(f.at("aor"), 1.0);
+  EXPECT_EQ(f.at("velocity"), 1.0);
 }
 
 }  // namespace

@@ -44,6 +44,31 @@ void run_baseline(Procedure& p) {
   p.spread.clear();
   for (size_t k = 0; k < p.tab.cells.size(); ++k)
     p.spread.push_back(std::max(p.baselines[0][k].se * std::sqrt(r), p.seed1[0][k].se));
+  std::vector<std::vector<Prediction>> per_seed;
+  for (uint64_t s : p.base_seeds) per_seed.push_back(p.predict(base, {s}));
+  p.within_inflation = within_inflation(p.tab.cells, per_seed);
+}
+
+std::map<std::string, double> within_inflation(const std::vector<Cell>& cells,
+                                               const std::vector<std::vector<Prediction>>& per_seed) {
+  std::map<std::string, std::pair<double, double>> sums;  // observable -> (Σ between variance, Σ own SE²)
+  for (size_t k = 0; k < cells.size(); ++k) {
+    std::vector<Prediction> x;
+    for (const auto& seed : per_seed)
+      if (k < seed.size() && std::isfinite(seed[k].mean) && std::isfinite(seed[k].se)) x.push_back(seed[k]);
+    if (x.size() < 2) continue;
+    double mean = 0.0, own2 = 0.0;
+    for (const Prediction& a : x) mean += a.mean / double(x.size()), own2 += a.se * a.se / double(x.size());
+    double var = 0.0;
+    for (const Prediction& a : x) var += (a.mean - mean) * (a.mean - mean) / double(x.size() - 1);
+    auto& [between, own] = sums[cells[k].observable];
+    between += var, own += own2;
+  }
+  std::map<std::string, double> f;
+  for (const Cell& c : cells) f[c.observable] = 1.0;
+  for (const auto& [obs, s] : sums)
+    if (s.second > 0.0) f[obs] = std::max(1.0, std::sqrt(s.first / s.second));
+  return f;
 }
 
 }  // namespace wetdem::diagnose

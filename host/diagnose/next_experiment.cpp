@@ -154,8 +154,9 @@ void run_next_experiment(Procedure& p) {
     }
     for (const std::string& obs : observables) {
       if (!p.book.reports(c, va, p.base_seeds, obs) || !p.book.reports(c, vb, p.base_seeds, obs)) continue;
-      const Prediction x = p.book.predict(c, va, p.base_seeds, obs),
-                       y = p.book.predict(c, vb, p.base_seeds, obs);
+      // The seeds' own window errors scaled to the baseline's seed spread (two seeds may agree by chance).
+      const Prediction x = p.book.predict(c, va, p.base_seeds, obs, p.inflation(obs)),
+                       y = p.book.predict(c, vb, p.base_seeds, obs, p.inflation(obs));
       p.next.proposals.push_back(
           {c.label, obs, x.mean, y.mean, x.se, y.se, sigma[obs], separation(obs, x, y), false});
     }

@@ -85,9 +85,10 @@ std::string beyond_clause(const Reach& x) {
   if (x.beyond_tried.empty()) return "";
   if (x.beyond_z >= kVisibleZ)
     return fmt::format(
-        "; **to see it, measure {} at {}**, where one run of it and one of the model differ by "
-        "{:.1f} σ",
-        x.beyond_observable, x.beyond_condition, x.beyond_z);
+        "; **to see it, measure {} at {}**, where {} of it and of the model differ by {:.1f} σ",
+        x.beyond_observable, x.beyond_condition,
+        x.beyond_seeds == 1 ? std::string("one run") : fmt::format("{} runs each", x.beyond_seeds),
+        x.beyond_z);
   return fmt::format(", nor at {} condition(s) beyond the table (at most {:.1f} σ: {} at {})",
                      x.beyond_tried.size(), x.beyond_z, x.beyond_observable, x.beyond_condition);
 }

@@ -53,6 +53,7 @@ struct Reach {
   std::string beyond_condition, beyond_observable;
   double beyond_z =
       0.0;  // |probe - baseline| / sqrt(sigma² + se_probe² + se_baseline²), sigma the table's median
+  size_t beyond_seeds = 1;  // runs each side behind beyond_z: the baseline's seeds where one pair reached 3 σ
 };
 
 // Every candidate's reach over the probe runs already in the store (the screen's, the fit's, the second

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <limits>
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -104,6 +105,7 @@ class Procedure {
   // Filled by the stages, in order.
   std::vector<std::vector<Prediction>> baselines, seed1;  // per refit setting: mean over the seeds, seed 1
   std::vector<double> spread;                             // per cell: run-to-run sd of one run
+  std::map<std::string, double> within_inflation;  // per observable: seed spread / own window SE (>= 1)
   std::vector<CellGap> gaps;
   std::vector<Screened> screened;  // best first
   std::vector<CandidateRuns> fitted;
@@ -120,6 +122,11 @@ class Procedure {
                   double shape = std::numeric_limits<double>::quiet_NaN()) const;
   // Every condition of the table, with these seeds. "" when wanted; else why it will not run (its cost).
   std::string want(const Variant& v, const std::vector<uint64_t>& seeds);
+  // The seed-spread factor of an observable's own window errors (1 when unknown).
+  double inflation(const std::string& observable) const {
+    const auto it = within_inflation.find(observable);
+    return it == within_inflation.end() ? 1.0 : it->second;
+  }
   // Runs what is wanted; failures are recorded in the book (RunBook::run).
   void run() { book.run(); }
   // Why some run of v at these seeds failed ("" when all completed).

@@ -66,6 +66,7 @@ Report make_report(const Procedure& p, double wall_s) {
   r.next = p.next;
   r.second = p.second;
   r.reach = p.reach;
+  r.within_inflation = p.within_inflation;
   r.notes = p.notes;
   r.notes.insert(r.notes.end(), p.second.notes.begin(), p.second.notes.end());
   r.not_measured = p.tab.not_measured;
@@ -194,6 +195,14 @@ std::string second_markdown(const Report& r) {
 }
 
 // What the table can see (power.h): every candidate's largest shift over its probe runs.
+// "×2.0 on surface_agglomerate_size, ×1.3 on aor_deg_std": the factors that scale a run's own error up.
+std::string inflation_text(const std::map<std::string, double>& f) {
+  std::string out;
+  for (const auto& [obs, x] : f)
+    if (x > 1.05) out += fmt::format("{}×{:.1f} on {}", out.empty() ? "" : ", ", x, obs);
+  return out.empty() ? "none needed" : out;
+}
+
 std::string reach_markdown(const Report& r) {
   if (r.reach.empty()) return "";
   std::string md = fmt::format(
@@ -205,12 +214,14 @@ std::string reach_markdown(const Report& r) {
       "the "
       "strongest strength probed, is one this table cannot show, and the verdict says nothing about it. Such "
       "a "
-      "candidate was also run beside the baseline at conditions beyond the table (one run each, noise the "
-      "table's median σ of the observable): where it would show.\n\n"
+      "candidate was also run beside the baseline at conditions beyond the table (one run each, and the "
+      "baseline's other seeds too where that pair differs by 3 σ; noise the "
+      "table's median σ of the observable, each run's own error scaled to the seed spread of the baseline's "
+      "replicates: {}): where it would show.\n\n"
       "| effect | strongest probed | largest shift (σ) | at strength | cell | χ² excess | visible | beyond "
       "the "
       "table |\n|---|---|---|---|---|---|---|---|\n",
-      kVisibleZ, visible_chi2_excess(r.cells.size()), r.cells.size());
+      kVisibleZ, visible_chi2_excess(r.cells.size()), r.cells.size(), inflation_text(r.within_inflation));
   for (const Reach& x : r.reach) {
     if (x.strongest <= 0) {
       md += fmt::format("| {} | (no probe could run) | | | | | no | |\n", x.effect);
@@ -218,8 +229,9 @@ std::string reach_markdown(const Report& r) {
     }
     std::string beyond;
     if (!x.beyond_condition.empty())
-      beyond = fmt::format("{:.1f} σ: {} at {} (of {} tried)", x.beyond_z, x.beyond_observable,
-                           x.beyond_condition, x.beyond_tried.size());
+      beyond = fmt::format("{:.1f} σ: {} at {} (of {} tried{})", x.beyond_z, x.beyond_observable,
+                           x.beyond_condition, x.beyond_tried.size(),
+                           x.beyond_seeds > 1 ? fmt::format("; {} runs each there", x.beyond_seeds) : "");
     md += fmt::format("| {} | {:.3g} | {:.1f} | {:.3g} | {} at {} | {:.1f} | {} | {} |\n", x.effect,
                       x.strongest, x.max_z, x.at, r.cells[x.cell].observable, r.cell_condition[x.cell],
                       x.chi2_excess, x.visible ? "yes" : "**no**", beyond);
@@ -406,7 +418,9 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
          {"beyond_tried", x.beyond_tried},
          {"beyond_condition", x.beyond_condition},
          {"beyond_observable", x.beyond_observable},
-         {"beyond_max_abs_z", x.beyond_z}});
+         {"beyond_max_abs_z", x.beyond_z},
+         {"beyond_seeds", x.beyond_seeds}});
+  j["within_inflation"] = r.within_inflation;
   j["notes"] = r.notes;
   j["not_measured"] = r.not_measured;
   j["runs"] = r.runs;

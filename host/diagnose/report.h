@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cmath>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -27,10 +28,11 @@ struct Report {
   std::vector<FreshCheck> fresh;  // the chosen effect's fresh-seed runs first, then any tied one's
   FreshCheck null_fresh;          // the model without an effect at the fresh seeds (the shrink's control)
   NextExperiment next;
-  SecondRound second;                     // a second effect on top of the first (second_effect.h)
-  std::vector<Reach> reach;               // what the table can see of each candidate (power.h)
-  std::vector<std::string> notes;         // failed runs, cut ranges
-  std::vector<std::string> not_measured;  // table rows that say a quantity was not measured
+  SecondRound second;                              // a second effect on top of the first (second_effect.h)
+  std::vector<Reach> reach;                        // what the table can see of each candidate (power.h)
+  std::map<std::string, double> within_inflation;  // per observable (baseline.h)
+  std::vector<std::string> notes;                  // failed runs, cut ranges
+  std::vector<std::string> not_measured;           // table rows that say a quantity was not measured
   size_t runs = 0, computed = 0;
   std::string device, store;
   double wall_s = 0.0;

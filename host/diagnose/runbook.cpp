@@ -205,7 +205,7 @@ bool RunBook::reports(const Condition& c, const Variant& v, const std::vector<ui
 }
 
 Prediction RunBook::predict(const Condition& c, const Variant& v, const std::vector<uint64_t>& seeds,
-                            const std::string& observable) const {
+                            const std::string& observable, double f) const {
   std::vector<double> x;
   double own2 = 0.0;  // Σ of the runs' own window SE², over the runs that report one
   size_t owned = 0;
@@ -225,7 +225,7 @@ Prediction RunBook::predict(const Condition& c, const Variant& v, const std::vec
   // two seeds, so often far too small by chance) and the runs' own window errors (from the autocorrelation of
   // each window, √(mean SE²/n)). The larger is kept: a cell is never called significant because two seeds
   // happened to agree.
-  const double within = owned ? std::sqrt(own2 / double(owned) / double(x.size())) : 0.0;
+  const double within = owned ? f * std::sqrt(own2 / double(owned) / double(x.size())) : 0.0;
   double between = 0.0;
   if (x.size() >= 2) {
     double ss = 0;

@@ -59,11 +59,12 @@ class RunBook {
                      const std::vector<uint64_t>& seeds) const;
   // Steps the run of v at c would take (settle + duration over its dt), from the case alone.
   double steps(const Condition& c, const Variant& v) const;
-  // Replicate mean and SE of `observable` (a summary.json key) over the seeds: SE = max(sd/√n, √(mean own
-  // SE²/n)), the runs' own window errors a floor under the spread of few seeds. Throws when a run is missing
-  // or never reports it.
+  // Replicate mean and SE of `observable` (a summary.json key) over the seeds: SE = max(sd/√n, f √(mean own
+  // SE²/n)), the runs' own window errors a floor under the spread of few seeds. f (>= 1) scales the own
+  // errors up where they are known to understate the seed-to-seed spread (Procedure::within_inflation).
+  // Throws when a run is missing or never reports it.
   Prediction predict(const Condition& c, const Variant& v, const std::vector<uint64_t>& seeds,
-                     const std::string& observable) const;
+                     const std::string& observable, double f = 1.0) const;
   // Whether any of these runs reports `observable` as a number (e.g. liquid_free_fraction is null in a dry
   // run).
   bool reports(const Condition& c, const Variant& v, const std::vector<uint64_t>& seeds,
