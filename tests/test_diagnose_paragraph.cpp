@@ -102,4 +102,16 @@ TEST(DiagnoseParagraph, ATieNamesBothAndAddsNeither) {
   EXPECT_NE(tied.find("`viscous` explains the data nearly as well"), std::string::npos) << tied;
   EXPECT_EQ(tied.find("Add `cohesion` to the model"), std::string::npos) << tied;
   EXPECT_NE(tied.find("make the measurement that separates them"), std::string::npos) << tied;
+  EXPECT_NE(tied.find("Do not add either"), std::string::npos) << tied;
+
+  // Three tied: all named, and "either" no longer fits.
+  Candidate a;
+  a.effect = "absorption";
+  a.loco = 1.0;
+  r.verdict.ranking.push_back(a);
+  r.verdict.tied = {"viscous", "absorption"};
+  const std::string three = verdict_paragraph(r);
+  EXPECT_NE(three.find("**Gap explained by `cohesion`, `viscous` or `absorption`"), std::string::npos)
+      << three;
+  EXPECT_NE(three.find("Do not add any of them"), std::string::npos) << three;
 }

@@ -194,13 +194,15 @@ std::string verdict_core(const Report& r) {
       // A tie is not a finding for the first-ranked effect: the headline and the advice name every tied one,
       // and adding one waits for the measurement that tells them apart (tie_sentence names it).
       std::string names = "`" + c.effect + "`";
-      for (const std::string& t : r.verdict.tied) names += " or `" + t + "`";
+      for (size_t i = 0; i < r.verdict.tied.size(); ++i)
+        names += (i + 1 < r.verdict.tied.size() ? ", `" : " or `") + r.verdict.tied[i] + "`";
       const bool tie = !r.verdict.tied.empty();
       const std::string advice =
-          tie ? std::string(
-                    " Do not add either to the model on this table alone: make the measurement that "
+          tie ? fmt::format(
+                    " Do not add {} to the model on this table alone: make the measurement that "
                     "separates them (or measure one directly), then add the one it supports before "
-                    "trusting predictions at new conditions.")
+                    "trusting predictions at new conditions.",
+                    r.verdict.tied.size() == 1 ? "either" : "any of them")
               : fmt::format(
                     " Add {} to the model (or measure it directly) before trusting predictions at new "
                     "conditions.",
