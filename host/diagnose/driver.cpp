@@ -27,14 +27,12 @@ nlohmann::json run_diagnosis(const DiagnosisSpec& d, const DiagnoseOptions& o) {
     p.verdict.kind = "no_gap";
     p.verdict.null_loco = loco_null(p.tab.cells, p.baselines);
   } else {
-    run_fit(p);  // 4. fit
-    std::vector<Family> fams;
-    for (const CandidateRuns& c : p.fitted)
-      if (Family f = c.family(p.baselines); !f.ems.empty()) fams.push_back(f);
-    p.verdict = decide(p.tab.cells, p.baselines, fams, d.rule);  // 5. verdict
-    run_shrink(p);                                               // 6. shrink (and the verdict settled)
-    run_second_effect(p);                                        // 6b. a second effect, when partial
-    run_next_experiment(p);                                      // 7. next experiment (ties)
+    run_fit(p);      // 4. fit
+    mark_unseen(p);  // 5. only what the table can see is named
+    p.verdict = decide(p.tab.cells, p.baselines, p.families(), d.rule);  // 5. verdict
+    run_shrink(p);           // 6. shrink (and the verdict settled)
+    run_second_effect(p);    // 6b. a second effect, when partial
+    run_next_experiment(p);  // 7. next experiment (ties)
   }
   run_reach(p);  // 8. what the table can see of each candidate (its strongest probe if none shows it)
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -70,6 +70,21 @@ std::vector<Reach> table_reach(const Procedure& p) {
   return out;
 }
 
+void mark_unseen(Procedure& p) {
+  p.unseen.clear();
+  for (const Reach& r : table_reach(p)) {
+    const bool fitted = std::any_of(p.fitted.begin(), p.fitted.end(),
+                                    [&](const CandidateRuns& c) { return c.effect == r.effect; });
+    if (!fitted || r.visible || r.strongest <= 0) continue;
+    p.unseen.push_back(r.effect);
+    p.notes.push_back(fmt::format(
+        "verdict: `{}` is not named: its runs up to {:.3g} move no cell by more than {:.1f} σ and the "
+        "table's "
+        "χ² by {:.1f} (visible from {} σ or {:.1f}), so its fit cannot be told from the runs' own noise",
+        r.effect, r.strongest, r.max_z, r.chi2_excess, kVisibleZ, visible_chi2_excess(p.tab.cells.size())));
+  }
+}
+
 namespace {
 
 // Where a candidate the table cannot see would show (run_reach, second part).

@@ -56,6 +56,13 @@ struct Reach {
   size_t beyond_seeds = 1;  // runs each side behind beyond_z: the baseline's seeds where one pair reached 3 σ
 };
 
+// Before the verdict (stage 5): the fitted candidates whose runs so far (every strength the fit ran, its
+// extended range included) move no cell by kVisibleZ and the table's χ² by less than visible_chi2_excess go
+// into p.unseen, with a note. Such a candidate cannot be told from the runs' own noise, so a fit of it
+// follows that noise (a null twin with other PSD tails was "explained in part" by hysteresis at 1.8 σ); the
+// verdict may not name it, and it leaves the ranking (stage 8's reach still shows it).
+void mark_unseen(Procedure& p);
+
 // Every candidate's reach over the probe runs already in the store (the screen's, the fit's, the second
 // round's at refit setting 0), in the order of p.effects.
 std::vector<Reach> table_reach(const Procedure& p);

@@ -170,6 +170,14 @@ std::vector<Prediction> Procedure::predict(const Variant& v, const std::vector<u
   return p;
 }
 
+std::vector<Family> Procedure::families() const {
+  std::vector<Family> fams;
+  for (const CandidateRuns& c : fitted)
+    if (std::find(unseen.begin(), unseen.end(), c.effect) == unseen.end())
+      if (Family f = c.family(baselines); !f.ems.empty()) fams.push_back(f);
+  return fams;
+}
+
 std::vector<Prediction> Procedure::probe(const Variant& v, size_t j) const {
   std::vector<Prediction> p = predict(v, probe_seed);
   const double r = double(base_seeds.size());

@@ -57,7 +57,7 @@ Report make_report(const Procedure& p, double wall_s) {
   r.fitted = p.fitted;
   r.settings = p.settings;
   r.verdict = p.verdict;
-  if (p.settings.size() > 1 && p.baselines.size() > r.verdict.null_refit && !r.verdict.ranking.empty()) {
+  if (p.settings.size() > 1 && p.baselines.size() > r.verdict.null_refit && r.verdict.kind != "no_gap") {
     r.null_refit_pred = p.baselines[r.verdict.null_refit];
     r.null_refit_gaps = where(p.tab.cells, r.null_refit_pred, p.d.rule.q);
   }
@@ -67,6 +67,7 @@ Report make_report(const Procedure& p, double wall_s) {
   r.second = p.second;
   r.reach = p.reach;
   r.within_inflation = p.within_inflation;
+  r.unseen = p.unseen;
   r.notes = p.notes;
   r.notes.insert(r.notes.end(), p.second.notes.begin(), p.second.notes.end());
   r.not_measured = p.tab.not_measured;
@@ -421,6 +422,7 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
          {"beyond_max_abs_z", x.beyond_z},
          {"beyond_seeds", x.beyond_seeds}});
   j["within_inflation"] = r.within_inflation;
+  j["not_named_unseen"] = r.unseen;
   j["notes"] = r.notes;
   j["not_measured"] = r.not_measured;
   j["runs"] = r.runs;

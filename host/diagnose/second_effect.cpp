@@ -76,8 +76,11 @@ double shape_of_fit(const Procedure& p, const std::string& effect) {
 
 Verdict decide_second(const Procedure& p) {
   std::vector<Family> fams;
-  for (const CandidateRuns& c : p.second.fitted)
+  for (const CandidateRuns& c : p.second.fitted) {
+    // A candidate the table cannot see is not named on top of the first either (power.h, mark_unseen).
+    if (std::find(p.unseen.begin(), p.unseen.end(), c.effect) != p.unseen.end()) continue;
     if (Family f = c.family({p.second.base}); !f.ems.empty()) fams.push_back(f);
+  }
   return decide(p.tab.cells, std::vector<std::vector<Prediction>>{p.second.base}, fams, p.d.rule);
 }
 

@@ -88,10 +88,7 @@ void add_fresh_knot(Procedure& p, const FreshCheck& f, const Candidate& c) {
 }
 
 Verdict redecide(const Procedure& p) {
-  std::vector<Family> fams;
-  for (const CandidateRuns& c : p.fitted)
-    if (Family f = c.family(p.baselines); !f.ems.empty()) fams.push_back(f);
-  return decide(p.tab.cells, p.baselines, fams, p.d.rule);
+  return decide(p.tab.cells, p.baselines, p.families(), p.d.rule);
 }
 
 // Fresh checks of the chosen effect and every tied one, reusing those already made at the same strength.

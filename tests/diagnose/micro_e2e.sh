@@ -32,6 +32,8 @@ expect "$D/dn/diagnosis.json" 'j["verdict"] != "effect"' "a null twin got an eff
 # A candidate the table cannot see was run beyond the table (power.h, reach_conditions), and the verdict says so.
 expect "$D/dn/diagnosis.json" 'all(r["visible"] or r["beyond_tried"] for r in j["reach"] if r["strongest_probed"] > 0)' \
   "a candidate the table cannot see was not tried beyond it" "$D/dn/report.md"
+# A candidate the table cannot see is never the one named (power.h, mark_unseen).
+expect "$D/ds/diagnosis.json" 'j["effect"] not in j["not_named_unseen"]' "an effect the table cannot see was named"
 # "To see it, measure O at C" is never said on one run pair: a 3 sigma shift beyond the table is confirmed on
 # the baseline's seeds (power.cpp), and the report scales each run's own error to the seed spread.
 expect "$D/dn/diagnosis.json" 'all(r["beyond_seeds"] >= 2 for r in j["reach"] if r["beyond_max_abs_z"] >= 3) and "within_inflation" in j' \
