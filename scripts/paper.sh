@@ -12,6 +12,9 @@
 #                      the stage's first batch and the stage's time estimated; a stage that does not fit in what is
 #                      left is not started: the script says how long it would take (--anyway starts it all the
 #                      same, cut at the budget: a cut batch checkpoints and the next call resumes it)
+#   --budget-s SEC     the same in seconds (a lent machine's call has a hard limit)
+#   --batch K          runs per ensemble for every study stage (default: the plan's, docs/paper.md); a smaller batch
+#                      keeps the runs of finished batches when the budget cuts the stage
 #   --stages LIST      comma-separated, in this order by default:
 #                      pp2_l5,extended,pp2_l3,calibration,diagnosis,pp1_l5
 #                      (calibration: the twin's table and the calibration of pp2_l5 against it)
@@ -24,7 +27,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 WETDEM=${WETDEM:-$PWD/build/host/wetdem}
 PYTHON=${PYTHON:-/usr/bin/python3}
-size=reduced out="" budget="" stages="" device="" export_dir="" figures_only=0 anyway=0 probe=1
+size=reduced out="" budget="" budget_s="" batch_all="" stages="" device="" export_dir="" figures_only=0 anyway=0 probe=1
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --full) size=full ;;
@@ -32,13 +35,15 @@ while [[ $# -gt 0 ]]; do
     --smoke) size=smoke ;;
     --out) out=$2; shift ;;
     --budget) budget=$2; shift ;;
+    --budget-s) budget_s=$2; shift ;;
+    --batch) batch_all=$2; shift ;;
     --stages) stages=$2; shift ;;
     --device) device=$2; shift ;;
     --export) export_dir=$2; shift ;;
     --figures-only) figures_only=1 ;;
     --anyway) anyway=1 ;;
     --no-probe) probe=0 ;;
-    -h | --help) sed -n '2,24p' "$0"; exit 0 ;;
+    -h | --help) sed -n '2,27p' "$0"; exit 0 ;;
     *) echo "paper.sh: unknown option $1 (--help)" >&2; exit 2 ;;
   esac
   shift
@@ -54,11 +59,12 @@ dev=()
 [[ -n $device ]] && dev=(--device "$device")
 log() { printf '[paper %s] %s\n' "$(date +%H:%M:%S)" "$*" | tee -a "$out/paper.log"; }
 t0=$(date +%s)
-deadline=$((t0 + budget * 60))
+deadline=$((t0 + ${budget_s:-$((budget * 60))}))
 left() { echo $((deadline - $(date +%s))); }
 
 # Runs per ensemble (one batch per stage where it fits in memory; docs/paper.md "The plan").
 batch_of() {
+  [[ -n $batch_all && $1 != twin ]] && { echo "$batch_all"; return; }
   case "$size:$1" in
     full:pp2_l5) echo 20 ;;      # the 20 wet runs in one batch, the dry run alone (last in the study file)
     full:extended) echo 8 ;;
