@@ -43,7 +43,7 @@ while [[ $# -gt 0 ]]; do
     --figures-only) figures_only=1 ;;
     --anyway) anyway=1 ;;
     --no-probe) probe=0 ;;
-    -h | --help) sed -n '2,27p' "$0"; exit 0 ;;
+    -h | --help) sed -n '2,25p' "$0"; exit 0 ;;
     *) echo "paper.sh: unknown option $1 (--help)" >&2; exit 2 ;;
   esac
   shift
