@@ -154,8 +154,7 @@ void run_beyond(Procedure& p) {
   // seeds run there too (both sides) and the shift is taken over all of them, their spread included; then the
   // next largest, until the largest is confirmed or under 3 σ. The wet bed's avalanches decorrelate runs more
   // than one window's error shows, so a single pair can differ by "4 σ" by chance.
-  for (bool more = p.base_seeds.size() >= 2; more;) {
-    more = false;
+  while (p.base_seeds.size() >= 2) {
     std::vector<std::pair<size_t, Tried*>> confirm;
     for (size_t i = 0; i < p.reach.size(); ++i) {
       if (tried[i].empty()) continue;
@@ -185,7 +184,6 @@ void run_beyond(Procedure& p) {
       }
       t->z = shift_at(p.reach[i], *t->c, p.base_seeds, &t->observable);
       t->seeds = p.base_seeds.size();
-      more = true;
     }
   }
   for (size_t i = 0; i < p.reach.size(); ++i) {
