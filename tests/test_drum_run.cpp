@@ -229,6 +229,20 @@ TEST_F(DrumRun, BatchRunsAreBitwiseTheirRunsAlone) {
   }
   EXPECT_NE(alone[0].summary["final_state_hash"], alone[2].summary["final_state_hash"]);
   EXPECT_GT(alone[0].summary["bridges_mean"].get<double>(), 0.0);
+  // Where the wall time went (docs/outputs.md "wall_split_s"): the loop's parts, each measured, add up to the
+  // wall time; stepping and sampling happened in every run, alone or batched.
+  for (const app::RunResult* res : std::vector<const app::RunResult*>{&alone[0], &together[0]}) {
+    const auto& w = res->summary["wall_split_s"];
+    double parts = 0;
+    for (const char* k : {"stepping", "sampling", "frames", "checkpoints"}) {
+      EXPECT_GE(w[k].get<double>(), 0.0) << k;
+      parts += w[k].get<double>();
+    }
+    EXPECT_GT(w["stepping"].get<double>(), 0.0);
+    EXPECT_GT(w["sampling"].get<double>(), 0.0);
+    EXPECT_LE(parts, w["wall"].get<double>());
+    EXPECT_DOUBLE_EQ(parts + w["other"].get<double>(), w["wall"].get<double>());
+  }
 
   std::vector<app::RunOptions> bad = {batch[0], batch[1]};
   bad[0].out_dir = base + "/bad0";

@@ -17,6 +17,7 @@
 #include "app/run/resources.h"
 #include "app/run/sample.h"
 #include "app/run/session.h"
+#include "app/run/wall_split.h"
 #include "vk/context.h"
 #include "wetdem/timestep.h"
 
@@ -350,23 +351,27 @@ std::vector<RunResult> run_batch(const std::vector<RunOptions>& opts, vk::Contex
       saved_at = ens.step();
     };
     const uint64_t stop_after = opts[0].stop_after_steps;
+    WallSplit split;
     for (;;) {
       // At a step boundary, in this order: sample, snapshot, checkpoint, stop (as run_case).
       const uint64_t step = ens.step();
       const bool fresh = !(ckpt && step == first_step);
-      if (fresh && sch.due(step, sch.sample)) {
-        ens.sample();
-        for (size_t r = 0; r < k; ++r) {
-          out[r]->append(ens.samples(r).back());
-          if (opts[r].on_sample) opts[r].on_sample(ens.samples(r).back());
-        }
-      }
-      if (fresh && frames && (sch.due(step, sch.snapshot) || step == 0)) {
-        const std::vector<SystemState> st = ens.states();
-        for (size_t r = 0; r < k; ++r)
-          if (out[r]->has_frames()) out[r]->frame(st[r]);
-      }
-      if (fresh && step > 0 && step < sch.total && sch.due(step, sch.checkpoint)) save();
+      if (fresh && sch.due(step, sch.sample))
+        split.time(split.sampling, [&] {
+          ens.sample();
+          for (size_t r = 0; r < k; ++r) {
+            out[r]->append(ens.samples(r).back());
+            if (opts[r].on_sample) opts[r].on_sample(ens.samples(r).back());
+          }
+        });
+      if (fresh && frames && (sch.due(step, sch.snapshot) || step == 0))
+        split.time(split.frames, [&] {
+          const std::vector<SystemState> st = ens.states();
+          for (size_t r = 0; r < k; ++r)
+            if (out[r]->has_frames()) out[r]->frame(st[r]);
+        });
+      if (fresh && step > 0 && step < sch.total && sch.due(step, sch.checkpoint))
+        split.time(split.checkpoints, save);
       if (stop_after && step >= stop_after && step < sch.total) {
         if (saved_at != step) save();
         progress.finish(info());
@@ -384,7 +389,7 @@ std::vector<RunResult> run_batch(const std::vector<RunOptions>& opts, vk::Contex
         throw std::runtime_error(fmt::format(
             "interrupted at step {}; the batch resumes from its checkpoint in {}", step, ck_dir.string()));
       }
-      ens.advance(sch.next_stop(step));
+      split.time(split.stepping, [&] { ens.advance(sch.next_stop(step)); });
       progress.update(info());
     }
     progress.finish(info());
@@ -405,7 +410,9 @@ std::vector<RunResult> run_batch(const std::vector<RunOptions>& opts, vk::Contex
           *preps[r], fin[r], ens.liquid_start(r), ens.step(), wall > 0 ? n * stepped / wall : 0.0,
           wall_before + wall, ens.system().device_name(), ens.system().counters(), resume ? first_step : 0);
       const nlohmann::json extra = {
-          {"ensemble", {{"runs", k}, {"index", r}, {"aggregate_particle_steps_per_s", aggregate}}}};
+          {"ensemble", {{"runs", k}, {"index", r}, {"aggregate_particle_steps_per_s", aggregate}}},
+          {"wall_split_s", split.json(wall)}};
+      (*logs[r])(split.line(wall) + " (the batch's)");
       results[r].completed = true;
       results[r].final_state = std::move(fin[r]);
       if (complete[r]) continue;  // written before the batch was killed: bitwise the same run

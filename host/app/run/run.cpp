@@ -22,6 +22,7 @@
 #include "app/run/outputs.h"
 #include "app/run/resources.h"
 #include "app/run/session.h"
+#include "app/run/wall_split.h"
 #include "vk/context.h"
 #include "wetdem/version.h"
 
@@ -125,20 +126,25 @@ RunResult run_case(const RunOptions& opt) {
       return p;
     };
 
+    WallSplit split;
     for (;;) {
       // At a step boundary, in this order: sample, snapshot, checkpoint, stop. A checkpoint is written after
       // the sample and snapshot of its step, so a resumed run does not repeat them.
       const uint64_t step = run->step();
       const bool fresh = !(ckpt && step == first_step);
-      if (fresh && sch.due(step, sch.sample)) {
-        const Sample& x = run->sample();
-        out.append(x);
-        window_add(x);
-        if (opt.on_sample) opt.on_sample(x);
-      }
-      if (fresh && out.has_frames() && (sch.due(step, sch.snapshot) || step == 0)) out.frame(run->state());
+      if (fresh && sch.due(step, sch.sample))
+        split.time(split.sampling, [&] {
+          const Sample& x = run->sample();
+          out.append(x);
+          window_add(x);
+          if (opt.on_sample) opt.on_sample(x);
+        });
+      if (fresh && out.has_frames() && (sch.due(step, sch.snapshot) || step == 0))
+        split.time(split.frames, [&] { out.frame(run->state()); });
       if (fresh && step > 0 && step < sch.total && sch.due(step, sch.checkpoint))
-        save_checkpoint(dir.string(), run->checkpoint({{"wall_s", wall_before + wall_now()}}));
+        split.time(split.checkpoints, [&] {
+          save_checkpoint(dir.string(), run->checkpoint({{"wall_s", wall_before + wall_now()}}));
+        });
       if (opt.stop_after_steps && step >= opt.stop_after_steps && step < sch.total) {
         progress.finish(info());
         log(fmt::format("stopped at step {} as asked (--resume {} continues)", step, dir.string()));
@@ -150,7 +156,7 @@ RunResult run_case(const RunOptions& opt) {
         throw std::runtime_error(fmt::format(
             "interrupted at step {}; continue from the last checkpoint with wetdem run --resume {}", step,
             dir.string()));
-      run->advance(sch.next_stop(step));
+      split.time(split.stepping, [&] { run->advance(sch.next_stop(step)); });
       progress.update(info());
     }
     progress.finish(info());
@@ -169,7 +175,9 @@ RunResult run_case(const RunOptions& opt) {
       add_figures(dir, prep, fin, color_max, opt.python,
                   opt.plot_script.empty() ? default_plot_run_script() : opt.plot_script, s);
     };
-    result.summary = write_summary(dir, prep, run->samples(), t, {}, log, figures);
+    log(split.line(wall));
+    result.summary =
+        write_summary(dir, prep, run->samples(), t, {{"wall_split_s", split.json(wall)}}, log, figures);
     result.completed = true;
     result.final_state = std::move(fin);
     return result;
