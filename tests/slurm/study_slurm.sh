@@ -103,7 +103,7 @@ import json, os, sys
 a, b = sys.argv[1], sys.argv[2]
 ia, ib = json.load(open(a + "/index.json")), json.load(open(b + "/index.json"))
 assert [r["hash"] for r in ia["runs"]] == [r["hash"] for r in ib["runs"]], "different plans"
-skip = {"wall_time_s", "particle_steps_per_s", "case_source"}
+skip = {"wall_time_s", "wall_split_s", "particle_steps_per_s", "case_source"}
 if os.path.basename(a) == "slurm_batch":  # the batch's record and its shared neighbour-list schedule
     skip |= {"ensemble", "neighbour_list"}
 for r in ia["runs"]:
