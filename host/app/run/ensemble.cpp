@@ -404,6 +404,7 @@ std::vector<RunResult> run_batch(const std::vector<RunOptions>& opts, vk::Contex
     for (size_t r = 0; r < k; ++r) all += double(preps[r]->state.p.size());
     const double stepped = double(ens.step() - first_step);
     const double aggregate = wall > 0 ? all * stepped / wall : 0.0;
+    const nlohmann::json wall_split = split.json(wall);
     for (size_t r = 0; r < k; ++r) {
       const double n = double(preps[r]->state.p.size());
       const RunTotals t = run_totals(
@@ -411,11 +412,11 @@ std::vector<RunResult> run_batch(const std::vector<RunOptions>& opts, vk::Contex
           wall_before + wall, ens.system().device_name(), ens.system().counters(), resume ? first_step : 0);
       const nlohmann::json extra = {
           {"ensemble", {{"runs", k}, {"index", r}, {"aggregate_particle_steps_per_s", aggregate}}},
-          {"wall_split_s", split.json(wall)}};
-      (*logs[r])(split.line(wall) + " (the batch's)");
+          {"wall_split_s", wall_split}};
       results[r].completed = true;
       results[r].final_state = std::move(fin[r]);
       if (complete[r]) continue;  // written before the batch was killed: bitwise the same run
+      (*logs[r])(split.line(wall) + " (the batch's)");
       results[r].summary = write_summary(dirs[r], *preps[r], ens.samples(r), t, extra, *logs[r]);
     }
     // Every summary is written: the batch's checkpoint and the member files go.
