@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <map>
+#include <utility>
 
 #include "app/output/summary.h"
 #include "diagnose/effects.h"
@@ -44,7 +45,7 @@ const FreshCheck* Report::fresh_of(const std::string& effect) const {
   return nullptr;
 }
 
-Report make_report(const Procedure& p, double wall_s) {
+Report make_report(const Procedure& p, double wall_s, std::vector<StageCost> stages) {
   Report r;
   r.spec = &p.d;
   r.cells = p.tab.cells;
@@ -76,6 +77,7 @@ Report make_report(const Procedure& p, double wall_s) {
   r.device = p.book.device();
   r.store = p.store;
   r.wall_s = wall_s;
+  r.stages = std::move(stages);
   return r;
 }
 
@@ -430,6 +432,9 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
   j["store"] = r.store;
   j["device"] = r.device;
   j["wall_s"] = r.wall_s;
+  j["stages"] = nlohmann::json::array();
+  for (const StageCost& c : r.stages)
+    j["stages"].push_back({{"stage", c.stage}, {"wall_s", c.wall_s}, {"runs_computed", c.runs_computed}});
   j["paragraph"] = verdict_paragraph(r);
   app::write_file_atomic((fs::path(dir) / "diagnosis.json").string(), j.dump(2) + "\n");
 
@@ -525,8 +530,13 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
     md += "\n";
   }
   md += figs;
-  md += fmt::format("Runs: {} in the store ({} computed now), device {}, wall time {:.0f} s.\n", r.runs,
-                    r.computed, r.device.empty() ? "-" : r.device, r.wall_s);
+  md += fmt::format("Runs: {} in the store ({} computed now), device {}, wall time {:.0f} s", r.runs, r.computed,
+                    r.device.empty() ? "-" : r.device, r.wall_s);
+  std::string per_stage;
+  for (const StageCost& c : r.stages)
+    per_stage += fmt::format("{}{} {:.0f} s ({} runs)", per_stage.empty() ? "" : "; ", c.stage, c.wall_s,
+                             c.runs_computed);
+  md += per_stage.empty() ? ".\n" : " (" + per_stage + ").\n";
   app::write_file_atomic((fs::path(dir) / "report.md").string(), md);
   return j;
 }

@@ -12,6 +12,13 @@
 
 namespace wetdem::diagnose {
 
+// One stage of the procedure: its wall time and the runs it computed (driver.cpp).
+struct StageCost {
+  std::string stage;
+  double wall_s = 0.0;
+  size_t runs_computed = 0;
+};
+
 struct Report {
   const DiagnosisSpec* spec = nullptr;
   std::vector<Cell> cells;
@@ -37,6 +44,7 @@ struct Report {
   size_t runs = 0, computed = 0;
   std::string device, store;
   double wall_s = 0.0;
+  std::vector<StageCost> stages;  // where the wall time went, in the procedure's order
 
   const CandidateRuns* runs_of(const std::string& effect) const;
   const FreshCheck* fresh_of(const std::string& effect) const;
@@ -55,7 +63,7 @@ struct Report {
   const CandidateRuns* second_runs_of(const std::string& effect) const;
 };
 
-Report make_report(const Procedure& p, double wall_s);
+Report make_report(const Procedure& p, double wall_s, std::vector<StageCost> stages = {});
 
 // Writes DIR/diagnosis.json, DIR/report.md and (figures) DIR/figures/*.png; returns diagnosis.json.
 nlohmann::json write_report(const std::string& dir, const Report& r, bool figures);

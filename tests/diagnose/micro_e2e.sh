@@ -18,6 +18,12 @@ echo "withheld spread: $(J "$D/ds/diagnosis.json" 'j["verdict"], j["effect"], ro
 expect "$D/ds/diagnosis.json" 'j["verdict"] == "effect"' "verdict is not effect" "$D/ds/report.md"
 expect "$D/ds/diagnosis.json" 'j["effect"] == "spread"' "wrong effect" "$D/ds/report.md"
 expect "$D/ds/diagnosis.json" 'j["held_out_shrink"] >= 0.5' "shrink < 0.5"
+# Where the time went (driver.cpp): the stages account for every run computed, and their walls add to at most
+# the whole (the table reading before the first stage is the rest).
+expect "$D/ds/diagnosis.json" 'sum(s["runs_computed"] for s in j["stages"]) == j["runs_computed"] > 0' \
+  "the stages do not account for the runs computed"
+expect "$D/ds/diagnosis.json" 'len(j["stages"]) >= 4 and 0 < sum(s["wall_s"] for s in j["stages"]) <= j["wall_s"]' \
+  "the stages' wall times do not add up"
 # What the table can see (power.h): every candidate is listed, and the one found is visible there.
 expect "$D/ds/diagnosis.json" 'len(j["reach"]) == len(j["screen"])' "reach does not list every candidate"
 expect "$D/ds/diagnosis.json" 'any(r["effect"] == "spread" and r["visible"] and r["max_abs_z"] >= 3 for r in j["reach"])' \
