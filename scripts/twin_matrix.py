@@ -16,7 +16,9 @@ writes a twin file with truth seeds and a noise seed of its own, runs `wetdem tw
   - the median held-out shrink over the correctly identified twins;
   - strength: the fitted strength within +-25 % of the truth, and the interval covering it, over those twins;
   - nulls and outside effects: any `effect` verdict is a confident wrong answer (`partial` is hedged);
-  - the device and the wall time.
+  - the device and the wall time: each twin's cost is that of the call that computed its runs (OUT/<twin>/
+    cost.json: wall, twin runs included, runs computed, the diagnosis's stages), so a re-evaluation from the
+    store (seconds) does not overwrite it; the matrix's wall is their sum.
 
   /usr/bin/python3 scripts/twin_matrix.py assets/diagnosis/flowing/matrix.toml --out matrix --jobs 2 --batch 4
 """
@@ -102,7 +104,29 @@ def row_of(d, t):
             "interval_open": best.get("strength_interval_open") if best else None,
             "held_out_shrink": j["held_out_shrink"], "held_out_gap_shrink": j.get("held_out_gap_shrink"),
             "runs_computed": j.get("runs_computed"), "signal": signal(d, j),
-            "wall_s": j.get("wall_s"), "device": j["device"]}
+            "wall_s": cost_of(d, j)["wall_s"], "device": j["device"]}
+
+
+def cost_of(d, j):
+    """What the twin cost when its runs were computed: OUT/<twin>/cost.json, kept from the call that computed the
+    most runs (a re-evaluation from the store computes none and reads ~0 s), else this diagnosis's wall."""
+    path = os.path.join(d, "cost.json")
+    if os.path.exists(path):
+        return json.load(open(path))
+    return {"wall_s": j.get("wall_s"), "runs_computed": j.get("runs_computed")}
+
+
+def record_cost(d, wall_s):
+    """After a call that ran the twin and the diagnosis: its wall time (the twin's runs included) and the runs the
+    diagnosis computed, unless an earlier call computed more."""
+    j = json.load(open(os.path.join(d, "diagnosis", "diagnosis.json")))
+    new = {"wall_s": wall_s, "runs_computed": j.get("runs_computed") or 0, "stages": j.get("stages"),
+           "device": j.get("device")}
+    path = os.path.join(d, "cost.json")
+    if os.path.exists(path) and (json.load(open(path)).get("runs_computed") or 0) >= new["runs_computed"]:
+        return
+    with open(path, "w") as f:
+        json.dump(new, f, indent=1)
 
 
 def identified(r):
@@ -262,7 +286,7 @@ def summarize(rows, wall, device, out_dir, spec_path):
            f"withheld differences named: {len(both)}; "
            if any(r.get("also") for r in eff) else "")
         + f"nulls and outside effects given an `effect` verdict (a confident wrong answer): "
-        f"{len(confident_wrong)}/{len(quiet)}. Device {device}; wall {wall:.0f} s.")
+        f"{len(confident_wrong)}/{len(quiet)}. Device {device}; wall {wall:.0f} s (the twins' computing calls, twin runs included, summed).")
     open(os.path.join(out_dir, "matrix.md"), "w").write("\n".join(md) + "\n")
     plot(rows, os.path.join(out_dir, "matrix.png"))
     print("\n".join(md))
@@ -306,6 +330,7 @@ def main():
                 rows.append(row_of(d, t))
             continue
         os.makedirs(d, exist_ok=True)
+        t_twin = time.time()
         overrides = dict(t.get("truth", {}))
         overrides.update(t.get("perturb", {}))
         tf = os.path.join(d, "twin.toml")
@@ -315,14 +340,13 @@ def main():
         # The diagnosis sees the observations only (truth.json stays in the twin folder).
         run([a.wetdem, "diagnose", diagnosis, "--observations", os.path.join(d, "twin", "observations.csv"),
              "--out", os.path.join(d, "diagnosis")] + common, os.path.join(d, "diagnose.log"))
+        record_cost(d, time.time() - t_twin)
         rows.append(row_of(d, t))
         r = rows[-1]
         print(f"{t['name']}: {r['verdict']} {r['effect'] or ''} ({time.time() - t0:.0f} s)", flush=True)
-    wall = time.time() - t0
-    if a.summarize or a.only:
-        old = os.path.join(a.out, "matrix.json")
-        if os.path.exists(old):
-            wall = json.load(open(old)).get("wall_s", wall) + (0 if a.summarize else wall)
+    # The matrix's cost: the twins' computing calls summed (cost.json), not this call's, which may only have
+    # re-read the store.
+    wall = sum(r["wall_s"] or 0 for r in rows)
     device = next((r["device"] for r in rows if r["device"]), "")
     summarize(rows, wall, device, a.out, os.path.relpath(a.matrix))
 

@@ -1,0 +1,88 @@
+#!/usr/bin/python3
+"""The validation matrix's scores (scripts/twin_matrix.py --summarize) on fabricated twin folders whose answers
+are known: what counts as identified, what is a confident wrong answer, the strength and interval scores, and
+the cost column (cost.json from the computing call, not a re-evaluation's ~0 s).
+usage: twin_matrix_score.py SOURCE_DIR"""
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+src = sys.argv[1]
+d = tempfile.mkdtemp(prefix="wetdem-matrix-")
+open(os.path.join(d, "twin_base.toml"), "w").write('name = "base"\n')
+open(os.path.join(d, "diagnose.toml"), "w").write('name = "d"\n')
+open(os.path.join(d, "matrix.toml"), "w").write('''diagnosis = "diagnose.toml"
+twin_base = "twin_base.toml"
+[[twin]]
+name = "absorption-right"
+effect = "absorption"
+strength = 0.02
+[[twin]]
+name = "cohesion-with-a-stranger"
+effect = "cohesion"
+strength = 0.01
+[[twin]]
+name = "spread-as-its-other-difference"
+effect = "spread"
+strength = 0.7
+also_effect = "scale"
+also_strength = 0.2
+[[twin]]
+name = "null-called-effect"
+[[twin]]
+name = "outside-hedged"
+effect = "outside"
+''')
+
+
+def diagnosis(verdict, effect=None, strength=None, interval=None, shrink=None, second=None, wall=3.0):
+    j = {"verdict": verdict, "effect": effect, "tied": [], "held_out_shrink": shrink, "held_out_gap_shrink": None,
+         "runs_computed": 0, "wall_s": wall, "device": "fabricated", "cells": [],
+         "ranking": [] if effect is None else [{"effect": effect, "strength": strength,
+                                                 "strength_interval": interval,
+                                                 "strength_interval_open": [False, False]}]}
+    if second:
+        j["second"] = {"effect": second, "strength": 0.1, "held_out_shrink_total": 0.5,
+                       "ranking": [{"effect": second, "strength_interval": [0.05, 0.2]}]}
+    return j
+
+
+twins = {
+    # named, strength within 25 % (0.022 vs 0.02), interval covering it
+    "absorption-right": diagnosis("effect", "absorption", 0.022, [0.01, 0.03], 0.8),
+    # the truth first, but a second effect the twin did not withhold: named first, not identified
+    "cohesion-with-a-stranger": diagnosis("partial", "cohesion", 0.02, [0.015, 0.03], 0.4, second="evaporation"),
+    # the other withheld difference (itself a candidate) named alone: counted apart
+    "spread-as-its-other-difference": diagnosis("effect", "scale", 0.21, [0.1, 0.3], 0.6),
+    # a null given an effect: a confident wrong answer
+    "null-called-effect": diagnosis("effect", "spread", 0.3, [0.1, 0.5], 0.5),
+    # an outside effect given a partial: hedged, not confident
+    "outside-hedged": diagnosis("partial", "cohesion", 0.003, [0.001, 0.01], 0.3),
+}
+for name, j in twins.items():
+    os.makedirs(os.path.join(d, "out", name, "diagnosis"))
+    json.dump(j, open(os.path.join(d, "out", name, "diagnosis", "diagnosis.json"), "w"))
+# The computing call's cost is what the matrix reports, not the diagnosis's last (re-evaluation) wall.
+json.dump({"wall_s": 700.0, "runs_computed": 40},
+          open(os.path.join(d, "out", "absorption-right", "cost.json"), "w"))
+
+r = subprocess.run([sys.executable, os.path.join(src, "scripts", "twin_matrix.py"), os.path.join(d, "matrix.toml"),
+                    "--out", os.path.join(d, "out"), "--summarize"], capture_output=True, text=True)
+if r.returncode != 0:
+    sys.exit(f"FAIL: twin_matrix.py --summarize: {r.returncode}\n{r.stdout}\n{r.stderr}")
+m = json.load(open(os.path.join(d, "out", "matrix.json")))
+want = {"effect_twins": 3, "top1": 1, "truth_chosen_first": 2, "strength_within_25pc": 1,
+        "interval_covers_truth": 1, "found_other_candidate": 1, "other_candidate_within_25pc": 1,
+        "nulls_and_outside": 2, "confident_wrong": 1, "median_held_out_shrink": 0.8,
+        "wall_s": 700.0 + 4 * 3.0}
+bad = {k: (m.get(k), v) for k, v in want.items() if m.get(k) != v}
+if bad:
+    sys.exit(f"FAIL: matrix.json (got, want): {bad}")
+md = open(os.path.join(d, "out", "matrix.md")).read()
+for needle in ["| absorption-right | absorption | 0.02 |", "0.022 [0.01, 0.03]", "| 700 s |",
+               "| null-called-effect | none |"]:
+    if needle not in md:
+        sys.exit(f"FAIL: matrix.md lacks {needle!r}")
+print("twin matrix scores: OK")
