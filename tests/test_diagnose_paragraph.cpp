@@ -104,6 +104,24 @@ TEST(DiagnoseParagraph, ATieNamesBothAndAddsNeither) {
   EXPECT_NE(tied.find("make the measurement that separates them"), std::string::npos) << tied;
   EXPECT_NE(tied.find("Do not add either"), std::string::npos) << tied;
 
+  // The separating measurement says how many seeds stand behind it: a condition run on its first seed only
+  // (nothing separated the pair by 2 sigma there, next_experiment.cpp) is marked as such.
+  r.next.effect_a = "cohesion";
+  r.next.effect_b = "viscous";
+  Proposal q;
+  q.condition = "drum.rpm=90, liquid.content=10 %";
+  q.observable = "aor_deg_std";
+  q.model_a = 20, q.model_b = 17, q.se_a = q.se_b = 1, q.sigma = 1.5, q.separation = 1.6, q.seeds = 2;
+  r.next.proposals = {q};
+  const std::string two_seeds = verdict_paragraph(r);
+  EXPECT_NE(two_seeds.find("**Next experiment:** measure `aor_deg_std` at drum.rpm=90"), std::string::npos)
+      << two_seeds;
+  EXPECT_EQ(two_seeds.find("one seed each"), std::string::npos) << two_seeds;
+  r.next.proposals[0].seeds = 1;
+  const std::string one_seed = verdict_paragraph(r);
+  EXPECT_NE(one_seed.find("one seed each"), std::string::npos) << one_seed;
+  r.next = {};
+
   // Three tied: all named, and "either" no longer fits.
   Candidate a;
   a.effect = "absorption";

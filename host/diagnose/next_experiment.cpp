@@ -124,20 +124,26 @@ void run_next_experiment(Procedure& p) {
                b.after[k].se,
                sigma[obs],
                separation(obs, a.after[k], b.after[k]),
-               true};
+               true,
+               p.fresh_seeds.size()};
     if (q.separation > best) best = q.separation, base = p.tab.cell_condition[k];
     p.next.proposals.push_back(q);
   }
-  // Beyond the table: each proposal with both models, the baseline's seeds.
+  // Beyond the table, in two rounds to halve the cost where nothing separates: both models at every proposed
+  // condition on the first seed (common random numbers: the pair's difference is less noisy than either), then
+  // the other seeds only where some observable already separates them by kPromising; a condition that stays on
+  // one seed is reported with its one-seed numbers (seeds = 1) and cannot be the best proposal by much.
+  constexpr double kPromising = 2.0;
   const Variant va = p.variant(a.effect, a.strength, a.refit, a.shape);
   const Variant vb = p.variant(b.effect, b.strength, b.refit, b.shape);
   std::vector<Condition> props = propose_conditions(p.tab.conditions, p.tab.conditions[base], p.models[0].rpm,
                                                     p.models[0].duration_s, p.d.next_conditions);
+  const std::vector<uint64_t> first{p.base_seeds.front()};
   std::vector<Condition> wanted;
   for (Condition& c : props) {
     try {
-      p.book.want(c, va, p.base_seeds);
-      p.book.want(c, vb, p.base_seeds);
+      p.book.want(c, va, first);
+      p.book.want(c, vb, first);
       wanted.push_back(c);
     } catch (const study::StudyError& e) {
       p.notes.push_back(fmt::format("next experiment: {} cannot be run: {}", c.label, e.what()));
@@ -146,20 +152,41 @@ void run_next_experiment(Procedure& p) {
   p.run();
   std::set<std::string> observables;
   for (const Cell& c : p.tab.cells) observables.insert(c.observable);
-  for (const Condition& c : wanted) {
-    const std::string fa = p.book.failure({c}, va, p.base_seeds), fb = p.book.failure({c}, vb, p.base_seeds);
+  // The proposals at condition c on these seeds; empty when a run failed (noted).
+  const auto measure = [&](const Condition& c, const std::vector<uint64_t>& seeds) {
+    std::vector<Proposal> out;
+    const std::string fa = p.book.failure({c}, va, seeds), fb = p.book.failure({c}, vb, seeds);
     if (!fa.empty() || !fb.empty()) {
       p.notes.push_back("next experiment: " + (fa.empty() ? fb : fa));
-      continue;
+      return out;
     }
     for (const std::string& obs : observables) {
-      if (!p.book.reports(c, va, p.base_seeds, obs) || !p.book.reports(c, vb, p.base_seeds, obs)) continue;
+      if (!p.book.reports(c, va, seeds, obs) || !p.book.reports(c, vb, seeds, obs)) continue;
       // The seeds' own window errors scaled to the baseline's seed spread (two seeds may agree by chance).
-      const Prediction x = p.book.predict(c, va, p.base_seeds, obs, p.inflation(obs)),
-                       y = p.book.predict(c, vb, p.base_seeds, obs, p.inflation(obs));
-      p.next.proposals.push_back(
-          {c.label, obs, x.mean, y.mean, x.se, y.se, sigma[obs], separation(obs, x, y), false});
+      const Prediction x = p.book.predict(c, va, seeds, obs, p.inflation(obs)),
+                       y = p.book.predict(c, vb, seeds, obs, p.inflation(obs));
+      out.push_back({c.label, obs, x.mean, y.mean, x.se, y.se, sigma[obs], separation(obs, x, y), false,
+                     seeds.size()});
     }
+    return out;
+  };
+  std::vector<std::vector<Proposal>> found;
+  std::vector<bool> promising;
+  for (Condition& c : wanted) {
+    found.push_back(measure(c, first));
+    bool any = false;
+    for (const Proposal& q : found.back()) any = any || q.separation >= kPromising;
+    promising.push_back(any && p.base_seeds.size() > 1);
+    if (promising.back()) {
+      p.book.want(c, va, p.base_seeds);
+      p.book.want(c, vb, p.base_seeds);
+    }
+  }
+  p.run();
+  for (size_t i = 0; i < wanted.size(); ++i) {
+    if (promising[i])
+      if (std::vector<Proposal> all = measure(wanted[i], p.base_seeds); !all.empty()) found[i] = all;
+    p.next.proposals.insert(p.next.proposals.end(), found[i].begin(), found[i].end());
   }
   std::stable_sort(p.next.proposals.begin(), p.next.proposals.end(),
                    [](const Proposal& x, const Proposal& y) { return x.separation > y.separation; });

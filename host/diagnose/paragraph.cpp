@@ -58,10 +58,11 @@ std::string tie_sentence(const Report& r) {
     const Proposal& q = r.next.proposals.front();
     s += fmt::format(
         " **Next experiment:** measure `{}` at {}{}: the two fitted models differ there by {:.1f} σ (`{}` "
-        "{:.4g} ± {:.2g}, `{}` {:.4g} ± {:.2g}, measurement noise {:.3g}).",
+        "{:.4g} ± {:.2g}, `{}` {:.4g} ± {:.2g}, measurement noise {:.3g}{}).",
         q.observable, q.condition,
         q.in_table ? " (a condition of the table: measure it again, more precisely)" : "", q.separation,
-        r.next.effect_a, q.model_a, q.se_a, r.next.effect_b, q.model_b, q.se_b, q.sigma);
+        r.next.effect_a, q.model_a, q.se_a, r.next.effect_b, q.model_b, q.se_b, q.sigma,
+        q.seeds == 1 ? "; one seed each: no condition separated them by 2 σ on its first seed" : "");
   } else if (!r.next.note.empty()) {
     s += " No separating measurement was found: " + r.next.note + ".";
   }

@@ -399,7 +399,8 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
                        {"se_b", q.se_b},
                        {"sigma", q.sigma},
                        {"separation", q.separation},
-                       {"in_table", q.in_table}});
+                       {"in_table", q.in_table},
+                       {"seeds", q.seeds}});
     }
     j["next_experiment"] = {
         {"effects", {r.next.effect_a, r.next.effect_b}}, {"proposals", props}, {"note", r.next.note}};
@@ -511,14 +512,15 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
       r.spec->rule.q);
   if (!r.next.proposals.empty()) {
     md += fmt::format("## Next experiment: `{}` or `{}`?\n\n", r.next.effect_a, r.next.effect_b);
-    md += fmt::format("| condition | observable | `{}` | `{}` | noise σ | separation (σ) | in the table |\n",
-                      r.next.effect_a, r.next.effect_b);
-    md += "|---|---|---|---|---|---|---|\n";
+    md += fmt::format(
+        "| condition | observable | `{}` | `{}` | noise σ | separation (σ) | in the table | seeds |\n",
+        r.next.effect_a, r.next.effect_b);
+    md += "|---|---|---|---|---|---|---|---|\n";
     for (size_t i = 0; i < r.next.proposals.size() && i < 8; ++i) {
       const Proposal& q = r.next.proposals[i];
-      md += fmt::format("| {} | {} | {:.4g} ± {:.2g} | {:.4g} ± {:.2g} | {:.3g} | {:.2f} | {} |\n",
+      md += fmt::format("| {} | {} | {:.4g} ± {:.2g} | {:.4g} ± {:.2g} | {:.3g} | {:.2f} | {} | {} |\n",
                         q.condition, q.observable, q.model_a, q.se_a, q.model_b, q.se_b, q.sigma,
-                        q.separation, q.in_table ? "yes" : "no");
+                        q.separation, q.in_table ? "yes" : "no", q.seeds);
     }
     md += "\n";
   }
