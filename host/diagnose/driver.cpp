@@ -23,7 +23,8 @@ class StageClock {
   explicit StageClock(const Procedure& p) : p_(p), last_(std::chrono::steady_clock::now()) {}
   void done(const char* stage) {
     const auto now = std::chrono::steady_clock::now();
-    stages_.push_back({stage, std::chrono::duration<double>(now - last_).count(), p_.book.computed() - runs_});
+    stages_.push_back(
+        {stage, std::chrono::duration<double>(now - last_).count(), p_.book.computed() - runs_});
     last_ = now, runs_ = p_.book.computed();
   }
   std::vector<StageCost> stages() const { return stages_; }

@@ -130,9 +130,10 @@ void run_next_experiment(Procedure& p) {
     p.next.proposals.push_back(q);
   }
   // Beyond the table, in two rounds to halve the cost where nothing separates: both models at every proposed
-  // condition on the first seed (common random numbers: the pair's difference is less noisy than either), then
-  // the other seeds only where some observable already separates them by kPromising; a condition that stays on
-  // one seed is reported with its one-seed numbers (seeds = 1) and cannot be the best proposal by much.
+  // condition on the first seed (common random numbers: the pair's difference is less noisy than either),
+  // then the other seeds only where some observable already separates them by kPromising; a condition that
+  // stays on one seed is reported with its one-seed numbers (seeds = 1) and cannot be the best proposal by
+  // much.
   constexpr double kPromising = 2.0;
   const Variant va = p.variant(a.effect, a.strength, a.refit, a.shape);
   const Variant vb = p.variant(b.effect, b.strength, b.refit, b.shape);
@@ -165,8 +166,8 @@ void run_next_experiment(Procedure& p) {
       // The seeds' own window errors scaled to the baseline's seed spread (two seeds may agree by chance).
       const Prediction x = p.book.predict(c, va, seeds, obs, p.inflation(obs)),
                        y = p.book.predict(c, vb, seeds, obs, p.inflation(obs));
-      out.push_back({c.label, obs, x.mean, y.mean, x.se, y.se, sigma[obs], separation(obs, x, y), false,
-                     seeds.size()});
+      out.push_back(
+          {c.label, obs, x.mean, y.mean, x.se, y.se, sigma[obs], separation(obs, x, y), false, seeds.size()});
     }
     return out;
   };

@@ -532,8 +532,8 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
     md += "\n";
   }
   md += figs;
-  md += fmt::format("Runs: {} in the store ({} computed now), device {}, wall time {:.0f} s", r.runs, r.computed,
-                    r.device.empty() ? "-" : r.device, r.wall_s);
+  md += fmt::format("Runs: {} in the store ({} computed now), device {}, wall time {:.0f} s", r.runs,
+                    r.computed, r.device.empty() ? "-" : r.device, r.wall_s);
   std::string per_stage;
   for (const StageCost& c : r.stages)
     per_stage += fmt::format("{}{} {:.0f} s ({} runs)", per_stage.empty() ? "" : "; ", c.stage, c.wall_s,
