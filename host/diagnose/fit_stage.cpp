@@ -128,6 +128,31 @@ struct Stage {
 
 }  // namespace
 
+void set_limit_notes(CandidateRuns& c) {
+  static const std::string kPrefix = "the fit runs into the ";
+  c.notes.erase(std::remove_if(c.notes.begin(), c.notes.end(),
+                               [](const std::string& n) { return n.rfind(kPrefix, 0) == 0; }),
+                c.notes.end());
+  const double phys_hi = effect_spec(c.effect).phys_hi;
+  if (c.at_limit > 0 && std::isfinite(c.cut) && c.cut / 1.3 < phys_hi)
+    c.notes.push_back(fmt::format("{}cut range (runs at {:.3g} could not be made)", kPrefix, c.cut));
+  else if (c.at_limit > 0)
+    c.notes.push_back(fmt::format("{}upper end of the physical range ({:g})", kPrefix, phys_hi));
+  if (c.at_limit < 0)
+    c.notes.push_back(
+        fmt::format("{}lower end of the range searched ({:g})", kPrefix, effect_spec(c.effect).phys_lo));
+}
+
+void settle_limit(CandidateRuns& c, const Candidate& fitted) {
+  const EffectSpec& spec = effect_spec(c.effect);
+  const double hi = std::isfinite(c.cut) ? std::min(spec.phys_hi, c.cut / 1.3) : spec.phys_hi;
+  int limit = 0;
+  const double edge =
+      next_edge_knot(fitted.fit, c.member(fitted.refit, fitted.shape), spec.phys_lo, hi, &limit);
+  c.at_limit = edge > 0 ? 0 : limit;
+  set_limit_notes(c);
+}
+
 void run_fit(Procedure& p) {
   std::vector<CandidateRuns> cands;
   for (const Screened& s : p.screened) {
@@ -195,17 +220,7 @@ void run_fit(Procedure& p) {
     if (!any) break;
     st.collect();
   }
-  for (CandidateRuns& c : cands) {
-    const double phys_hi = effect_spec(c.effect).phys_hi;
-    if (c.at_limit > 0 && std::isfinite(c.cut) && c.cut / 1.3 < phys_hi)
-      c.notes.push_back(
-          fmt::format("the fit runs into the cut range (runs at {:.3g} could not be made)", c.cut));
-    else if (c.at_limit > 0)
-      c.notes.push_back(fmt::format("the fit runs into the upper end of the physical range ({:g})", phys_hi));
-    if (c.at_limit < 0)
-      c.notes.push_back(fmt::format("the fit runs into the lower end of the range searched ({:g})",
-                                    effect_spec(c.effect).phys_lo));
-  }
+  for (CandidateRuns& c : cands) set_limit_notes(c);
   p.fitted = cands;
 }
 

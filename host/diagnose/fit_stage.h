@@ -5,11 +5,19 @@
 #pragma once
 
 #include "diagnose/procedure.h"
+#include "diagnose/verdict.h"
 
 namespace wetdem::diagnose {
 
 // Fills Procedure::fitted (and the baselines of the refit settings). Runs that fail or cost more than
 // max_cost cut the candidate's range there (noted, never an abort).
 void run_fit(Procedure& p);
+
+// The notes that say a fit runs into an end of the physical range (or the cut range), from c.at_limit;
+// replaces any such notes already there.
+void set_limit_notes(CandidateRuns& c);
+// c.at_limit and its notes for the fit the verdict now reports (after the confirmation stage re-fitted with
+// the fresh runs as a knot, the fit may have moved inside the range; shrink.cpp).
+void settle_limit(CandidateRuns& c, const Candidate& fitted);
 
 }  // namespace wetdem::diagnose

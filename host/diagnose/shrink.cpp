@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "diagnose/fit_stage.h"
+
 namespace wetdem::diagnose {
 
 double rounded_strength(double s) {
@@ -148,6 +150,9 @@ void run_shrink(Procedure& p) {
       return;
     }
     const Candidate& now = p.verdict.ranking.front();
+    // The range notes follow the fit now reported (spread-strong: fitted at the physical limit 0.9, re-fitted
+    // to 0.7 with the fresh knot, and still said to "run into the upper end").
+    if (CandidateRuns* cr = runs_of(p, now.effect)) settle_limit(*cr, now);
     if (now.effect == before && std::fabs(std::log(rounded_strength(now.fit.strength) / s_before)) < 0.02)
       break;
     p.notes.push_back(
