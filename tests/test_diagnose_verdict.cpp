@@ -10,6 +10,7 @@
 #include "diagnose/effects.h"
 #include "diagnose/emulator.h"
 #include "diagnose/fit.h"
+#include "diagnose/fit_stage.h"
 #include "diagnose/next_experiment.h"
 #include "diagnose/twin.h"
 #include "diagnose/verdict.h"
@@ -306,4 +307,38 @@ TEST(DiagnoseVerdict, TheMarginCountsTheGapNotTheNoise) {
   EXPECT_LE(truth_old, runs / 4) << "it would rarely pass a margin on the whole χ² (1 of 17)";
   EXPECT_EQ(decoy_new, 0);
   EXPECT_LE(noise_new, 1);
+}
+
+// The note that a fit "runs into the upper end of the physical range" follows the fit that is reported: set
+// while the fit sat at the limit, it goes when a later knot (the confirmation's fresh runs) moves the fit
+// inside, and comes back if the fit returns to the limit (spread-strong in the flowing matrix kept it stale).
+TEST(DiagnoseVerdict, TheLimitNoteFollowsTheReportedFit) {
+  const EffectSpec& spec = effect_spec("spread");
+  Response r = linear("spread", {0.1, 0.3, spec.phys_hi}, kSlope, 30.0);
+  const std::vector<Prediction> base(5, Prediction{30.0, 0.1});
+  auto cells_for = [&](double s) {
+    std::vector<double> y;
+    const double u0 = std::log10(0.1) - 1.0;
+    for (double k : kSlope) y.push_back(30.0 + k * (std::log10(s) - u0));
+    return cells_at(kPhi, y, 0.3);
+  };
+  CandidateRuns c;
+  c.effect = "spread";
+  c.member(0, 0) = r;
+  Candidate at_limit;
+  at_limit.fit = fit_strength(cells_for(5.0), Emulator(base, r));  // beyond the physical range
+  ASSERT_TRUE(at_limit.fit.at_hi);
+  settle_limit(c, at_limit);
+  EXPECT_EQ(c.at_limit, +1);
+  ASSERT_EQ(c.notes.size(), 1u);
+  EXPECT_EQ(c.notes[0].rfind("the fit runs into the upper end of the physical range", 0), 0u) << c.notes[0];
+
+  c.notes.push_back("range extended to 0.9");
+  Candidate inside;
+  inside.fit = fit_strength(cells_for(0.5), Emulator(base, r));
+  ASSERT_FALSE(inside.fit.at_hi || inside.fit.open_hi);
+  settle_limit(c, inside);
+  EXPECT_EQ(c.at_limit, 0);
+  ASSERT_EQ(c.notes.size(), 1u) << "the limit note goes, the others stay";
+  EXPECT_EQ(c.notes[0], "range extended to 0.9");
 }
