@@ -14,6 +14,12 @@ namespace wetdem::diagnose {
 
 namespace {
 
+// The strongest strength the fit may reach: the physical limit, or below the cut where runs failed or cost
+// too much (a margin of 1.3 under the strength that could not run).
+double searchable_hi(const CandidateRuns& c, const EffectSpec& spec) {
+  return std::isfinite(c.cut) ? std::min(spec.phys_hi, c.cut / 1.3) : spec.phys_hi;
+}
+
 // A run the stage has asked for: candidate c at member (refit j, shape m), strength s.
 struct Knot {
   size_t c = 0, j = 0, m = 0;
@@ -87,7 +93,7 @@ struct Stage {
     if (!(f.chi2 < chi2(p.tab.cells, p.baselines[j]) - 1.0)) return false;
     const Response& r = c.member(j, m);
     // 1. An edge of the probed range: extend within the physical range and below the cut.
-    const double hi = std::isfinite(c.cut) ? std::min(spec.phys_hi, c.cut / 1.3) : spec.phys_hi;
+    const double hi = searchable_hi(c, spec);
     int limit = 0;
     const double edge = next_edge_knot(f, r, spec.phys_lo, hi, &limit);
     if (edge > 0 && extended[ci] < p.d.extend) {
@@ -145,7 +151,7 @@ void set_limit_notes(CandidateRuns& c) {
 
 void settle_limit(CandidateRuns& c, const Candidate& fitted) {
   const EffectSpec& spec = effect_spec(c.effect);
-  const double hi = std::isfinite(c.cut) ? std::min(spec.phys_hi, c.cut / 1.3) : spec.phys_hi;
+  const double hi = searchable_hi(c, spec);
   int limit = 0;
   const double edge =
       next_edge_knot(fitted.fit, c.member(fitted.refit, fitted.shape), spec.phys_lo, hi, &limit);
