@@ -54,9 +54,9 @@ nlohmann::json run_diagnosis(const DiagnosisSpec& d, const DiagnoseOptions& o) {
     p.verdict.kind = "no_gap";
     p.verdict.null_loco = loco_null(p.tab.cells, p.baselines);
   } else {
-    run_fit(p);      // 4. fit
-    mark_unseen(p);  // 5. only what the table can see is named
-    p.verdict = decide(p.tab.cells, p.baselines, p.families(), d.rule);  // 5. verdict
+    run_fit(p);                  // 4. fit
+    mark_unseen(p);              // 5. only what the table can see is named first
+    p.verdict = decide_seen(p);  // 5. verdict
     clock.done("fit and verdict");
     run_shrink(p);  // 6. shrink (and the verdict settled)
     clock.done("shrink");

@@ -40,19 +40,27 @@ std::string tie_sentence(const Report& r) {
     const FreshCheck *fc = r.fresh_of(e), *fb = r.chosen();
     const bool on_fresh = std::find(r.verdict.tied_on_fresh.begin(), r.verdict.tied_on_fresh.end(), e) !=
                           r.verdict.tied_on_fresh.end();
-    s += on_fresh && fc && fb && !fc->after.empty() && !fb->after.empty()
-             ? fmt::format(
-                   " **`{}` explains the data nearly as well**: held out it scored {:.1f} against {:.1f}, "
-                   "close enough that both were run with fresh seeds, and there its χ² is {:.1f} against "
-                   "{:.1f}, not clearly worse by the tie rule ({} = {}). The data do not single one out, "
-                   "and both are reported.",
-                   e, c->loco, best->loco, chi2_of(fc->gaps_after), chi2_of(fb->gaps_after),
-                   effect_spec(e).strength, strength_text(*c, r.runs_of(e)))
-             : fmt::format(
-                   " **`{}` explains the data nearly as well** (held-out χ² {:.1f} against {:.1f}, not "
-                   "clearly worse by the tie rule; {} = {}): the data do not single one out, and both are "
-                   "reported.",
-                   e, c->loco, best->loco, effect_spec(e).strength, strength_text(*c, r.runs_of(e)));
+    s +=
+        on_fresh && fc && fb && !fc->after.empty() && !fb->after.empty()
+            ? fmt::format(
+                  " **`{}` explains the data nearly as well**: held out it scored {:.1f} against {:.1f}, "
+                  "close enough that both were run with fresh seeds, and there its χ² is {:.1f} against "
+                  "{:.1f}, not clearly worse by the tie rule ({} = {}). The data do not single one out, "
+                  "and both are reported.",
+                  e, c->loco, best->loco, chi2_of(fc->gaps_after), chi2_of(fb->gaps_after),
+                  effect_spec(e).strength, strength_text(*c, r.runs_of(e)))
+            : fmt::format(
+                  " **`{}` explains the data {}** (held-out χ² {:.1f} against {:.1f}, {}; {} = {}): the data "
+                  "do not single one out, and both are reported.",
+                  e, c->loco < best->loco ? "as well" : "nearly as well", c->loco, best->loco,
+                  c->loco < best->loco ? "lower" : "not clearly worse by the tie rule",
+                  effect_spec(e).strength, strength_text(*c, r.runs_of(e)));
+    if (std::find(r.unseen.begin(), r.unseen.end(), e) != r.unseen.end())
+      s += fmt::format(
+          " Its own probes move no cell of the table by 3 σ, so its held-out score alone could be their "
+          "noise; {}",
+          fc && !fc->after.empty() ? "its fresh runs at the fitted strength keep it in the tie."
+                                   : "no fresh runs of it were made.");
   }
   if (!r.next.proposals.empty()) {
     const Proposal& q = r.next.proposals.front();
@@ -260,16 +268,17 @@ std::string verdict_core(const Report& r) {
         "**Gap not explained.** The model departs from the observations at {} of {} cells ({}). The best "
         "candidate, `{}` ({}), passed the held-out rule at {} = {:.3g} (held-out χ² {:.1f} against the "
         "model's {:.1f}), but fresh runs at that strength do not reproduce it: χ² {:.1f} over the {} cells "
-        "against {:.1f} for the model without it{}, not lower by {:g}. Its fit followed the seed noise of "
-        "its "
-        "probe runs, not the data, so no effect is named. The cause may lie outside the candidates, or the "
+        "against {:.1f} for the model without it{}, not lower by {:.3g} (min_drop, or how far χ² moves "
+        "between "
+        "two seed sets of the model alone where that is more). Its fit followed the seed noise of its probe "
+        "runs, not the data, so no effect is named. The cause may lie outside the candidates, or the "
         "gap "
         "may be noise; repeating the measurements at the cells above would tell.{}",
         ns, n, where, c.effect, effect_spec(c.effect).fingerprint, effect_spec(c.effect).strength, f.strength,
         c.loco, r.verdict.null_loco, chi2_of(f.gaps_after), n,
         r.null_fresh.after.empty() ? chi2_of(r.gaps) : chi2_of(r.null_fresh.gaps_after),
-        r.null_fresh.after.empty() ? "" : " on the same fresh seeds", r.spec->rule.min_drop,
-        null_refit_sentence(r));
+        r.null_fresh.after.empty() ? "" : " on the same fresh seeds",
+        std::max(r.spec->rule.min_drop, r.verdict.seed_luck), null_refit_sentence(r));
   }
   // Unexplained: either the best candidate helps but not by the rule's margin (a lead worth more data), or
   // none helps (the cause lies outside the candidates).

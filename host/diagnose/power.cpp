@@ -78,11 +78,18 @@ void mark_unseen(Procedure& p) {
     if (!fitted || r.visible || r.strongest <= 0) continue;
     p.unseen.push_back(r.effect);
     p.notes.push_back(fmt::format(
-        "verdict: `{}` is not named: its runs up to {:.3g} move no cell by more than {:.1f} σ and the "
-        "table's "
-        "χ² by {:.1f} (visible from {} σ or {:.1f}), so its fit cannot be told from the runs' own noise",
+        "verdict: `{}` cannot be seen by the table: its runs up to {:.3g} move no cell by more than {:.1f} σ "
+        "and the table's χ² by {:.1f} (visible from {} σ or {:.1f}), so its held-out score may follow the "
+        "runs' own noise; it is never named first on that score alone",
         r.effect, r.strongest, r.max_z, r.chi2_excess, kVisibleZ, visible_chi2_excess(p.tab.cells.size())));
   }
+}
+
+Verdict decide_seen(Procedure& p) {
+  Verdict v = decide(p.tab.cells, p.baselines, p.families(), p.d.rule);
+  for (const std::string& n : name_only_seen(v, p.unseen, p.unseen_rejected, p.d.rule))
+    if (std::find(p.notes.begin(), p.notes.end(), n) == p.notes.end()) p.notes.push_back(n);
+  return v;
 }
 
 namespace {

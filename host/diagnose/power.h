@@ -11,6 +11,7 @@
 
 #include "diagnose/cells.h"
 #include "diagnose/table.h"
+#include "diagnose/verdict.h"
 
 namespace wetdem::diagnose {
 
@@ -58,10 +59,15 @@ struct Reach {
 
 // Before the verdict (stage 5): the fitted candidates whose runs so far (every strength the fit ran, its
 // extended range included) move no cell by kVisibleZ and the table's χ² by less than visible_chi2_excess go
-// into p.unseen, with a note. Such a candidate cannot be told from the runs' own noise, so a fit of it
-// follows that noise (a null twin with other PSD tails was "explained in part" by hysteresis at 1.8 σ); the
-// verdict may not name it, and it leaves the ranking (stage 8's reach still shows it).
+// into p.unseen, with a note. Such a candidate cannot be told from the runs' own noise, so a fit of it may
+// follow that noise (a null twin with other PSD tails was "explained in part" by hysteresis at 1.8 σ): the
+// verdict never names it first on its held-out score, and the second round never names it (decide_seen).
 void mark_unseen(Procedure& p);
+
+// Stage 5's verdict: decide() over every fitted candidate, then name_only_seen (verdict.h) with p.unseen and
+// the unseen candidates fresh runs have already dropped (p.unseen_rejected): an unseen candidate that scores
+// best or ties is reported as tied, and its fresh runs decide it (shrink.cpp). Its notes are added once.
+Verdict decide_seen(Procedure& p);
 
 // Every candidate's reach over the probe runs already in the store (the screen's, the fit's, the second
 // round's at refit setting 0), in the order of p.effects.

@@ -173,8 +173,7 @@ std::vector<Prediction> Procedure::predict(const Variant& v, const std::vector<u
 std::vector<Family> Procedure::families() const {
   std::vector<Family> fams;
   for (const CandidateRuns& c : fitted)
-    if (std::find(unseen.begin(), unseen.end(), c.effect) == unseen.end())
-      if (Family f = c.family(baselines); !f.ems.empty()) fams.push_back(f);
+    if (Family f = c.family(baselines); !f.ems.empty()) fams.push_back(f);
   return fams;
 }
 

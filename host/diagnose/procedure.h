@@ -115,17 +115,17 @@ class Procedure {
   FreshCheck null_fresh;          // the model without an effect at the fresh seeds (the shrink's control)
   NextExperiment next;
   SecondRound second;
-  std::vector<Reach> reach;  // what the table can see of every candidate (power.h)
-  std::vector<std::string>
-      unseen;                      // fitted candidates whose runs the table cannot see: never named (power.h)
-  std::vector<std::string> notes;  // failed runs, cut ranges, what could not be probed
+  std::vector<Reach> reach;                  // what the table can see of every candidate (power.h)
+  std::vector<std::string> unseen;           // fitted candidates whose runs the table cannot see (power.h)
+  std::vector<std::string> unseen_rejected;  // of them, tied held out but clearly worse on fresh runs
+  std::vector<std::string> notes;            // failed runs, cut ranges, what could not be probed
 
   // The effect (none: "") at strength s, refit setting j, shape value (NaN: the effect's default shape).
   Variant variant(const std::string& effect, double s, size_t j = 0,
                   double shape = std::numeric_limits<double>::quiet_NaN()) const;
   // Every condition of the table, with these seeds. "" when wanted; else why it will not run (its cost).
   std::string want(const Variant& v, const std::vector<uint64_t>& seeds);
-  // The fitted candidates' families (one emulator per member) the verdict may name: all but the unseen.
+  // The fitted candidates' families (one emulator per member), the unseen included (decide_seen).
   std::vector<Family> families() const;
   // The seed-spread factor of an observable's own window errors (1 when unknown).
   double inflation(const std::string& observable) const {

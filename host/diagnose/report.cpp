@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -254,6 +255,7 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
   j["observations"] = r.spec->observations;
   j["verdict"] = r.verdict.kind;
   j["fresh_rejected"] = r.verdict.fresh_rejected;  // the chosen fit did not reproduce on fresh seeds
+  j["seed_luck_chi2"] = r.verdict.seed_luck;  // |χ²(control, fresh seeds) - χ²(model, its seeds)| (verdict.h)
   // The control of the fresh check: the model without an effect at the fresh seeds (null when not run).
   j["chi2_null_fresh"] = r.null_fresh.after.empty() ? json(nullptr) : json(chi2_of(r.null_fresh.gaps_after));
   j["effect"] = named ? json(r.verdict.effect) : json(nullptr);
@@ -425,7 +427,15 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
          {"beyond_max_abs_z", x.beyond_z},
          {"beyond_seeds", x.beyond_seeds}});
   j["within_inflation"] = r.within_inflation;
-  j["not_named_unseen"] = r.unseen;
+  // Unseen: the probes cannot show them apart from noise (power.h); such a candidate is named only as tied
+  // on its held-out score and kept on fresh runs, or first where fresh runs favour it (name_only_seen).
+  j["unseen"] = r.unseen;
+  std::vector<std::string> not_named;
+  for (const std::string& e : r.unseen)
+    if (e != r.verdict.effect &&
+        std::find(r.verdict.tied.begin(), r.verdict.tied.end(), e) == r.verdict.tied.end())
+      not_named.push_back(e);
+  j["not_named_unseen"] = not_named;
   j["notes"] = r.notes;
   j["not_measured"] = r.not_measured;
   j["runs"] = r.runs;
@@ -506,10 +516,13 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
       "times the cells), and the fresh-seed runs at its fitted strength leave no cell significant (else "
       "`partial`); a runner-up that also passes is *tied* unless its held-out χ² exceeds the best's by ≥ {} "
       "× "
-      "max(1, χ²_best/n); cells significant by Benjamini-Hochberg at {}. Intervals: Δχ² = max(1, χ²_min/(n − "
+      "max(1, χ²_best/n); the fresh runs must lower χ² below the model's on the same fresh seeds by ≥ {} or "
+      "the model's own seed luck ({:.1f}), whichever is more; a candidate the probes cannot show is never "
+      "named first on its held-out score; cells significant by Benjamini-Hochberg at {}. Intervals: Δχ² = "
+      "max(1, χ²_min/(n − "
       "1)), widened to the fit ± the jackknife over conditions' standard error when that is wider.\n\n",
       r.spec->rule.ratio, r.spec->rule.min_drop, r.verdict.null_loco, r.verdict.floor, r.spec->rule.tie_delta,
-      r.spec->rule.q);
+      r.spec->rule.min_drop, r.verdict.seed_luck, r.spec->rule.q);
   if (!r.next.proposals.empty()) {
     md += fmt::format("## Next experiment: `{}` or `{}`?\n\n", r.next.effect_a, r.next.effect_b);
     md += fmt::format(

@@ -38,9 +38,9 @@ struct Report {
   SecondRound second;                              // a second effect on top of the first (second_effect.h)
   std::vector<Reach> reach;                        // what the table can see of each candidate (power.h)
   std::map<std::string, double> within_inflation;  // per observable (baseline.h)
-  std::vector<std::string> unseen;        // fitted but not named: the table cannot see them (power.h)
-  std::vector<std::string> notes;         // failed runs, cut ranges
-  std::vector<std::string> not_measured;  // table rows that say a quantity was not measured
+  std::vector<std::string> unseen;                 // fitted, but the probes cannot show them (power.h)
+  std::vector<std::string> notes;                  // failed runs, cut ranges
+  std::vector<std::string> not_measured;           // table rows that say a quantity was not measured
   size_t runs = 0, computed = 0;
   std::string device, store;
   double wall_s = 0.0;

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "diagnose/fit_stage.h"
+#include "diagnose/power.h"
 
 namespace wetdem::diagnose {
 
@@ -35,6 +36,8 @@ std::vector<std::string> near_ties(const Procedure& p) {
   for (size_t i = 1; i < v.ranking.size(); ++i) {
     const Candidate& c = v.ranking[i];
     if (std::find(v.tied.begin(), v.tied.end(), c.effect) != v.tied.end()) continue;
+    // An unseen candidate is tied on its held-out score or not at all (name_only_seen).
+    if (std::find(p.unseen.begin(), p.unseen.end(), c.effect) != p.unseen.end()) continue;
     if (passes_margin(c.loco, v, p.d.rule) && near_tie(v.ranking.front(), c, p.d.rule))
       out.push_back(c.effect);
   }
@@ -89,8 +92,8 @@ void add_fresh_knot(Procedure& p, const FreshCheck& f, const Candidate& c) {
   add_knot(r, f.strength, k);
 }
 
-Verdict redecide(const Procedure& p) {
-  return decide(p.tab.cells, p.baselines, p.families(), p.d.rule);
+Verdict redecide(Procedure& p) {
+  return decide_seen(p);
 }
 
 // Fresh checks of the chosen effect and every tied one, reusing those already made at the same strength.
@@ -123,6 +126,81 @@ void fresh_all(Procedure& p) {
     if (f.after.empty()) collect_fresh(p, f);
   if (p.null_fresh.after.empty()) collect_fresh(p, p.null_fresh);
   p.fresh = next;
+}
+
+bool listed(const std::vector<std::string>& list, const std::string& e) {
+  return std::find(list.begin(), list.end(), e) != list.end();
+}
+
+// The model's own seed luck on the fresh seeds (Verdict::seed_luck): 0 without the control.
+double seed_luck(const Procedure& p) {
+  return p.null_fresh.after.empty() ? 0.0 : std::fabs(chi2_of(p.null_fresh.gaps_after) - chi2_of(p.gaps));
+}
+
+// The unseen candidates tied on their held-out scores (name_only_seen), judged on their fresh runs against
+// the chosen one's (unseen_on_fresh): dropped when clearly worse there, named first when clearly better.
+void judge_unseen_on_fresh(Procedure& p) {
+  if (p.fresh.empty() || !p.fresh.front().failure.empty() || p.fresh.front().after.empty()) return;
+  const size_t n = p.tab.cells.size();
+  const double luck = seed_luck(p);
+  for (size_t i = 1; i < p.fresh.size(); ++i) {
+    const FreshCheck f = p.fresh[i], chosen = p.fresh.front();
+    if (!listed(p.unseen, f.effect) || !listed(p.verdict.tied, f.effect)) continue;
+    std::vector<std::string>& tied = p.verdict.tied;
+    const double a = chi2_of(chosen.gaps_after);
+    if (!f.failure.empty() || f.after.empty()) {
+      tied.erase(std::find(tied.begin(), tied.end(), f.effect));
+      p.unseen_rejected.push_back(f.effect);
+      p.notes.push_back(fmt::format(
+          "shrink: the fresh runs of {} (unseen, tied held out) failed: {}; not named", f.effect, f.failure));
+      continue;
+    }
+    const double b = chi2_of(f.gaps_after);
+    switch (unseen_on_fresh(a, b, n, p.d.rule, luck)) {
+      case FreshJudgement::kDrop:
+        tied.erase(std::find(tied.begin(), tied.end(), f.effect));
+        p.unseen_rejected.push_back(f.effect);
+        p.notes.push_back(
+            fmt::format("shrink: {} (unseen, tied held out) gives χ² {:.1f} on fresh runs at {:.3g} against "
+                        "{:.1f} for {}: "
+                        "clearly worse, so its held-out score followed its probes' noise; not named",
+                        f.effect, b, f.strength, a, chosen.effect));
+        break;
+      case FreshJudgement::kKeep:
+        p.notes.push_back(fmt::format(
+            "shrink: {} (unseen, tied held out) gives χ² {:.1f} on fresh runs at {:.3g} against "
+            "{:.1f} for {}: within the tie margin or the model's own seed luck ({:.1f}), still tied",
+            f.effect, b, f.strength, a, chosen.effect, luck));
+        break;
+      case FreshJudgement::kSwap: {
+        // The fresh runs, which carry no probe's noise, favour it: it is named first, the other stays tied
+        // only where it is not clearly worse on the same fresh runs.
+        p.notes.push_back(fmt::format(
+            "shrink: {} (unseen, tied held out) gives χ² {:.1f} on fresh runs at {:.3g} against "
+            "{:.1f} for {}: better by more than the tie margin and the model's own seed luck ({:.1f}), "
+            "so it is named first",
+            f.effect, b, f.strength, a, chosen.effect, luck));
+        tied.erase(std::find(tied.begin(), tied.end(), f.effect));
+        Verdict& v = p.verdict;
+        const auto it = std::find_if(v.ranking.begin(), v.ranking.end(),
+                                     [&](const Candidate& c) { return c.effect == f.effect; });
+        if (it != v.ranking.end()) std::rotate(v.ranking.begin(), it, it + 1);
+        v.effect = f.effect;
+        const double loco = v.ranking.front().loco, excess = v.null_loco - std::min(v.floor, v.null_loco);
+        v.held_out_shrink = v.null_loco > 0 ? 1.0 - loco / v.null_loco : 0.0;
+        v.held_out_gap_shrink = excess > 0 ? (v.null_loco - loco) / excess : 0.0;
+        std::rotate(p.fresh.begin(), p.fresh.begin() + long(i), p.fresh.begin() + long(i) + 1);
+        // The former first is now at index 1; the others keep their order.
+        if (unseen_on_fresh(b, a, n, p.d.rule, luck) != FreshJudgement::kDrop)
+          tied.insert(tied.begin(), chosen.effect);
+        break;
+      }
+    }
+  }
+  // Fresh checks of the candidates no longer named leave the list (the chosen one first, then the tied).
+  p.fresh.erase(std::remove_if(p.fresh.begin() + 1, p.fresh.end(),
+                               [&](const FreshCheck& f) { return listed(p.unseen_rejected, f.effect); }),
+                p.fresh.end());
 }
 
 }  // namespace
@@ -160,6 +238,7 @@ void run_shrink(Procedure& p) {
                     before, s_before, now.effect, rounded_strength(now.fit.strength)));
     fresh_all(p);
   }
+  judge_unseen_on_fresh(p);
   const FreshCheck& chosen = p.fresh.front();
   if (!chosen.failure.empty()) {
     // Unconfirmed: the fresh runs could not be made, so the effect is not shown to close the gap.
@@ -175,13 +254,16 @@ void run_shrink(Procedure& p) {
   const bool control = !p.null_fresh.after.empty();
   const double before = control ? chi2_of(p.null_fresh.gaps_after) : chi2_of(p.gaps);
   const double after = chi2_of(chosen.gaps_after);
-  if (!fresh_confirms(before, after, p.d.rule)) {
+  p.verdict.seed_luck = seed_luck(p);
+  if (!fresh_confirms(before, after, p.d.rule, p.verdict.seed_luck)) {
     p.notes.push_back(fmt::format(
         "shrink: the fresh runs of {} at {:.3g} give χ² {:.1f} over the cells against {:.1f} for the model "
-        "without it ({}): not lower by min_drop = {:g}, so the fit is not confirmed and the verdict is "
-        "unexplained",
+        "without it ({}): not lower by min_drop = {:g} or the model's own seed luck {:.1f}, so the fit is "
+        "not "
+        "confirmed and the verdict is unexplained",
         chosen.effect, chosen.strength, after, before,
-        control ? "the same fresh seeds" : "the baseline's seeds; its fresh runs failed", p.d.rule.min_drop));
+        control ? "the same fresh seeds" : "the baseline's seeds; its fresh runs failed", p.d.rule.min_drop,
+        p.verdict.seed_luck));
     p.verdict.kind = "unexplained";
     p.verdict.fresh_rejected = true;
     p.verdict.tied.clear();

@@ -1,5 +1,7 @@
 #include "diagnose/verdict.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -115,8 +117,73 @@ Verdict decide(const std::vector<Cell>& cells, const std::vector<Prediction>& ba
   return decide(cells, std::vector<std::vector<Prediction>>{baseline}, fams, rule);
 }
 
-bool fresh_confirms(double chi2_before, double chi2_fresh, const VerdictRule& rule) {
-  return chi2_fresh <= chi2_before - rule.min_drop;
+namespace {
+bool in(const std::vector<std::string>& list, const std::string& e) {
+  return std::find(list.begin(), list.end(), e) != list.end();
+}
+}  // namespace
+
+std::vector<std::string> name_only_seen(Verdict& v, const std::vector<std::string>& unseen,
+                                        const std::vector<std::string>& rejected, const VerdictRule& rule) {
+  std::vector<std::string> notes;
+  if (v.kind != "effect" || v.ranking.empty()) return notes;
+  const auto passes = [&](const Candidate& c) { return passes_margin(c.loco, v, rule); };
+  const auto chosen = std::find_if(v.ranking.begin(), v.ranking.end(), [&](const Candidate& c) {
+    return passes(c) && !in(unseen, c.effect) && !in(rejected, c.effect);
+  });
+  if (chosen == v.ranking.end()) {
+    for (const Candidate& c : v.ranking)
+      if (passes(c))
+        notes.push_back(fmt::format(
+            "verdict: `{}` passes the held-out rule ({:.1f} against the null's {:.1f}), but its probes "
+            "cannot "
+            "show it apart from noise{}: with no candidate the table can see beside it, the verdict is "
+            "unexplained",
+            c.effect, c.loco, v.null_loco, in(rejected, c.effect) ? " and fresh runs did not keep it" : ""));
+    v.kind = "unexplained";
+    v.effect.clear();
+    v.tied.clear();
+    return notes;
+  }
+  if (chosen != v.ranking.begin()) {
+    notes.push_back(fmt::format(
+        "verdict: `{}` is named first though `{}` scores better held out ({:.1f} against {:.1f}): the probes "
+        "cannot show `{}` apart from noise",
+        chosen->effect, v.ranking.front().effect, chosen->loco, v.ranking.front().loco,
+        v.ranking.front().effect));
+    std::rotate(v.ranking.begin(), chosen, chosen + 1);
+  }
+  const Candidate& c = v.ranking.front();
+  v.effect = c.effect;
+  v.held_out_shrink = v.null_loco > 0 ? 1.0 - c.loco / v.null_loco : 0.0;
+  const double excess = v.null_loco - std::min(v.floor, v.null_loco);
+  v.held_out_gap_shrink = excess > 0 ? (v.null_loco - c.loco) / excess : 0.0;
+  v.tied.clear();
+  for (size_t i = 1; i < v.ranking.size(); ++i) {
+    const Candidate& o = v.ranking[i];
+    if (!passes(o) || clearly_worse(c, o, rule) || in(rejected, o.effect)) continue;
+    v.tied.push_back(o.effect);
+    if (in(unseen, o.effect))
+      notes.push_back(fmt::format(
+          "verdict: `{}` is tied with `{}` on its held-out score ({:.1f} against {:.1f}) though its probes "
+          "cannot show it apart from noise; fresh runs at its fitted strength decide it",
+          o.effect, c.effect, o.loco, c.loco));
+  }
+  return notes;
+}
+
+FreshJudgement unseen_on_fresh(double chi2_chosen, double chi2_unseen, size_t n, const VerdictRule& rule,
+                               double luck) {
+  const auto margin = [&](double best) {
+    return std::max(rule.tie_delta * std::max(1.0, best / double(std::max<size_t>(1, n))), luck);
+  };
+  if (chi2_unseen - chi2_chosen >= margin(chi2_chosen)) return FreshJudgement::kDrop;
+  if (chi2_chosen - chi2_unseen >= margin(chi2_unseen)) return FreshJudgement::kSwap;
+  return FreshJudgement::kKeep;
+}
+
+bool fresh_confirms(double chi2_before, double chi2_fresh, const VerdictRule& rule, double luck) {
+  return chi2_fresh <= chi2_before - std::max(rule.min_drop, luck);
 }
 
 void settle_verdict(Verdict& v, const std::vector<bool>& significant_after) {

@@ -77,6 +77,9 @@ struct Verdict {
   // The chosen effect passed the rule, but its fresh-seed runs did not lower χ² over the cells by min_drop
   // (fresh_confirms): the verdict became "unexplained" and says so.
   bool fresh_rejected = false;
+  // |χ²(control on the fresh seeds) - χ²(model on its own seeds)|: how far χ² moves with the seeds alone, the
+  // least margin of the fresh-run comparisons (fresh_confirms, unseen_on_fresh); 0 without the control.
+  double seed_luck = 0.0;
   std::vector<std::string> tied_on_fresh;  // the tied candidates that were near ties held out (near_tie) and
                                            // tie on fresh runs (fresh_tie)
 };
@@ -107,12 +110,40 @@ bool fresh_tie(double chi2_a, double chi2_b, size_t n, const VerdictRule& rule);
 // The fresh-seed check: an `effect` whose runs leave significant cells becomes `partial`.
 void settle_verdict(Verdict& v, const std::vector<bool>& significant_after);
 
+// Only what the table can see is named first (diagnosis.md, "Verdicts"; power.h, mark_unseen). `v` is
+// decide()'s verdict over every fitted candidate; `unseen` are those whose probe runs the table cannot tell
+// from noise, `rejected` those of them that fresh runs have already shown clearly worse (unseen_on_fresh).
+// For an `effect`: the chosen one is the best-ranked candidate that passes the margin and is neither unseen
+// nor rejected, moved to the front of the ranking (held_out_shrink follows it); when none passes, the verdict
+// is `unexplained`. Tied: every other candidate that passes the margin, is not clearly worse than the chosen
+// one and is not rejected. An unseen candidate whose held-out score is the best, or ties the chosen one's,
+// is therefore tied, never dropped silently (evaporation-strong: evaporation 13.4 held out against
+// absorption's 17.1, truth evaporation), and its fresh runs decide it (unseen_on_fresh). Returns a note per
+// change it made; other kinds are left as they are.
+std::vector<std::string> name_only_seen(Verdict& v, const std::vector<std::string>& unseen,
+                                        const std::vector<std::string>& rejected, const VerdictRule& rule);
+
+// An unseen candidate tied on its held-out score, judged on the fresh runs (seeds R+1..2R, no probe in them)
+// at its fitted strength against the chosen one's over the n cells. The margin is the tie rule's (fresh_tie),
+// or `luck` where that is larger: how far χ² moves between two seed sets of the same model, measured as
+// |χ²(control on the fresh seeds) - χ²(model on its own seeds)|. On the flowing drum that is 9-100 (null-2:
+// 59.9 on seeds 1-4, 129.7 on the fresh seeds), far above the tie rule's 4-10, and a candidate the probes
+// cannot show may not win or lose on less. kDrop when it is worse by the margin (its held-out score followed
+// its probes' seed noise), kSwap when the chosen one is worse by the margin (named first), kKeep otherwise.
+enum class FreshJudgement { kDrop, kKeep, kSwap };
+FreshJudgement unseen_on_fresh(double chi2_chosen, double chi2_unseen, size_t n, const VerdictRule& rule,
+                               double luck = 0.0);
+
 // Whether the fresh-seed runs at the fitted strength reproduce an improvement: χ² over the cells (fresh seeds
 // R+1..2R) at least min_drop below that of the model without the effect on the same fresh seeds (the
 // control: seeds differ in luck, and a comparison with the baseline's seeds 1..R credits an effect with it).
 // A fit that followed the probes' seed noise (a strength at a probe edge that the held-out score liked) gives
 // fresh runs no better than the control, or worse; naming it, even as `partial`, would be a confident answer
 // the data do not support.
-bool fresh_confirms(double chi2_before, double chi2_fresh, const VerdictRule& rule);
+// The margin is min_drop, or `luck` where that is larger: the model's own seed luck (unseen_on_fresh), since
+// an effect may not be credited with less than two seed sets of the same model differ by. On null-2 (PSD
+// tails, no effect) cohesion's fresh runs gave 117.3 against the control's 129.7, lower by 12.4 > min_drop,
+// with a luck of 69.8: not confirmed.
+bool fresh_confirms(double chi2_before, double chi2_fresh, const VerdictRule& rule, double luck = 0.0);
 
 }  // namespace wetdem::diagnose
