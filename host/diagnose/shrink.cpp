@@ -162,9 +162,9 @@ void judge_unseen_on_fresh(Procedure& p) {
         p.unseen_rejected.push_back(f.effect);
         p.notes.push_back(
             fmt::format("shrink: {} (unseen, tied held out) gives χ² {:.1f} on fresh runs at {:.3g} against "
-                        "{:.1f} for {}: "
-                        "clearly worse, so its held-out score followed its probes' noise; not named",
-                        f.effect, b, f.strength, a, chosen.effect));
+                        "{:.1f} for {}: worse by more than the tie margin and the model's own seed luck "
+                        "({:.1f}), so its held-out score followed its probes' noise; not named",
+                        f.effect, b, f.strength, a, chosen.effect, luck));
         break;
       case FreshJudgement::kKeep:
         p.notes.push_back(fmt::format(
