@@ -495,6 +495,9 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
     std::string notes;
     if (cr)
       for (const std::string& n : cr->notes) notes += (notes.empty() ? "" : "; ") + n;
+    if (std::find(r.unseen.begin(), r.unseen.end(), c.effect) != r.unseen.end())
+      notes += std::string(notes.empty() ? "" : "; ") +
+               "**unseen**: its probes move no cell by 3 σ, so it is never named first on this score";
     md += fmt::format("| {} | {:.2f} | {:.2f} | {} {} |", c.effect, c.screen, c.loco,
                       effect_spec(c.effect).strength, strength_text(c, cr));
     md += refit ? fmt::format(" {} |", r.settings.at(c.refit).label) : "";
