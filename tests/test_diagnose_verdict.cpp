@@ -389,19 +389,21 @@ TEST(DiagnoseVerdict, AnUnseenCandidateIsTiedNeitherDroppedNorNamedFirst) {
   name_only_seen(x, {"evaporation"}, {"evaporation"}, rule);
   EXPECT_EQ(x.effect, "absorption");
   EXPECT_TRUE(x.tied.empty());
+  // decide()'s verdict over another ranking: the first chosen, none tied.
+  const auto ranked = [&](std::vector<Candidate> r) {
+    Verdict out = base;
+    out.effect = r.front().effect;
+    out.ranking = std::move(r);
+    out.tied.clear();
+    return out;
+  };
   // An unseen candidate clearly worse than the chosen one is not tied.
-  Verdict y = base;
-  y.ranking = {cand("absorption", 13.4), cand("evaporation", 30.0)};
-  y.effect = "absorption";
-  y.tied.clear();
+  Verdict y = ranked({cand("absorption", 13.4), cand("evaporation", 30.0)});
   name_only_seen(y, {"evaporation"}, {}, rule);
   EXPECT_EQ(y.effect, "absorption");
   EXPECT_TRUE(y.tied.empty());
   // Only unseen candidates pass the margin (hysteresis at 1.8 σ on the null-2 twin): unexplained, not named.
-  Verdict z = base;
-  z.ranking = {cand("hysteresis", 13.4), cand("cohesion", 85.0)};
-  z.effect = "hysteresis";
-  z.tied.clear();
+  Verdict z = ranked({cand("hysteresis", 13.4), cand("cohesion", 85.0)});
   const std::vector<std::string> zn = name_only_seen(z, {"hysteresis"}, {}, rule);
   EXPECT_EQ(z.kind, "unexplained");
   EXPECT_TRUE(z.effect.empty());
