@@ -142,7 +142,7 @@ double seed_luck(const Procedure& p) {
 void judge_unseen_on_fresh(Procedure& p) {
   if (p.fresh.empty() || !p.fresh.front().failure.empty() || p.fresh.front().after.empty()) return;
   const size_t n = p.tab.cells.size();
-  const double luck = seed_luck(p);
+  const double luck = p.verdict.seed_luck;
   for (size_t i = 1; i < p.fresh.size(); ++i) {
     const FreshCheck f = p.fresh[i], chosen = p.fresh.front();
     if (!listed(p.unseen, f.effect) || !listed(p.verdict.tied, f.effect)) continue;
@@ -181,14 +181,7 @@ void judge_unseen_on_fresh(Procedure& p) {
             "so it is named first",
             f.effect, b, f.strength, a, chosen.effect, luck));
         tied.erase(std::find(tied.begin(), tied.end(), f.effect));
-        Verdict& v = p.verdict;
-        const auto it = std::find_if(v.ranking.begin(), v.ranking.end(),
-                                     [&](const Candidate& c) { return c.effect == f.effect; });
-        if (it != v.ranking.end()) std::rotate(v.ranking.begin(), it, it + 1);
-        v.effect = f.effect;
-        const double loco = v.ranking.front().loco, excess = v.null_loco - std::min(v.floor, v.null_loco);
-        v.held_out_shrink = v.null_loco > 0 ? 1.0 - loco / v.null_loco : 0.0;
-        v.held_out_gap_shrink = excess > 0 ? (v.null_loco - loco) / excess : 0.0;
+        choose(p.verdict, f.effect);
         std::rotate(p.fresh.begin(), p.fresh.begin() + long(i), p.fresh.begin() + long(i) + 1);
         // The former first is now at index 1; the others keep their order.
         if (unseen_on_fresh(b, a, n, p.d.rule, luck) != FreshJudgement::kDrop)
@@ -238,6 +231,7 @@ void run_shrink(Procedure& p) {
                     before, s_before, now.effect, rounded_strength(now.fit.strength)));
     fresh_all(p);
   }
+  p.verdict.seed_luck = seed_luck(p);
   judge_unseen_on_fresh(p);
   const FreshCheck& chosen = p.fresh.front();
   if (!chosen.failure.empty()) {
@@ -254,7 +248,6 @@ void run_shrink(Procedure& p) {
   const bool control = !p.null_fresh.after.empty();
   const double before = control ? chi2_of(p.null_fresh.gaps_after) : chi2_of(p.gaps);
   const double after = chi2_of(chosen.gaps_after);
-  p.verdict.seed_luck = seed_luck(p);
   if (!fresh_confirms(before, after, p.d.rule, p.verdict.seed_luck)) {
     p.notes.push_back(fmt::format(
         "shrink: the fresh runs of {} at {:.3g} give χ² {:.1f} over the cells against {:.1f} for the model "

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 #include "diagnose/where.h"
 
@@ -77,11 +78,8 @@ Verdict decide(const std::vector<Cell>& cells, const std::vector<std::vector<Pre
   const std::vector<CellGap> g = where(cells, baselines.front(), rule.q);
   const bool any = std::any_of(g.begin(), g.end(), [](const CellGap& x) { return x.significant; });
   v.floor = noise_floor(v.null_loco_cells, g);
-  if (!v.ranking.empty()) {
-    v.held_out_shrink = v.null_loco > 0 ? 1.0 - v.ranking.front().loco / v.null_loco : 0.0;
-    const double excess = v.null_loco - std::min(v.floor, v.null_loco);
-    v.held_out_gap_shrink = excess > 0 ? (v.null_loco - v.ranking.front().loco) / excess : 0.0;
-  }
+  if (!v.ranking.empty()) choose(v, v.ranking.front().effect);
+  v.effect.clear();  // chosen only once the rule below says so
   // With refit, a gap the null closes at its re-fitted setting (no cell significant there, by the same rule)
   // needs no effect: the analogue of no_gap for the re-fitted model.
   const auto closed = [&] {
@@ -123,6 +121,17 @@ bool in(const std::vector<std::string>& list, const std::string& e) {
 }
 }  // namespace
 
+void choose(Verdict& v, std::string effect) {
+  const auto it = std::find_if(v.ranking.begin(), v.ranking.end(),
+                               [&](const Candidate& c) { return c.effect == effect; });
+  if (it == v.ranking.end()) return;
+  std::rotate(v.ranking.begin(), it, it + 1);
+  v.effect = std::move(effect);
+  const double loco = v.ranking.front().loco, excess = v.null_loco - std::min(v.floor, v.null_loco);
+  v.held_out_shrink = v.null_loco > 0 ? 1.0 - loco / v.null_loco : 0.0;
+  v.held_out_gap_shrink = excess > 0 ? (v.null_loco - loco) / excess : 0.0;
+}
+
 std::vector<std::string> name_only_seen(Verdict& v, const std::vector<std::string>& unseen,
                                         const std::vector<std::string>& rejected, const VerdictRule& rule) {
   std::vector<std::string> notes;
@@ -145,19 +154,14 @@ std::vector<std::string> name_only_seen(Verdict& v, const std::vector<std::strin
     v.tied.clear();
     return notes;
   }
-  if (chosen != v.ranking.begin()) {
+  if (chosen != v.ranking.begin())
     notes.push_back(fmt::format(
         "verdict: `{}` is named first though `{}` scores better held out ({:.1f} against {:.1f}): the probes "
         "cannot show `{}` apart from noise",
         chosen->effect, v.ranking.front().effect, chosen->loco, v.ranking.front().loco,
         v.ranking.front().effect));
-    std::rotate(v.ranking.begin(), chosen, chosen + 1);
-  }
+  choose(v, chosen->effect);
   const Candidate& c = v.ranking.front();
-  v.effect = c.effect;
-  v.held_out_shrink = v.null_loco > 0 ? 1.0 - c.loco / v.null_loco : 0.0;
-  const double excess = v.null_loco - std::min(v.floor, v.null_loco);
-  v.held_out_gap_shrink = excess > 0 ? (v.null_loco - c.loco) / excess : 0.0;
   v.tied.clear();
   for (size_t i = 1; i < v.ranking.size(); ++i) {
     const Candidate& o = v.ranking[i];

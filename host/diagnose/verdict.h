@@ -110,6 +110,11 @@ bool fresh_tie(double chi2_a, double chi2_b, size_t n, const VerdictRule& rule);
 // The fresh-seed check: an `effect` whose runs leave significant cells becomes `partial`.
 void settle_verdict(Verdict& v, const std::vector<bool>& significant_after);
 
+// Makes `effect` the chosen one: it moves to the front of the ranking (the others keep their order), and the
+// held-out shrinks follow it. Used by decide(), name_only_seen and the fresh-run swap (shrink.cpp). By value:
+// callers pass a ranking entry's own name, which the rotation moves.
+void choose(Verdict& v, std::string effect);
+
 // Only what the table can see is named first (diagnosis.md, "Verdicts"; power.h, mark_unseen). `v` is
 // decide()'s verdict over every fitted candidate; `unseen` are those whose probe runs the table cannot tell
 // from noise, `rejected` those of them that fresh runs have already shown clearly worse (unseen_on_fresh).
