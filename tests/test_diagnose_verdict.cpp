@@ -199,6 +199,11 @@ TEST(DiagnoseVerdict, TieRuleAndPartial) {
   EXPECT_FALSE(fresh_tie(30.7, 35.0, 48, VerdictRule{}));
   EXPECT_FALSE(fresh_tie(96.0, 105.0, 48, VerdictRule{})) << "the margin widens with chi2/n: 4 x 2 = 8";
   EXPECT_TRUE(fresh_tie(96.0, 103.9, 48, VerdictRule{}));
+  // ... and, like an unseen tie, never separated by less than the model's own seed luck (absorption-weak's
+  // 14.9): 4.3 past the tie margin is a tie there.
+  EXPECT_TRUE(fresh_tie(30.7, 35.0, 48, VerdictRule{}, 14.9));
+  EXPECT_FALSE(fresh_tie(30.7, 45.7, 48, VerdictRule{}, 14.9));
+  EXPECT_FALSE(fresh_tie(96.0, 105.0, 48, VerdictRule{}, 2.0)) << "a small luck leaves the tie margin";
 }
 
 // The next experiment proposes conditions beyond and between the table's, in the table's units, then another

@@ -267,20 +267,19 @@ void run_shrink(Procedure& p) {
     if (f.effect == chosen.effect || f.after.empty()) continue;
     if (std::find(p.verdict.tied.begin(), p.verdict.tied.end(), f.effect) != p.verdict.tied.end()) continue;
     const double other = chi2_of(f.gaps_after);
-    if (fresh_tie(after, other, p.tab.cells.size(), p.d.rule)) {
+    if (fresh_tie(after, other, p.tab.cells.size(), p.d.rule, p.verdict.seed_luck)) {
       p.verdict.tied.push_back(f.effect);
       p.verdict.tied_on_fresh.push_back(f.effect);
       p.notes.push_back(
           fmt::format("shrink: {} was a near tie held out; on fresh runs at {:.3g} its χ² is {:.1f} against "
-                      "{:.1f} for {}: "
-                      "tied",
-                      f.effect, f.strength, other, after, chosen.effect));
+                      "{:.1f} for {}: within the tie margin or the model's own seed luck ({:.1f}), tied",
+                      f.effect, f.strength, other, after, chosen.effect, p.verdict.seed_luck));
     } else {
       p.notes.push_back(
           fmt::format("shrink: {} was a near tie held out; on fresh runs at {:.3g} its χ² is {:.1f} against "
-                      "{:.1f} for {}: "
-                      "clearly worse",
-                      f.effect, f.strength, other, after, chosen.effect));
+                      "{:.1f} for {}: worse by more than the tie margin and the model's own seed luck "
+                      "({:.1f}), clearly worse",
+                      f.effect, f.strength, other, after, chosen.effect, p.verdict.seed_luck));
     }
   }
   // The chosen one first, then the tied ones (the next-experiment stage separates the first two).

@@ -40,8 +40,9 @@ bool near_tie(const Candidate& a, const Candidate& b, const VerdictRule& rule) {
   return !clearly_worse(a, b, twice);
 }
 
-bool fresh_tie(double chi2_a, double chi2_b, size_t n, const VerdictRule& rule) {
-  return chi2_b - chi2_a < rule.tie_delta * std::max(1.0, chi2_a / double(std::max<size_t>(1, n)));
+bool fresh_tie(double chi2_a, double chi2_b, size_t n, const VerdictRule& rule, double luck) {
+  return chi2_b - chi2_a <
+         std::max(rule.tie_delta * std::max(1.0, chi2_a / double(std::max<size_t>(1, n))), luck);
 }
 
 Verdict decide(const std::vector<Cell>& cells, const std::vector<std::vector<Prediction>>& baselines,

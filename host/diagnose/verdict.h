@@ -104,8 +104,10 @@ bool clearly_worse(const Candidate& a, const Candidate& b, const VerdictRule& ru
 // single-seed probe runs also differ by those runs' seed noise, so such a runner-up gets fresh runs (R seeds,
 // no probe in them) beside the chosen effect's, and fresh_tie decides (shrink.cpp).
 bool near_tie(const Candidate& a, const Candidate& b, const VerdictRule& rule);
-// On fresh runs: b is tied with a unless its χ² over the n cells exceeds a's by tie_delta x max(1, χ²_a / n).
-bool fresh_tie(double chi2_a, double chi2_b, size_t n, const VerdictRule& rule);
+// On fresh runs: b is tied with a unless its χ² over the n cells exceeds a's by tie_delta x max(1, χ²_a / n),
+// or by `luck` where that is larger (the model's own seed luck, as in unseen_on_fresh: the fresh runs of two
+// candidates are two seed sets, and on the flowing drum those alone move χ² by 9-100).
+bool fresh_tie(double chi2_a, double chi2_b, size_t n, const VerdictRule& rule, double luck = 0.0);
 
 // The fresh-seed check: an `effect` whose runs leave significant cells becomes `partial`.
 void settle_verdict(Verdict& v, const std::vector<bool>& significant_after);
