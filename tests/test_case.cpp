@@ -178,6 +178,7 @@ INSTANTIATE_TEST_SUITE_P(
         Bad{{"psd.d10=\"-5 um\""}, "psd.d10", "must be > 0"},
         Bad{{"psd.basis=\"mass\""}, "psd.basis", "must be one of"},
         Bad{{"psd.tails=\"gaussian\""}, "psd.tails", "must be one of"},
+        Bad{{"psd.sampling=\"sobol\""}, "psd.sampling", "must be one of"},
         Bad{{"psd.lognormal.sigma=0.3"}, "psd.d10", "not both"},
         Bad{{"liquid.theta=\"90 deg\""}, "liquid.theta", "[0, 90) deg"},
         Bad{{"liquid.theta_deg=120"}, "liquid.theta_deg", "[0, 90) deg"},
@@ -273,13 +274,20 @@ TEST(Case, EchoParsesBackToTheSameCase) {
   const std::vector<std::vector<std::string>> variants = {
       {},
       {"psd.tails=lognormal", "liquid.films=mean_volume", "run.dt=\"20 us\""},
+      {"psd.sampling=stratified"},
       {"drum.periodic_slice=true", "drum.slice_thickness=\"20 mm\"", "run.skin=\"0.1 mm\""},
       {"run.perturb=\"1 nm\"", "run.perturb_seed=11"}};
   for (size_t i = 0; i < variants.size(); ++i) {
     const Case a = parse_case_string(kValid, variants[i]);
     const Case b = parse_case_string(case_to_toml(a), {}, "echo");
     EXPECT_EQ(case_to_json(a), case_to_json(b)) << case_to_toml(a);
+    EXPECT_EQ(b.psd.sampling, a.psd.sampling);
   }
+  // The default sampling is not echoed: a case without the key resolves (and hashes) as before it existed.
+  EXPECT_EQ(case_to_toml(parse_case_string(kValid)).find("sampling"), std::string::npos);
+  EXPECT_NE(
+      case_to_toml(parse_case_string(kValid, {"psd.sampling=stratified"})).find("sampling = 'stratified'"),
+      std::string::npos);
   // E*, G* given directly: nu = (4 - r)/(2 - r) with r = E*/G* = 5 -> nu = 1/3.
   std::string text = kValid;
   text.replace(text.find("E = \"1325 MPa\""), 14, "E_star = \"500 MPa\"");

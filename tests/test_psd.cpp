@@ -5,7 +5,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 #include <stdexcept>
+#include <vector>
 
 #include "app/drum/psd.h"
 
@@ -175,6 +177,43 @@ TEST(Psd, DeterministicAndScaled) {
   EXPECT_GE(u, 0.0);
   EXPECT_LT(u, 1.0);
   EXPECT_DOUBLE_EQ(u, static_cast<double>(std::mt19937_64(42)() >> 11) * 0x1.0p-53);
+}
+
+// psd.sampling = "stratified": the k-th smallest of n draws lies in the k-th stratum of the model's number
+// CDF, [k/n, (k+1)/n], for every seed (the model's CDF is the third source); independent draws of the same n
+// miss that by many strata. The draws come in a shuffled, seed-determined order.
+TEST(Psd, StratifiedDrawsLieEachInItsOwnStratum) {
+  for (const Psd& psd : {Psd(psd_pp2(5.0)), Psd(psd_pp1(5.0, PsdTails::kLogNormal))}) {
+    const size_t n = 400;
+    double worst_random = 0.0;
+    for (uint64_t seed = 1; seed <= 5; ++seed) {
+      std::mt19937_64 rng(seed);
+      const std::vector<double> d = psd.sample_stratified(n, rng);
+      ASSERT_EQ(d.size(), n);
+      EXPECT_FALSE(std::is_sorted(d.begin(), d.end())) << "the strata are shuffled";
+      std::vector<double> s = d;
+      std::sort(s.begin(), s.end());
+      for (size_t k = 0; k < n; ++k) {
+        // F(d-) <= (k+1)/n and F(d) >= k/n: an atom (truncated tails) covers several strata.
+        ASSERT_LE(psd.cdf(s[k] * (1.0 - 1e-12), PsdBasis::kNumber), double(k + 1) / double(n) + 1e-9) << k;
+        ASSERT_GE(psd.cdf(s[k], PsdBasis::kNumber), double(k) / double(n) - 1e-9) << k;
+      }
+      std::mt19937_64 again(seed);
+      EXPECT_EQ(psd.sample_stratified(n, again), d);
+      std::vector<double> r = psd.sample(n, seed);
+      std::sort(r.begin(), r.end());
+      for (size_t k = 0; k < n; ++k) {
+        const double f = psd.cdf(r[k], PsdBasis::kNumber);
+        worst_random =
+            std::max(worst_random, std::max(f - double(k + 1) / double(n), double(k) / double(n) - f));
+      }
+    }
+    // Independent draws: the Kolmogorov distance of 400 draws is ~0.87/sqrt(400) = 0.04, 17 strata.
+    EXPECT_GT(worst_random, 5.0 / 400.0);
+  }
+  EXPECT_EQ(parse_psd_sampling("stratified"), PsdSampling::kStratified);
+  EXPECT_STREQ(to_string(PsdSampling::kRandom), "random");
+  EXPECT_THROW(parse_psd_sampling("sobol"), std::invalid_argument);
 }
 
 TEST(Psd, SubsetTableAndValidation) {

@@ -177,6 +177,7 @@ void read_psd(Section s, Case& c) {
   wetdem::PsdSpec& p = c.psd;
   if (auto b = s.choice("basis", {"volume", "number"})) p.basis = parse_psd_basis(*b);
   if (auto t = s.choice("tails", {"truncate", "lognormal"})) p.tails = parse_psd_tails(*t);
+  if (auto m = s.choice("sampling", {"random", "stratified"})) p.sampling = parse_psd_sampling(*m);
   const toml::table* ln = s.table("lognormal");
   static const std::vector<std::pair<std::string, double>> kQuantiles = {
       {"d10", 0.10}, {"d25", 0.25}, {"d50", 0.50}, {"d75", 0.75}, {"d90", 0.90}};

@@ -53,6 +53,9 @@ toml::table to_table(const Case& c) {
                   {"tails", to_string(p.tails)},
                   {"tail_lo", p.tail_lo},
                   {"tail_hi", p.tail_hi}};
+  // Only when not the default, so that the resolved case (and run hash) of every random-sampled case is what
+  // it was before the key existed.
+  if (p.sampling != wetdem::PsdSampling::kRandom) psd.insert("sampling", to_string(p.sampling));
   if (p.kind == wetdem::PsdSpec::Kind::kLogNormal) {
     psd.insert("lognormal", toml::table{{"median_m", p.median}, {"sigma", p.sigma}});
   } else {

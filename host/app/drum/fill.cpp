@@ -226,9 +226,15 @@ FillResult fill_drum(const FillSpec& spec, const std::vector<double>& radii) {
 FillResult fill_drum(const FillSpec& spec, const Psd& psd) {
   std::mt19937_64 rng(splitmix64(spec.seed ^ 0x66696c6c2d73697aull));  // "fill-siz"
   std::vector<double> radii;
+  const bool stratified = psd.spec().sampling == PsdSampling::kStratified;
   if (spec.count > 0) {
-    radii.resize(spec.count);
-    for (double& r : radii) r = 0.5 * psd.sample(rng);
+    if (stratified) {
+      radii = psd.sample_stratified(spec.count, rng);
+      for (double& r : radii) r *= 0.5;
+    } else {
+      radii.resize(spec.count);
+      for (double& r : radii) r = 0.5 * psd.sample(rng);
+    }
   } else {
     if (!(spec.bed_fraction > 0.0 && spec.bed_fraction <= 1.0) ||
         !(spec.solid_fraction > 0.0 && spec.solid_fraction < 1.0))
@@ -237,6 +243,12 @@ FillResult fill_drum(const FillSpec& spec, const Psd& psd) {
     const double target =
         spec.bed_fraction * drum_volume(spec.drum_radius, spec.drum_length) * spec.solid_fraction;
     double vol = 0.0;
+    if (stratified) {
+      // As many stratified draws as the target holds at the model's mean particle volume (their volume is
+      // then within about one particle of n V̄), then independent draws until the target is crossed.
+      radii = psd.sample_stratified(static_cast<size_t>(std::floor(target / psd.mean_volume())), rng);
+      for (double& r : radii) r *= 0.5, vol += 4.0 / 3.0 * kPi * r * r * r;
+    }
     while (vol < target) {
       const double r = 0.5 * psd.sample(rng);
       radii.push_back(r);

@@ -84,11 +84,20 @@ PsdTails parse_psd_tails(const std::string& s) {
   throw std::invalid_argument("psd tails must be \"truncate\" or \"lognormal\", got \"" + s + "\"");
 }
 
+PsdSampling parse_psd_sampling(const std::string& s) {
+  if (s == "random") return PsdSampling::kRandom;
+  if (s == "stratified") return PsdSampling::kStratified;
+  throw std::invalid_argument("psd sampling must be \"random\" or \"stratified\", got \"" + s + "\"");
+}
+
 const char* to_string(PsdBasis b) {
   return b == PsdBasis::kVolume ? "volume" : "number";
 }
 const char* to_string(PsdTails t) {
   return t == PsdTails::kTruncate ? "truncate" : "lognormal";
+}
+const char* to_string(PsdSampling s) {
+  return s == PsdSampling::kRandom ? "random" : "stratified";
 }
 
 static PsdSpec table_spec(const double (&d_um)[5], double scale, PsdTails tails) {
@@ -305,7 +314,10 @@ double Psd::cdf(double d, PsdBasis basis) const {
 }
 
 double Psd::sample(std::mt19937_64& rng) const {
-  const double u = uniform01(rng);
+  return number_at(uniform01(rng));
+}
+
+double Psd::number_at(double u) const {
   const size_t i =
       static_cast<size_t>(std::upper_bound(number_cum_.begin(), number_cum_.end(), u) - number_cum_.begin());
   const size_t j = std::min(i, pieces_.size() - 1);
@@ -313,6 +325,17 @@ double Psd::sample(std::mt19937_64& rng) const {
   const double w = number_cum_[j] - lo;
   const double v = w > 0.0 ? (u - lo) / w : 0.0;
   return std::exp(x_ref_ + piece_inverse(pieces_[j], weight_k(PsdBasis::kNumber), v));
+}
+
+std::vector<double> Psd::sample_stratified(size_t n, std::mt19937_64& rng) const {
+  std::vector<double> d(n);
+  for (size_t i = 0; i < n; ++i) d[i] = number_at((double(i) + uniform01(rng)) / double(n));
+  // Fisher-Yates: the strata in a random order, so that the insertion order carries no size trend.
+  for (size_t i = n; i > 1; --i) {
+    const size_t j = std::min(i - 1, static_cast<size_t>(uniform01(rng) * double(i)));
+    std::swap(d[i - 1], d[j]);
+  }
+  return d;
 }
 
 std::vector<double> Psd::sample(size_t n, uint64_t seed) const {
