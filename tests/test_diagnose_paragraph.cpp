@@ -133,3 +133,40 @@ TEST(DiagnoseParagraph, ATieNamesBothAndAddsNeither) {
       << three;
   EXPECT_NE(three.find("Do not add any of them"), std::string::npos) << three;
 }
+
+// A fresh comparison that the model's own seed luck decided (shrink.cpp fills Verdict::held_by_luck) is said
+// as such, with the remedy: more replicates. cohesion-weak (27 Nov 2026): viscous 151.5 on fresh runs against
+// cohesion's 100.3, worse by more than the tie margin but within the luck 70.6, so kept tied.
+TEST(DiagnoseParagraph, TheSeedLuckIsNamedWhereItDecided) {
+  Report r = unexplained(0.8);
+  r.verdict.kind = "partial";
+  r.verdict.effect = "cohesion";
+  r.fresh.resize(1);
+  r.fresh[0].effect = "cohesion";
+  r.fresh[0].after.resize(3);
+  r.fresh[0].gaps_after.resize(3);
+  Candidate v;
+  v.effect = "viscous";
+  r.verdict.ranking.push_back(v);
+  r.verdict.tied = {"viscous"};
+  r.verdict.seed_luck = 70.6;
+  EXPECT_EQ(verdict_paragraph(r).find("seed luck decided"), std::string::npos) << "nothing held by luck";
+  r.verdict.held_by_luck = {"viscous"};
+  const std::string kept = verdict_paragraph(r);
+  EXPECT_NE(kept.find("**The seed luck decided:** the fresh runs kept `viscous` in the tie"),
+            std::string::npos)
+      << kept;
+  EXPECT_NE(kept.find("moves by 70.6 between two seed sets of 2 runs per condition"), std::string::npos)
+      << kept;
+  EXPECT_NE(kept.find("More replicates (`replicates` in the diagnosis file"), std::string::npos) << kept;
+
+  // null-2: the chosen effect left unconfirmed by the luck (its drop 12.4 passed min_drop, not the
+  // luck 69.8).
+  Report u = unexplained(0.8);
+  u.verdict.effect = "cohesion";
+  u.verdict.fresh_rejected = true;
+  u.verdict.seed_luck = 69.8;
+  u.verdict.held_by_luck = {"cohesion"};
+  const std::string unconfirmed = verdict_paragraph(u);
+  EXPECT_NE(unconfirmed.find("the fresh runs left `cohesion` unconfirmed"), std::string::npos) << unconfirmed;
+}

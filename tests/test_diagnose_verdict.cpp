@@ -204,6 +204,10 @@ TEST(DiagnoseVerdict, TieRuleAndPartial) {
   EXPECT_TRUE(fresh_tie(30.7, 35.0, 48, VerdictRule{}, 14.9));
   EXPECT_FALSE(fresh_tie(30.7, 45.7, 48, VerdictRule{}, 14.9));
   EXPECT_FALSE(fresh_tie(96.0, 105.0, 48, VerdictRule{}, 2.0)) << "a small luck leaves the tie margin";
+  // What the luck alone decides (Verdict::held_by_luck): cohesion-weak's viscous, 151.5 on fresh runs against
+  // cohesion's 100.3, is dropped by the tie margin and kept by the luck 70.6.
+  EXPECT_EQ(unseen_on_fresh(100.3, 151.5, 48, VerdictRule{}), FreshJudgement::kDrop);
+  EXPECT_EQ(unseen_on_fresh(100.3, 151.5, 48, VerdictRule{}, 70.6), FreshJudgement::kKeep);
 }
 
 // The next experiment proposes conditions beyond and between the table's, in the table's units, then another

@@ -132,8 +132,37 @@ std::string verdict_core(const Report& r);
 
 }  // namespace
 
+namespace {
+
+// The fresh comparisons the model's own seed luck decided (Verdict::held_by_luck): what more replicates
+// could settle.
+std::string luck_sentence(const Report& r) {
+  const std::vector<std::string>& h = r.verdict.held_by_luck;
+  if (h.empty()) return "";
+  std::string kept, unconfirmed;
+  for (const std::string& e : h)
+    if (e == r.verdict.effect && r.verdict.fresh_rejected)
+      unconfirmed = e;
+    else
+      kept += (kept.empty() ? "`" : ", `") + e + "`";
+  std::string what;
+  if (!kept.empty()) what = "kept " + kept + " in the tie";
+  if (!unconfirmed.empty())
+    what += (what.empty() ? "" : ", and ") + fmt::format("left `{}` unconfirmed", unconfirmed);
+  return fmt::format(
+      " **The seed luck decided:** the fresh runs {} although their χ² differ by more than the tie margin "
+      "(or min_drop), because the same model moves by {:.1f} between two seed sets of {} run{} per "
+      "condition. "
+      "More replicates (`replicates` in the diagnosis file; each adds one run per condition to the baseline "
+      "and "
+      "to every fresh check) would lower that luck and could decide it.",
+      what, r.verdict.seed_luck, r.spec->replicates, r.spec->replicates == 1 ? "" : "s");
+}
+
+}  // namespace
+
 std::string verdict_paragraph(const Report& r) {
-  return verdict_core(r) + blind_sentence(r);
+  return verdict_core(r) + luck_sentence(r) + blind_sentence(r);
 }
 
 namespace {

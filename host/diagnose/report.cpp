@@ -264,6 +264,7 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
   if (named && r.second_named()) j["effects"].push_back(r.second_named()->effect);
   j["tied"] = r.verdict.tied;
   j["tied_on_fresh"] = r.verdict.tied_on_fresh;  // near ties held out that tie on fresh runs
+  j["held_by_luck"] = r.verdict.held_by_luck;    // fresh comparisons the seed luck decided (verdict.h)
   j["rule"] = {{"fdr", r.spec->rule.q},
                {"ratio", r.spec->rule.ratio},
                {"min_drop", r.spec->rule.min_drop},

@@ -82,6 +82,10 @@ struct Verdict {
   double seed_luck = 0.0;
   std::vector<std::string> tied_on_fresh;  // the tied candidates that were near ties held out (near_tie) and
                                            // tie on fresh runs (fresh_tie)
+  // The fresh comparisons that the seed luck decided: the candidates kept tied, and the chosen effect left
+  // unconfirmed, whose fresh χ² differ by more than the tie margin (or min_drop) but not by more than the
+  // luck. More replicates would lower the luck and could decide them; the paragraph says so (luck_sentence).
+  std::vector<std::string> held_by_luck;
 };
 
 // The effect margin against the null: LOCO <= floor + ratio x (LOCO_null - floor), i.e. the candidate removes
