@@ -159,6 +159,10 @@ TEST(DiagnoseParagraph, TheSeedLuckIsNamedWhereItDecided) {
   EXPECT_NE(kept.find("moves by 70.6 between two seed sets of 2 runs per condition"), std::string::npos)
       << kept;
   EXPECT_NE(kept.find("More replicates (`replicates` in the diagnosis file"), std::string::npos) << kept;
+  r.verdict.held_by_luck = {"viscous", "hysteresis"};
+  const std::string two = verdict_paragraph(r);
+  EXPECT_NE(two.find("kept `viscous` and `hysteresis` in the tie"), std::string::npos) << two;
+  EXPECT_NE(two.find("could decide them."), std::string::npos) << two;
 
   // null-2: the chosen effect left unconfirmed by the luck (its drop 12.4 passed min_drop, not the
   // luck 69.8).

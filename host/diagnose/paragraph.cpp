@@ -139,12 +139,16 @@ namespace {
 std::string luck_sentence(const Report& r) {
   const std::vector<std::string>& h = r.verdict.held_by_luck;
   if (h.empty()) return "";
-  std::string kept, unconfirmed;
+  std::vector<std::string> k;
+  std::string unconfirmed;
   for (const std::string& e : h)
     if (e == r.verdict.effect && r.verdict.fresh_rejected)
       unconfirmed = e;
     else
-      kept += (kept.empty() ? "`" : ", `") + e + "`";
+      k.push_back(e);
+  std::string kept;
+  for (size_t i = 0; i < k.size(); ++i)
+    kept += (i == 0 ? "`" : i + 1 == k.size() ? " and `" : ", `") + k[i] + "`";
   std::string what;
   if (!kept.empty()) what = "kept " + kept + " in the tie";
   if (!unconfirmed.empty())
@@ -155,8 +159,9 @@ std::string luck_sentence(const Report& r) {
       "condition. "
       "More replicates (`replicates` in the diagnosis file; each adds one run per condition to the baseline "
       "and "
-      "to every fresh check) would lower that luck and could decide it.",
-      what, r.verdict.seed_luck, r.spec->replicates, r.spec->replicates == 1 ? "" : "s");
+      "to every fresh check) would lower that luck and could decide {}.",
+      what, r.verdict.seed_luck, r.spec->replicates, r.spec->replicates == 1 ? "" : "s",
+      h.size() == 1 ? "it" : "them");
 }
 
 }  // namespace
