@@ -263,6 +263,10 @@ void run_shrink(Procedure& p) {
     p.verdict.kind = "unexplained";
     p.verdict.fresh_rejected = true;
     p.verdict.tied.clear();
+    // No tie is left to have been kept by the luck; only the chosen effect's own confirmation may have been.
+    std::vector<std::string>& h = p.verdict.held_by_luck;
+    h.erase(std::remove_if(h.begin(), h.end(), [&](const std::string& e) { return e != chosen.effect; }),
+            h.end());
     return;
   }
   // A near tie held out is decided on the fresh runs, which carry no probe's seed noise.
