@@ -25,6 +25,18 @@ Report unexplained(double shrink) {
   return r;
 }
 
+// cohesion chosen (kind "effect" or "partial") with its fresh runs made.
+Report chosen_with_fresh_runs(const std::string& kind) {
+  Report r = unexplained(0.8);
+  r.verdict.kind = kind;
+  r.verdict.effect = "cohesion";
+  r.fresh.resize(1);
+  r.fresh[0].effect = "cohesion";
+  r.fresh[0].after.resize(3);
+  r.fresh[0].gaps_after.resize(3);
+  return r;
+}
+
 }  // namespace
 
 TEST(DiagnoseParagraph, UnexplainedNamesALeadOnlyWhenTheBestCandidateHelps) {
@@ -79,13 +91,7 @@ TEST(DiagnoseParagraph, RefitNamesTheFittedValues) {
 // measurement that separates them (the flowing twin absorption-weak: evaporation and absorption tied on fresh
 // seeds, and the report still said "Add `evaporation` to the model").
 TEST(DiagnoseParagraph, ATieNamesBothAndAddsNeither) {
-  Report r = unexplained(0.8);
-  r.verdict.kind = "effect";
-  r.verdict.effect = "cohesion";
-  r.fresh.resize(1);
-  r.fresh[0].effect = "cohesion";
-  r.fresh[0].after.resize(3);
-  r.fresh[0].gaps_after.resize(3);
+  Report r = chosen_with_fresh_runs("effect");
   const std::string alone = verdict_paragraph(r);
   EXPECT_NE(alone.find("**Gap explained by `cohesion`.**"), std::string::npos) << alone;
   EXPECT_NE(alone.find("Add `cohesion` to the model"), std::string::npos) << alone;
@@ -138,13 +144,7 @@ TEST(DiagnoseParagraph, ATieNamesBothAndAddsNeither) {
 // as such, with the remedy: more replicates. cohesion-weak (27 Nov 2026): viscous 151.5 on fresh runs against
 // cohesion's 100.3, worse by more than the tie margin but within the luck 70.6, so kept tied.
 TEST(DiagnoseParagraph, TheSeedLuckIsNamedWhereItDecided) {
-  Report r = unexplained(0.8);
-  r.verdict.kind = "partial";
-  r.verdict.effect = "cohesion";
-  r.fresh.resize(1);
-  r.fresh[0].effect = "cohesion";
-  r.fresh[0].after.resize(3);
-  r.fresh[0].gaps_after.resize(3);
+  Report r = chosen_with_fresh_runs("partial");
   Candidate v;
   v.effect = "viscous";
   r.verdict.ranking.push_back(v);
