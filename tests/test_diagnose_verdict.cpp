@@ -12,6 +12,7 @@
 #include "diagnose/fit.h"
 #include "diagnose/fit_stage.h"
 #include "diagnose/next_experiment.h"
+#include "diagnose/shrink.h"
 #include "diagnose/twin.h"
 #include "diagnose/verdict.h"
 
@@ -435,4 +436,30 @@ TEST(DiagnoseVerdict, AnUnseenCandidateIsTiedNeitherDroppedNorNamedFirst) {
   EXPECT_EQ(unseen_on_fresh(117.3, 70.7, 48, rule, luck), FreshJudgement::kKeep);
   EXPECT_EQ(unseen_on_fresh(117.3, 90.1, 48, rule, luck), FreshJudgement::kKeep);
   EXPECT_EQ(unseen_on_fresh(30.5, 79.3, 48, rule, 14.9), FreshJudgement::kDrop) << "absorption-weak's spread";
+}
+
+// The seed luck is the mean |Δχ²| over every split of the model's 2R seeds into two halves, each split once
+// (split_luck, shrink.h). With χ² of a set = the sum of its seeds, the splits of {1, 2, 3, 4} are {1,2|3,4},
+// {1,3|2,4}, {1,4|2,3}: |3-7|, |4-6|, |5-5|, mean 2. On the flowing matrix the one split 1-2 against 3-4 was
+// an unlucky draw (docs/validation.md).
+TEST(DiagnoseVerdict, SeedLuckIsTheMeanOverEverySplitOfTheSeeds) {
+  const auto sum = [](const std::vector<uint64_t>& s) {
+    double x = 0;
+    for (uint64_t v : s) x += double(v);
+    return x;
+  };
+  size_t calls = 0;
+  EXPECT_DOUBLE_EQ(split_luck({1, 2, 3, 4},
+                              [&](const std::vector<uint64_t>& s) {
+                                ++calls;
+                                EXPECT_EQ(s.size(), 2u);
+                                return sum(s);
+                              }),
+                   2.0);
+  EXPECT_EQ(calls, 6u) << "3 splits, two sets each";
+  calls = 0;
+  split_luck({1, 2, 3, 4, 5, 6}, [&](const std::vector<uint64_t>& s) { return ++calls, sum(s); });
+  EXPECT_EQ(calls, 20u) << "C(6,3)/2 = 10 splits";
+  EXPECT_DOUBLE_EQ(split_luck({7, 9}, sum), 2.0);
+  EXPECT_THROW(split_luck({1, 2, 3}, sum), std::invalid_argument);
 }

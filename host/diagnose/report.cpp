@@ -255,7 +255,7 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
   j["observations"] = r.spec->observations;
   j["verdict"] = r.verdict.kind;
   j["fresh_rejected"] = r.verdict.fresh_rejected;  // the chosen fit did not reproduce on fresh seeds
-  j["seed_luck_chi2"] = r.verdict.seed_luck;  // |χ²(control, fresh seeds) - χ²(model, its seeds)| (verdict.h)
+  j["seed_luck_chi2"] = r.verdict.seed_luck;       // mean |Δχ²| between seed sets of the model (verdict.h)
   // The control of the fresh check: the model without an effect at the fresh seeds (null when not run).
   j["chi2_null_fresh"] = r.null_fresh.after.empty() ? json(nullptr) : json(chi2_of(r.null_fresh.gaps_after));
   j["effect"] = named ? json(r.verdict.effect) : json(nullptr);

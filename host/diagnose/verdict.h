@@ -77,8 +77,9 @@ struct Verdict {
   // The chosen effect passed the rule, but its fresh-seed runs did not lower χ² over the cells by min_drop
   // (fresh_confirms): the verdict became "unexplained" and says so.
   bool fresh_rejected = false;
-  // |χ²(control on the fresh seeds) - χ²(model on its own seeds)|: how far χ² moves with the seeds alone, the
-  // least margin of the fresh-run comparisons (fresh_confirms, unseen_on_fresh); 0 without the control.
+  // How far χ² moves with the seeds alone: the mean |χ²(A) - χ²(B)| over every split of the model's runs at
+  // seeds 1..R and the control's R+1..2R into two seed sets of R (split_luck, shrink.h). The least margin of
+  // the fresh-run comparisons (fresh_confirms, unseen_on_fresh, fresh_tie); 0 without the control.
   double seed_luck = 0.0;
   std::vector<std::string> tied_on_fresh;  // the tied candidates that were near ties held out (near_tie) and
                                            // tie on fresh runs (fresh_tie)
@@ -136,11 +137,12 @@ std::vector<std::string> name_only_seen(Verdict& v, const std::vector<std::strin
 
 // An unseen candidate tied on its held-out score, judged on the fresh runs (seeds R+1..2R, no probe in them)
 // at its fitted strength against the chosen one's over the n cells. The margin is the tie rule's (fresh_tie),
-// or `luck` where that is larger: how far χ² moves between two seed sets of the same model, measured as
-// |χ²(control on the fresh seeds) - χ²(model on its own seeds)|. On the flowing drum that is 9-100 (null-2:
-// 59.9 on seeds 1-4, 129.7 on the fresh seeds), far above the tie rule's 4-10, and a candidate the probes
-// cannot show may not win or lose on less. kDrop when it is worse by the margin (its held-out score followed
-// its probes' seed noise), kSwap when the chosen one is worse by the margin (named first), kKeep otherwise.
+// or `luck` where that is larger: how far χ² moves between two seed sets of the same model
+// (Verdict::seed_luck, the mean over the splits of its 2R runs). On the flowing drum one split alone measured
+// 9-100 (null-2: 59.9 on seeds 1-2, 129.7 on the fresh seeds), far above the tie rule's 4-10, and a candidate
+// the probes cannot show may not win or lose on less. kDrop when it is worse by the margin (its held-out
+// score followed its probes' seed noise), kSwap when the chosen one is worse by the margin (named first),
+// kKeep otherwise.
 enum class FreshJudgement { kDrop, kKeep, kSwap };
 FreshJudgement unseen_on_fresh(double chi2_chosen, double chi2_unseen, size_t n, const VerdictRule& rule,
                                double luck = 0.0);
