@@ -14,7 +14,6 @@
 #include <CLI/CLI.hpp>
 
 #include <cmath>
-#include <csignal>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
@@ -22,6 +21,7 @@
 #include "app/drum/psd.h"
 #include "app/run/resources.h"
 #include "app/run/run.h"
+#include "app/run/stop_signals.h"
 #include "vk/context.h"
 #ifdef WETDEM_HAVE_STUDY
 #include "study/commands.h"
@@ -154,13 +154,9 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "wetdem run: give a case file (or --resume DIR)\n");
       return 2;
     }
-    // First Ctrl-C: stop at the next step boundary (FAILED.txt says so, the checkpoint stays); second:
-    // default.
-    for (int sig : {SIGINT, SIGTERM})
-      std::signal(sig, [](int s) {
-        wetdem::app::request_interrupt();
-        std::signal(s, SIG_DFL);
-      });
+    // Stop at the next step boundary (FAILED.txt says so, the checkpoint stays); a second Ctrl-C ends at
+    // once.
+    wetdem::app::install_stop_signals(wetdem::app::request_interrupt);
     ro.figures = !no_figures;
     const wetdem::app::RunResult r = wetdem::app::run_case(ro);
     return r.completed || ro.stop_after_steps ? 0 : 1;

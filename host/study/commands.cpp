@@ -4,13 +4,13 @@
 
 #include <CLI/CLI.hpp>
 #include <cmath>
-#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 
 #include "app/drum/psd.h"
 #include "app/output/summary.h"
+#include "app/run/stop_signals.h"
 #include "study/calibrate.h"
 #include "study/collect.h"
 #include "study/executor.h"
@@ -279,11 +279,6 @@ class Impl : public Commands {
     return 0;
   }
 
-  static void on_signal(int s) {
-    request_study_interrupt();
-    std::signal(s, SIG_DFL);
-  }
-
   int run() {
     const StudySpec s = parse_study_file(file_);
     const std::vector<PlannedRun> runs = expand(s);  // every override validated before anything runs
@@ -304,7 +299,7 @@ class Impl : public Commands {
       }
       std::printf("reused %zu complete runs of %s\n", copied, other.c_str());
     }
-    for (int sig : {SIGINT, SIGTERM}) std::signal(sig, on_signal);
+    app::install_stop_signals(request_study_interrupt);
     ExecOptions eo;
     eo.jobs = jobs_;
     eo.batch = batch_;
@@ -322,8 +317,7 @@ class Impl : public Commands {
         "inside run processes %.1f s, inside the runs (their wall_time_s) %.1f s: overhead %.1f s "
         "(%.1f %%)\n",
         s.name.c_str(), r.total, r.already_complete, r.completed, r.failed + r.skipped_failed, r.stopped,
-        r.wall_s, r.process_wall_s, r.run_wall_s, outside,
-        r.run_wall_s > 0 ? 100.0 * outside / r.wall_s : 0.0);
+        r.wall_s, r.process_wall_s, r.run_wall_s, outside, r.wall_s > 0 ? 100.0 * outside / r.wall_s : 0.0);
     if (r.interrupted) {
       std::printf("interrupted: finished runs are kept; `wetdem study run` again continues the others\n");
       return 1;
@@ -341,7 +335,7 @@ class Impl : public Commands {
   }
 
   int run_batch_cmd() {
-    for (int sig : {SIGINT, SIGTERM}) std::signal(sig, on_signal);
+    app::install_stop_signals(request_study_interrupt);
     const std::vector<OneResult> r = run_batch_of(dir_, indices_, device_, quiet_);
     int failed = 0;
     for (size_t q = 0; q < r.size(); ++q)
@@ -353,7 +347,7 @@ class Impl : public Commands {
   }
 
   int run_one_cmd() {
-    for (int sig : {SIGINT, SIGTERM}) std::signal(sig, on_signal);
+    app::install_stop_signals(request_study_interrupt);
     const OneResult r = run_one(dir_, index_, device_, quiet_);
     if (r.skipped) {
       std::printf("run %zu: already complete\n", index_);
@@ -407,7 +401,7 @@ class Impl : public Commands {
 
   int calibrate_cmd() {
     if (refine_ > 0) {
-      for (int sig : {SIGINT, SIGTERM}) std::signal(sig, on_signal);
+      app::install_stop_signals(request_study_interrupt);
       RefineOptions ro;
       ro.k = refine_;
       ro.jobs = jobs_;

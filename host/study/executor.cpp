@@ -47,9 +47,12 @@ double summary_wall(const fs::path& run_dir) {
   try {
     const nlohmann::json j = nlohmann::json::parse(f);
     // A run of an ensemble reports the ensemble's wall time: its share is that over the runs stepped
-    // together.
+    // together. A resumed run's wall_time_s also holds the segments before its checkpoint, spent by an
+    // earlier call: this call's part is the last process's wall (wall_split_s.wall).
     const double runs = j.contains("ensemble") ? j["ensemble"].value("runs", 1.0) : 1.0;
-    return j.value("wall_time_s", 0.0) / std::max(1.0, runs);
+    const double wall =
+        j.contains("wall_split_s") ? j["wall_split_s"].value("wall", 0.0) : j.value("wall_time_s", 0.0);
+    return wall / std::max(1.0, runs);
   } catch (const std::exception&) {
     return 0;
   }
