@@ -9,7 +9,8 @@
 # of these files, does not invalidate every stored run; a change to any of them does. The resource estimate
 # (host/app/run/resources.*: what `wetdem check` quotes and the refusal of a run too large for the device) is
 # left out: it decides whether a run starts, never what it computes, and a reworded estimate once invalidated a
-# night of stored flowing-matrix runs.
+# night of stored flowing-matrix runs. So are the stop signals (host/app/run/stop_signals.*): they decide where a
+# run stops, and a resumed run ends bitwise where an uninterrupted one ends.
 execute_process(COMMAND git describe --always --dirty --tags WORKING_DIRECTORY ${SRC}
                 OUTPUT_VARIABLE git OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_QUIET)
 if(NOT git)
@@ -20,7 +21,7 @@ foreach(dir shaders host/vk host/gpu host/core host/app include)
   file(GLOB_RECURSE found LIST_DIRECTORIES false RELATIVE ${SRC} ${SRC}/${dir}/*)
   list(APPEND files ${found})
 endforeach()
-list(FILTER files EXCLUDE REGEX "^host/app/run/resources\\.(h|cpp)$")
+list(FILTER files EXCLUDE REGEX "^host/app/run/(resources|stop_signals)\\.(h|cpp)$")
 list(SORT files)
 set(all "")
 foreach(f ${files})
