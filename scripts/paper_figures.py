@@ -120,13 +120,19 @@ def aor_curves(ax, runs, line_key, title, note, label_fmt="V_max = %g %%", share
         xs = [pct(val(r, "liquid.content")) + dodge for r in pts if num(r["summary"], "aor_deg_mean") is not None]
         ys = [num(r["summary"], "aor_deg_mean") for r in pts if num(r["summary"], "aor_deg_mean") is not None]
         es = [num(r["summary"], "aor_deg_std") or 0 for r in pts if num(r["summary"], "aor_deg_mean") is not None]
-        ax.errorbar(xs, ys, yerr=es, marker="o", capsize=3, label=label_fmt % (100 * lv))
+        ss = [sem(r["summary"]) for r in pts if num(r["summary"], "aor_deg_mean") is not None]
+        # Thin and faint: the sd over the window (the bed's fluctuation, the cohesive index); thick: the SEM of
+        # the mean, which is what decides whether two curves differ.
+        line = ax.errorbar(xs, ys, yerr=ss, marker="o", capsize=4, elinewidth=2.2, label=label_fmt % (100 * lv))
+        ax.errorbar(xs, ys, yerr=es, fmt="none", ecolor=line[0].get_color(), elinewidth=0.8, alpha=0.35)
     ax.set_xlabel("liquid content φ_L (vol %%)%s" % (" (curves offset by up to ±%g %% to show their bars)" %
                                                      (0.05 * (len(keys) - 1)) if len(keys) > 1 else ""))
     ax.set_ylabel("dynamic angle of repose (deg)")
-    ax.set_title(title + ("\n" + wrap(note, 85) if note else ""), fontsize=8.5)
+    done, planned = sum(1 for r in runs if r["summary"]), len(runs)
+    part = "\n%d of %d runs complete: the missing points are not yet run" % (done, planned) if done < planned else ""
+    ax.set_title(title + part + ("\n" + wrap(note, 85) if note else ""), fontsize=8.5)
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=7, loc="best")
 
 
 def aor_table(runs, line_key, line_name):
@@ -466,7 +472,7 @@ def main(argv):
 
     if st["pp2_l5"]:
         fig, ax = plt.subplots(figsize=(6.6, 4.6))
-        aor_curves(ax, st["pp2_l5"], "liquid.v_max", "PP2 l = 5, V_min = 10 %: AoR (mean ± sd over the window)", note)
+        aor_curves(ax, st["pp2_l5"], "liquid.v_max", "PP2 l = 5, V_min = 10 %: AoR, mean ± SEM (thick) and ± sd over the window (faint)", note)
         fig.tight_layout()
         fig.savefig(os.path.join(figs, "pp2_l5_aor.png"), dpi=120)
         plt.close(fig)
