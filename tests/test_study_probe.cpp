@@ -42,6 +42,48 @@ TEST(StudyProbe, EstimateIsTheProbedRatesTimesEachBatchsWork) {
   EXPECT_NEAR(e.particle_steps, 5 * r.particles * r.steps, 1e-9 * e.particle_steps);
 }
 
+TEST(StudyProbe, MeasuredRateIsTheCompleteRunsSteppingOnThisDevice) {
+  // By hand: a batch of 2 runs of 1,000 particles that stepped 10,000 steps in 4 s of stepping is 5e6
+  // particle-steps/s (2e-7 s each); a run resumed at step 4,000 of 8,000 that stepped its 4,000 steps alone
+  // in 1 s is 4e6 (2.5e-7 s). The mean time per particle-step is 2.25e-7 s: 4.444e6 particle-steps/s. Runs on
+  // another device, or without a stepping time, are left out.
+  const nlohmann::json batch = {{"device", "GPU A"},
+                                {"particles", 1000},
+                                {"steps", 10000},
+                                {"ensemble", {{"runs", 2}}},
+                                {"wall_split_s", {{"stepping", 4.0}, {"sampling", 3.0}}}};
+  const nlohmann::json resumed = {{"device", "GPU A"},
+                                  {"particles", 1000},
+                                  {"steps", 8000},
+                                  {"resumed_from_step", 4000},
+                                  {"wall_split_s", {{"stepping", 1.0}}}};
+  nlohmann::json other = batch;
+  other["device"] = "GPU B";
+  nlohmann::json old = batch;
+  old.erase("wall_split_s");
+  const study::MeasuredRate m = study::measured_rate({batch, batch, resumed, other, old}, "GPU A");
+  EXPECT_EQ(m.runs, 3u);
+  EXPECT_NEAR(m.particle_steps_per_s, 3.0 / (2e-7 + 2e-7 + 2.5e-7), 1.0);
+  EXPECT_EQ(m.batch_min, 1u);
+  EXPECT_EQ(m.batch_max, 2u);
+  EXPECT_EQ(study::measured_rate({other, old}, "GPU A").runs, 0u);
+
+  // The estimate at that rate: the probe's stepping time replaced, its samples and set-up kept.
+  study::ProbeResult p;
+  p.particles = 2000;
+  p.step_s = 1e-4;  // 2e7 particle-steps/s on a fresh bed
+  p.particle_steps_per_s = 2e7;
+  p.sample_s = 0.01;
+  const study::ProbeResult q = study::at_rate(p, 5e6);
+  EXPECT_DOUBLE_EQ(q.step_s, 4e-4);
+  EXPECT_DOUBLE_EQ(q.particle_steps_per_s, 5e6);
+  EXPECT_DOUBLE_EQ(q.sample_s, p.sample_s);
+  const auto runs = five_runs(study_temp("probe_rate"));
+  const study::Estimate a = study::estimate(runs, 2, p), b = study::estimate(runs, 2, q);
+  EXPECT_NEAR(b.step_s, 4 * a.step_s, 1e-9 * b.step_s);
+  EXPECT_NEAR(b.sample_s, a.sample_s, 1e-12);
+}
+
 TEST(StudyProbe, PlanBatchesSpreadsTheQueueEvenlyOverTheProcesses) {
   const std::string dir = study_temp("batches");
   const auto runs = five_runs(dir);

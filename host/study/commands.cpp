@@ -240,20 +240,45 @@ class Impl : public Commands {
       std::printf("nothing to compute: every run is complete\n");
     } else {
       const ProbeResult p = probe(todo, batch_, probe_steps_, device_);
-      const Estimate e = estimate(todo, batch_, p);
       std::printf(
           "probe on %s: %zu runs (%zu particles) stepped together, %llu steps at %.3g ms per step: %.3g "
           "particle-steps/s; a sample of the batch %.3g ms; set-up %.3g s per run\n",
           p.device.c_str(), p.runs, p.particles, (unsigned long long)p.steps, 1e3 * p.step_s,
           p.particle_steps_per_s, 1e3 * p.sample_s, p.setup_s_per_run);
+      // Runs already complete on this device measured the turning bed; their stepping rate replaces the
+      // probe's (probe.h, MeasuredRate).
+      std::vector<nlohmann::json> done;
+      for (const PlannedRun& r : runs) {
+        std::ifstream f(fs::path(dir) / "runs" / r.hash / "summary.json");
+        if (!f) continue;
+        try {
+          done.push_back(nlohmann::json::parse(f));
+        } catch (const std::exception&) {
+        }
+      }
+      const MeasuredRate m = measured_rate(done, p.device);
+      const Estimate e = estimate(todo, batch_, m.runs ? at_rate(p, m.particle_steps_per_s) : p);
+      if (m.runs) {
+        const Estimate raw = estimate(todo, batch_, p);
+        std::printf(
+            "measured: %zu complete runs on %s (batches of %s) stepped at %.3g particle-steps/s, %.2fx "
+            "the probe; the estimate uses their rate (the probe's alone: %.0f s)\n",
+            m.runs, p.device.c_str(),
+            (m.batch_min == m.batch_max ? fmt::format("{}", m.batch_min)
+                                        : fmt::format("{}-{}", m.batch_min, m.batch_max))
+                .c_str(),
+            m.particle_steps_per_s, m.particle_steps_per_s / std::max(1e-30, p.particle_steps_per_s),
+            raw.total_s());
+        j["measured"] = to_json(m);
+        j["estimate_probe_only"] = to_json(raw);
+      }
       std::printf(
           "estimate: %zu runs in %zu batches of up to %zu, %.3g particle-steps: %.0f s (%.1f min) = set-up "
-          "%.0f s "
-          "+ steps %.0f s + samples %.0f s (measured on the first steps of a freshly filled bed: a guide, "
-          "not a "
-          "promise)\n",
+          "%.0f s + steps %.0f s + samples %.0f s (%s: a guide, not a promise)\n",
           e.runs, e.batches, batch_, e.particle_steps, e.total_s(), e.total_s() / 60.0, e.setup_s, e.step_s,
-          e.sample_s);
+          e.sample_s,
+          m.runs ? "steps at the rate of the complete runs, samples and set-up as probed"
+                 : "measured on the first steps of a freshly filled bed");
       if (budget_ > 0) {
         double t = 0;
         size_t fit = 0;

@@ -103,6 +103,41 @@ Estimate estimate(const std::vector<PlannedRun>& runs, size_t batch, const Probe
   return e;
 }
 
+MeasuredRate measured_rate(const std::vector<nlohmann::json>& summaries, const std::string& device) {
+  MeasuredRate m;
+  double sum = 0;
+  for (const nlohmann::json& j : summaries) {
+    if (j.value("device", std::string()) != device || !j.contains("wall_split_s")) continue;
+    const double stepping = j["wall_split_s"].value("stepping", 0.0);
+    const double k = j.contains("ensemble") ? j["ensemble"].value("runs", 1.0) : 1.0;
+    const double n = j.value("particles", 0.0);
+    const double stepped = j.value("steps", 0.0) - j.value("resumed_from_step", 0.0);
+    if (!(stepping > 0) || !(n > 0) || !(stepped > 0) || !(k >= 1)) continue;
+    sum += stepping / (k * n * stepped);
+    const size_t kk = size_t(k);
+    m.batch_min = m.runs ? std::min(m.batch_min, kk) : kk;
+    m.batch_max = std::max(m.batch_max, kk);
+    ++m.runs;
+  }
+  if (m.runs) m.particle_steps_per_s = double(m.runs) / sum;
+  return m;
+}
+
+ProbeResult at_rate(ProbeResult p, double particle_steps_per_s) {
+  if (particle_steps_per_s > 0) {
+    p.particle_steps_per_s = particle_steps_per_s;
+    p.step_s = double(p.particles) / particle_steps_per_s;
+  }
+  return p;
+}
+
+nlohmann::json to_json(const MeasuredRate& m) {
+  return {{"runs", m.runs},
+          {"particle_steps_per_s", m.particle_steps_per_s},
+          {"batch_min", m.batch_min},
+          {"batch_max", m.batch_max}};
+}
+
 nlohmann::json to_json(const ProbeResult& p) {
   return {{"runs", p.runs},
           {"particles", p.particles},

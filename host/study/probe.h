@@ -42,7 +42,23 @@ struct Estimate {
 // particle, which flatters it (fixed per-step costs do not shrink with the batch).
 Estimate estimate(const std::vector<PlannedRun>& runs, size_t batch, const ProbeResult& p);
 
+// What the runs already complete on this device measured: a probe steps a freshly filled bed, which has fewer
+// contacts and bridges than a turning one, and on a GPU it erred short by 2.3-3.2x (docs/paper.md). Each
+// complete run's summary gives its batch's stepping time per particle-step: wall_split_s.stepping over (runs
+// in its ensemble x its particles x the steps of this segment, steps - resumed_from_step); sampling and
+// set-up are left to the probe. The rate is 1 / the mean of those times over the runs on `device`.
+struct MeasuredRate {
+  size_t runs = 0;                  // complete runs on the device that carry a stepping time
+  double particle_steps_per_s = 0;  // 0 when none
+  size_t batch_min = 0, batch_max = 0;
+};
+MeasuredRate measured_rate(const std::vector<nlohmann::json>& summaries, const std::string& device);
+
+// The probe with its stepping time replaced by the measured rate (sample and set-up times kept).
+ProbeResult at_rate(ProbeResult p, double particle_steps_per_s);
+
 nlohmann::json to_json(const ProbeResult& p);
 nlohmann::json to_json(const Estimate& e);
+nlohmann::json to_json(const MeasuredRate& m);
 
 }  // namespace wetdem::study
