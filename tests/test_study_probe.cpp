@@ -67,6 +67,7 @@ TEST(StudyProbe, MeasuredRateIsTheCompleteRunsSteppingOnThisDevice) {
   EXPECT_EQ(m.batch_min, 1u);
   EXPECT_EQ(m.batch_max, 2u);
   EXPECT_EQ(study::measured_rate({other, old}, "GPU A").runs, 0u);
+  EXPECT_EQ(study::measured_rate({batch, other, old}, "").runs, 2u) << "an empty device takes every device";
 
   // The estimate at that rate: the probe's stepping time replaced, its samples and set-up kept.
   study::ProbeResult p;

@@ -165,24 +165,26 @@ class Impl : public Commands {
     const StudySpec s = parse_study_file(file_);
     const std::vector<PlannedRun> runs = expand(s);
     const std::string dir = dir_.empty() ? default_dir(s) : dir_;
-    // Throughput: given, or the mean particle_steps_per_s of completed runs in the study directory.
+    // Throughput: given, or the stepping rate of the completed runs in the study directory (probe.h,
+    // MeasuredRate: a batch's runs count at their batch's aggregate rate); runs older than wall_split_s fall
+    // back to the mean of their particle_steps_per_s.
     double tp = throughput_;
     std::string tp_src = "--throughput";
-    size_t measured = 0;
     if (!(tp > 0)) {
-      double sum = 0;
-      if (fs::exists(fs::path(dir) / "runs"))
-        for (const auto& e : fs::directory_iterator(fs::path(dir) / "runs")) {
-          std::ifstream f(e.path() / "summary.json");
-          if (!f) continue;
-          try {
-            const double v = nlohmann::json::parse(f).value("particle_steps_per_s", 0.0);
-            if (v > 0) sum += v, ++measured;
-          } catch (const std::exception&) {
-          }
-        }
-      tp = measured ? sum / double(measured) : 0;
-      tp_src = fmt::format("mean particle_steps_per_s of {} completed runs in {}", measured, dir);
+      const std::vector<nlohmann::json> done = complete_summaries(dir);
+      const MeasuredRate m = measured_rate(done, "");
+      if (m.runs) {
+        tp = m.particle_steps_per_s;
+        tp_src = fmt::format("stepping rate of {} completed runs in {}, batches of {}", m.runs, dir,
+                             batch_range(m));
+      } else {
+        double sum = 0;
+        size_t n = 0;
+        for (const nlohmann::json& j : done)
+          if (j.value("particle_steps_per_s", 0.0) > 0) sum += j.value("particle_steps_per_s", 0.0), ++n;
+        tp = n ? sum / double(n) : 0;
+        tp_src = fmt::format("mean particle_steps_per_s of {} completed runs in {}", n, dir);
+      }
     }
     std::printf("study %s: %zu points x %zu seeds = %zu runs (base %s)\n", s.name.c_str(), s.points.size(),
                 s.seeds.size(), runs.size(), s.base.c_str());
@@ -219,6 +221,26 @@ class Impl : public Commands {
     return 0;
   }
 
+  // The summaries of the complete runs in DIR/runs.
+  static std::vector<nlohmann::json> complete_summaries(const std::string& dir) {
+    std::vector<nlohmann::json> out;
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(fs::path(dir) / "runs", ec)) {
+      std::ifstream f(e.path() / "summary.json");
+      if (!f) continue;
+      try {
+        out.push_back(nlohmann::json::parse(f));
+      } catch (const std::exception&) {
+      }
+    }
+    return out;
+  }
+
+  static std::string batch_range(const MeasuredRate& m) {
+    return m.batch_min == m.batch_max ? fmt::format("{}", m.batch_min)
+                                      : fmt::format("{}-{}", m.batch_min, m.batch_max);
+  }
+
   // A run's state in DIR, or complete when a --reuse directory holds it complete (study run copies it).
   RunState state_with_reuse(const std::string& dir, const std::string& hash) const {
     const RunState st = run_state((fs::path(dir) / "runs" / hash).string());
@@ -247,15 +269,7 @@ class Impl : public Commands {
           p.particle_steps_per_s, 1e3 * p.sample_s, p.setup_s_per_run);
       // Runs already complete on this device measured the turning bed; their stepping rate replaces the
       // probe's (probe.h, MeasuredRate).
-      std::vector<nlohmann::json> done;
-      for (const PlannedRun& r : runs) {
-        std::ifstream f(fs::path(dir) / "runs" / r.hash / "summary.json");
-        if (!f) continue;
-        try {
-          done.push_back(nlohmann::json::parse(f));
-        } catch (const std::exception&) {
-        }
-      }
+      const std::vector<nlohmann::json> done = complete_summaries(dir);
       const MeasuredRate m = measured_rate(done, p.device);
       const Estimate e = estimate(todo, batch_, m.runs ? at_rate(p, m.particle_steps_per_s) : p);
       if (m.runs) {
@@ -263,12 +277,8 @@ class Impl : public Commands {
         std::printf(
             "measured: %zu complete runs on %s (batches of %s) stepped at %.3g particle-steps/s, %.2fx "
             "the probe; the estimate uses their rate (the probe's alone: %.0f s)\n",
-            m.runs, p.device.c_str(),
-            (m.batch_min == m.batch_max ? fmt::format("{}", m.batch_min)
-                                        : fmt::format("{}-{}", m.batch_min, m.batch_max))
-                .c_str(),
-            m.particle_steps_per_s, m.particle_steps_per_s / std::max(1e-30, p.particle_steps_per_s),
-            raw.total_s());
+            m.runs, p.device.c_str(), batch_range(m).c_str(), m.particle_steps_per_s,
+            m.particle_steps_per_s / std::max(1e-30, p.particle_steps_per_s), raw.total_s());
         j["measured"] = to_json(m);
         j["estimate_probe_only"] = to_json(raw);
       }

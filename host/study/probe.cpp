@@ -107,7 +107,8 @@ MeasuredRate measured_rate(const std::vector<nlohmann::json>& summaries, const s
   MeasuredRate m;
   double sum = 0;
   for (const nlohmann::json& j : summaries) {
-    if (j.value("device", std::string()) != device || !j.contains("wall_split_s")) continue;
+    if ((!device.empty() && j.value("device", std::string()) != device) || !j.contains("wall_split_s"))
+      continue;
     const double stepping = j["wall_split_s"].value("stepping", 0.0);
     const double k = j.contains("ensemble") ? j["ensemble"].value("runs", 1.0) : 1.0;
     const double n = j.value("particles", 0.0);

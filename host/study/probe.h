@@ -46,7 +46,8 @@ Estimate estimate(const std::vector<PlannedRun>& runs, size_t batch, const Probe
 // contacts and bridges than a turning one, and on a GPU it erred short by 2.3-3.2x (docs/paper.md). Each
 // complete run's summary gives its batch's stepping time per particle-step: wall_split_s.stepping over (runs
 // in its ensemble x its particles x the steps of this segment, steps - resumed_from_step); sampling and
-// set-up are left to the probe. The rate is 1 / the mean of those times over the runs on `device`.
+// set-up are left to the probe. The rate is 1 / the mean of those times over the runs on `device`
+// (every device when it is empty).
 struct MeasuredRate {
   size_t runs = 0;                  // complete runs on the device that carry a stepping time
   double particle_steps_per_s = 0;  // 0 when none
