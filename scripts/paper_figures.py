@@ -394,12 +394,19 @@ def findings(st, cal, diag, truth):
                 rd - (r10 or float("nan")), 2 * math.hypot(ed, e10),
                 "%+.3f" % (rd - settled) if settled is not None else "–"))
     # A finding whose runs are missing (a stage not run, or too few runs) still gets its row.
-    need = {1: "pp2_l5 (and pp1_l5)", 2: "extended, with both V_max curves", 3: "pp2_l5 at three or more V_max",
-            4: "calibration", 5: "pp2_l3 and pp2_l5", 6: "pp1_l5", 7: "pp2_l5 (dry and 10 %)"}
+    need = {1: "pp2_l5 (the dry run and V_max = 1 %; and pp1_l5)", 2: "extended, with both V_max curves",
+            3: "pp2_l5 at three or more V_max", 4: "calibration", 5: "pp2_l3 and pp2_l5", 6: "pp1_l5",
+            7: "pp2_l5 (dry and 10 %)"}
+    stages = {1: ("pp2_l5", "pp1_l5"), 2: ("extended",), 3: ("pp2_l5",), 4: (), 5: ("pp2_l3", "pp2_l5"),
+              6: ("pp1_l5",), 7: ("pp2_l5",)}
     have = {r["finding"] for r in rows}
     for k in sorted(need):
         if k not in have:
-            add(k, STATEMENTS[k], "no data: needs the runs of " + need[k], "–", "no data", "stage not run here")
+            # A stage that ran in part says how far it got: the missing runs, not the stage, are the reason.
+            part = ["%s: %d of %d runs complete" % (n, sum(1 for r in st[n] if r["summary"]), len(st[n]))
+                    for n in stages[k] if st[n]]
+            add(k, STATEMENTS[k], "no data: needs the runs of " + need[k], "–", "no data",
+                "; ".join(part) if part else "stage not run here")
     rows.sort(key=lambda r: r["finding"])
     return rows
 
