@@ -300,6 +300,9 @@ def main():
     ap.add_argument("--jobs", type=int, default=1)
     ap.add_argument("--batch", type=int, default=1)
     ap.add_argument("--only", nargs="*", help="run only these twins (names)")
+    ap.add_argument("--replicates", type=int,
+                    help="seeds per condition for every diagnosis instead of the diagnosis file's (wetdem diagnose "
+                         "--replicates)")
     ap.add_argument("--store", help="run store (default OUT/store); share one across matrices to reuse runs")
     ap.add_argument("--summarize", action="store_true",
                     help="only (re)write matrix.json/.md/.png from the twin folders already in --out")
@@ -338,8 +341,9 @@ def main():
         common = ["--store", store, "--jobs", str(a.jobs), "--batch", str(a.batch), "--quiet"]
         run([a.wetdem, "twin", tf, "--out", os.path.join(d, "twin")] + common, os.path.join(d, "twin.log"))
         # The diagnosis sees the observations only (truth.json stays in the twin folder).
+        rep = ["--replicates", str(a.replicates)] if a.replicates else []
         run([a.wetdem, "diagnose", diagnosis, "--observations", os.path.join(d, "twin", "observations.csv"),
-             "--out", os.path.join(d, "diagnosis")] + common, os.path.join(d, "diagnose.log"))
+             "--out", os.path.join(d, "diagnosis")] + rep + common, os.path.join(d, "diagnose.log"))
         record_cost(d, time.time() - t_twin)
         rows.append(row_of(d, t))
         r = rows[-1]

@@ -159,7 +159,9 @@ TEST(DiagnoseParagraph, TheSeedLuckIsNamedWhereItDecided) {
   EXPECT_NE(kept.find("moves on average by 70.6 between two seed sets of 2 runs per condition"),
             std::string::npos)
       << kept;
-  EXPECT_NE(kept.find("More replicates (`replicates` in the diagnosis file"), std::string::npos) << kept;
+  EXPECT_NE(kept.find("More replicates (`replicates` in the diagnosis file, or `--replicates`"),
+            std::string::npos)
+      << kept;
   r.verdict.held_by_luck = {"viscous", "hysteresis"};
   const std::string two = verdict_paragraph(r);
   EXPECT_NE(two.find("kept `viscous` and `hysteresis` in the tie"), std::string::npos) << two;

@@ -26,6 +26,11 @@ class Impl : public study::Commands {
         "Example: wetdem diagnose assets/diagnosis/micro/diagnose.toml --observations "
         "diag/twin/observations.csv --out diag/spread --store diag/store");
     diag_->add_option("--observations", observations_, "observation table (CSV) instead of the file's");
+    diag_
+        ->add_option("--replicates", replicates_,
+                     "seeds per condition instead of the file's `replicates` (baseline seeds 1..R, fresh "
+                     "seeds R+1..2R): more lowers the model's seed luck")
+        ->check(CLI::Range(1, 100));
     add_common(diag_);
     twin_ =
         cli.add_subcommand("twin", "synthetic observations from a model with a withheld effect (validation)");
@@ -45,6 +50,7 @@ class Impl : public study::Commands {
             throw DiagnoseError("--observations: no such file " + observations_);
           d.observations = std::filesystem::absolute(observations_).lexically_normal().string();
         }
+        if (replicates_ > 0) d.replicates = replicates_;
         const nlohmann::json j = run_diagnosis(d, o_);
         std::string named;  // "spread" or "spread + absorption" (a second effect on top of the first)
         for (const auto& e : j["effects"]) named += (named.empty() ? "" : " + ") + e.get<std::string>();
@@ -88,6 +94,7 @@ class Impl : public study::Commands {
   }
   CLI::App *diag_ = nullptr, *twin_ = nullptr;
   std::string file_, observations_;
+  int replicates_ = 0;  // 0: the file's
   DiagnoseOptions o_;
 };
 

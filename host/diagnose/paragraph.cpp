@@ -156,8 +156,11 @@ std::string luck_sentence(const Report& r) {
   return fmt::format(
       " **The seed luck decided:** the fresh runs {} although their χ² differ by more than the tie "
       "margin (or min_drop), because the same model moves on average by {:.1f} between two seed sets of {} "
-      "run{} per condition. More replicates (`replicates` in the diagnosis file; each adds one run per "
-      "condition to the baseline and to every fresh check) would lower that luck and could decide {}.",
+      "run{} per condition. More replicates (`replicates` in the diagnosis file, or `--replicates`; each "
+      "adds "
+      "one run per condition to the baseline and to every fresh check) would lower that luck and could "
+      "decide "
+      "{}.",
       what, r.verdict.seed_luck, r.spec->replicates, r.spec->replicates == 1 ? "" : "s",
       h.size() == 1 ? "it" : "them");
 }

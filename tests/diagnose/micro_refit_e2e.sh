@@ -9,8 +9,9 @@ source "$(dirname "$0")/lib.sh" "$@"
 "$W" twin "$SRC/assets/diagnosis/micro/twin_vmax.toml" --out "$D/tv" --store "$D/store" --quiet
 mv "$D/tv/truth.json" "$D/truth-vmax.json"
 "$W" diagnose "$SRC/tests/diagnose/micro_refit_ci.toml" --observations "$D/tv/observations.csv" --out "$D/dv" \
-  --store "$D/store" --quiet --no-figures
+  --store "$D/store" --quiet --no-figures --replicates 2
 R="$D/dv/diagnosis.json"
+expect "$R" 'j["replicates"] == 2' "--replicates 2 did not replace the file's replicates = 1"
 echo "V_max twin: $(J "$R" 'j["verdict"], j["effect"], j["null_refit"]["label"], j["runs"]')"
 expect "$R" 'sum(c["significant"] for c in j["cells"]) > 0' \
   "no gap against the calibrated model (the twin does not test refit)"
