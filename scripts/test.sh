@@ -19,10 +19,10 @@ if [ "${WETDEM_SKIP_SANITIZE:-0}" != "1" ]; then
   # its own allocations are not leak-checked (detect_leaks=0), every host-side error aborts the test.
   cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DWETDEM_SANITIZE=ON
   # Only the test binary is built here: the end-to-end scripts that drive the `wetdem` CLI (real Slurm, the
-  # micro diagnosis, the help texts, the paper pipeline, the benchmark tool, the reference-resume tool) ran in
-  # the Release pass above and are left out.
+  # micro diagnosis, the help texts, the paper pipeline, the benchmark tool, the reference-resume tool, the
+  # group SIGTERM of a study) ran in the Release pass above and are left out.
   cmake --build build-asan -j"$jobs" --target wetdem_tests
   ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
     ctest --test-dir build-asan --output-on-failure -j"$jobs" --timeout 900 \
-    -E "^(StudySlurm|DiagnoseMicro|Cli|PaperPipeline|Bench|ReferenceResume)\\.${WETDEM_SANITIZE_EXCLUDE:+|$WETDEM_SANITIZE_EXCLUDE}"
+    -E "^(StudySlurm|StudySignals|DiagnoseMicro|Cli|PaperPipeline|Bench|ReferenceResume)\\.${WETDEM_SANITIZE_EXCLUDE:+|$WETDEM_SANITIZE_EXCLUDE}"
 fi
