@@ -88,6 +88,10 @@ struct Options {
   // instruction counts under callgrind, where the machine's load does not enter).
   bool timed_only = false;
   SystemOptions timed_options;
+  // --skin-mm: also time the same steady state with these neighbour-list skins (one run, and the largest
+  // ensemble). The rebuild schedule does not change a run's results (ARCHITECTURE.md), so this is a pure
+  // speed lever: fewer rebuilds against more entries per particle.
+  std::vector<double> skins_mm;
 };
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -338,6 +342,59 @@ nlohmann::json bench_case(vk::Context& ctx, const app::Case& c, const std::strin
     }
   }
 
+  // Skins: the same steps from the same state with another neighbour-list skin. The restored list was built
+  // with the case's skin, so the first step rebuilds it with the new one (force_rebuild).
+  if (!o.skins_mm.empty()) {
+    app::DrumSession s(ctx, prep, st.ck, [](const std::string&) {});
+    const SystemState start = s.system().download();
+    const size_t k = o.ensembles.empty() ? 0 : *std::max_element(o.ensembles.begin(), o.ensembles.end());
+    j["skins"] = nlohmann::json::array();
+    for (double mm : o.skins_mm) {
+      SimParams q = rotating_prm;
+      q.skin = 1e-3 * mm;
+      SystemOptions so;
+      so.steps_per_submit = prep.c.run.steps_per_submit;
+      auto one = std::make_unique<System>(ctx, q, n, so);
+      one->restore(st.ck.system);
+      one->force_rebuild();
+      one->step(warmup);
+      const SystemCounters c0 = one->counters();
+      const Timed t1 = time_steps(*one, o.steps);
+      const uint64_t rb = one->counters().rebuilds - c0.rebuilds;
+      const auto iv = bench::rebuild_interval(o.steps, rb);
+      nlohmann::json e = {{"skin_m", q.skin},
+                          {"skin_over_r_min", q.skin / prep.derived.r_min},
+                          {"particle_steps_per_s", double(n) * double(o.steps) / t1.wall},
+                          {"speedup_over_case_skin", double(n) * double(o.steps) / t1.wall / pss},
+                          {"rebuilds", rb},
+                          {"rebuild_interval_steps", iv ? nlohmann::json(*iv) : nlohmann::json(nullptr)},
+                          {"entries_per_particle", double(one->counters().entries) / double(n)}};
+      one.reset();
+      if (k > 0) {
+        std::vector<SimParams> prms(k, q);
+        for (size_t r = 0; r < k; ++r) prms[r].pp.mu_s *= 1.0 + 1e-3 * double(r);
+        System ens(ctx, prms, std::vector<size_t>(k, n), so);
+        ens.upload_runs(std::vector<SystemState>(k, start));
+        ens.step(warmup);
+        const auto t0 = std::chrono::steady_clock::now();
+        ens.step(o.steps);
+        e["ensemble"] = {
+            {"runs", k},
+            {"particle_steps_per_s", double(k) * double(n) * double(o.steps) / seconds_since(t0)}};
+      }
+      log(
+          fmt::format("skin {:.3g} mm ({:.2f} r_min): {:.3g} particle-steps/s ({:.2f}x the case's skin), "
+                      "rebuild every {} steps, {:.1f} entries/particle{}",
+                      mm, e["skin_over_r_min"].get<double>(), e["particle_steps_per_s"].get<double>(),
+                      e["speedup_over_case_skin"].get<double>(), iv ? fmt::format("{:.1f}", *iv) : "-",
+                      e["entries_per_particle"].get<double>(),
+                      k > 0 ? fmt::format("; ensemble of {}: {:.3g} aggregate", k,
+                                          e["ensemble"]["particle_steps_per_s"].get<double>())
+                            : ""));
+      j["skins"].push_back(e);
+    }
+  }
+
   // Per pass: the same steps from the same state with a timestamp before every pass.
   {
     SystemOptions so;
@@ -395,6 +452,16 @@ void print_table(const nlohmann::json& runs) {
         fmt::print("ensemble {} {} x {}: {:.3g} particle-steps/s aggregate, {:.2f}x one run\n",
                    j["case"].get<std::string>(), j["variant"].get<std::string>(), e["runs"].get<size_t>(),
                    e["particle_steps_per_s"].get<double>(), e["speedup_over_one_run"].get<double>());
+  for (const auto& j : runs)
+    if (j.contains("skins"))
+      for (const auto& e : j["skins"])
+        fmt::print("skin {} {} {:.3g} mm: {:.3g} particle-steps/s, {:.2f}x the case's skin{}\n",
+                   j["case"].get<std::string>(), j["variant"].get<std::string>(),
+                   1e3 * e["skin_m"].get<double>(), e["particle_steps_per_s"].get<double>(),
+                   e["speedup_over_case_skin"].get<double>(),
+                   e.contains("ensemble") ? fmt::format("; ensemble {:.3g} aggregate",
+                                                        e["ensemble"]["particle_steps_per_s"].get<double>())
+                                          : "");
   fmt::print("split rebuilds against the gated chain in every step (same steps, same device):");
   for (const auto& j : runs)
     fmt::print(" {} {} {:.2f}x;", j["case"].get<std::string>(), j["variant"].get<std::string>(),
@@ -455,6 +522,10 @@ int main(int argc, char** argv) {
                  "with --timed-only: SystemOptions::one_tile_sort");
   app.add_option("--split-min-interval", o.timed_options.split_min_interval,
                  "with --timed-only: SystemOptions::split_min_interval");
+  app.add_option("--skin-mm", o.skins_mm,
+                 "also time the same steady state with these neighbour-list skins in mm, e.g. 0.38,0.76")
+      ->delimiter(',')
+      ->check(CLI::PositiveNumber);
   app.add_option("--soak", soak_steps,
                  "instead: liquid-conservation soak of this many steps (physics.md §7.8)");
   CLI11_PARSE(app, argc, argv);
@@ -475,6 +546,16 @@ int main(int argc, char** argv) {
         std::vector<std::string> s = sets;
         if (v == "dry") s.push_back("liquid.content=0");
         todo.emplace_back(app::parse_case_file(f, s), v);
+        // Every --skin-mm must fit the case's geometry (a periodic slice holds twice the neighbour reach).
+        for (double mm : o.skins_mm) {
+          app::Case q = todo.back().first;
+          q.run.skin = 1e-3 * mm;
+          try {
+            app::check_reach(q);
+          } catch (const app::CaseError& e) {
+            throw app::CaseError("--skin-mm", fmt::format("{} mm does not fit {}: {}", mm, f, e.what()));
+          }
+        }
       }
     }
     nlohmann::json out;
