@@ -13,6 +13,8 @@
 #   scripts/device_run.sh wetdem ARGS...         the wetdem CLI
 #   scripts/device_run.sh paper ARGS...          the paper pipeline, scripts/paper.sh ARGS (docs/paper.md); give
 #                                                --export "$OUT" to bring back what its figures need
+#   scripts/device_run.sh script FILE            a bash script with $WETDEM set, e.g. the validation matrix's
+#                                                (scripts/twin_matrix.py --script FILE; docs/validation.md)
 # Results go to $OUT (the device tool brings that folder back); elsewhere to ./device-out.
 set -uo pipefail
 cd "$(dirname "$0")/.."
@@ -60,5 +62,6 @@ case "$mode" in
   bench) "$B/wetdem_bench" "$@" ;;
   wetdem) "$B/wetdem" "$@" ;;
   paper) WETDEM=$B/wetdem bash scripts/paper.sh "$@" ;;
-  *) echo "usage: $0 tests|bench|wetdem|paper ..." >&2; exit 2 ;;
+  script) WETDEM=$B/wetdem bash "$@" ;;
+  *) echo "usage: $0 tests|bench|wetdem|paper|script ..." >&2; exit 2 ;;
 esac

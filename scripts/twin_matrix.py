@@ -21,11 +21,17 @@ writes a twin file with truth seeds and a noise seed of its own, runs `wetdem tw
     store (seconds) does not overwrite it; the matrix's wall is their sum.
 
   /usr/bin/python3 scripts/twin_matrix.py assets/diagnosis/flowing/matrix.toml --out matrix --jobs 2 --batch 4
+
+Where Python 3.11 is missing (a lent GPU machine), `--script FILE` writes the twin files and a bash script of the
+same `wetdem twin` / `wetdem diagnose` calls instead of running them (paths relative to the project root; the
+binary from $WETDEM; a twin whose diagnosis.json exists is skipped, so a cut script resumes through the store).
+Bring OUT back and run `--summarize` here.
 """
 import argparse
 import json
 import os
 import re
+import shlex
 import statistics
 import subprocess
 import sys
@@ -127,6 +133,46 @@ def record_cost(d, wall_s):
         return
     with open(path, "w") as f:
         json.dump(new, f, indent=1)
+
+
+def script_twin(name, d, twin_cmd, diag_cmd):
+    """One twin of a --script: skipped when its diagnosis is there; its cost.json as record_cost writes it (the
+    wall of the call, the runs the diagnosis computed), unless an earlier call computed more."""
+    q = lambda cmd: " ".join(['"$WETDEM"'] + [shlex.quote(c) for c in cmd[1:]])
+    return f"""
+if [[ -f {shlex.quote(os.path.join(d, "diagnosis", "diagnosis.json"))} ]]; then
+  echo "{name}: done before"
+else
+  t0=$(date +%s)
+  {q(twin_cmd)} >{shlex.quote(os.path.join(d, "twin.log"))} 2>&1 || fail {name} twin
+  {q(diag_cmd)} >{shlex.quote(os.path.join(d, "diagnose.log"))} 2>&1 || fail {name} diagnose
+  cost {shlex.quote(d)} $(($(date +%s) - t0))
+  echo "{name}: $(grep -m1 -o '"verdict": *"[a-z_]*"' {shlex.quote(os.path.join(d, "diagnosis", "diagnosis.json"))}) \
+($(($(date +%s) - start)) s)"
+fi
+"""
+
+
+def write_script(path, twins):
+    head = """#!/bin/bash
+# Written by scripts/twin_matrix.py --script: the twins of a validation matrix, run from the project root with
+# the wetdem binary in $WETDEM. A twin whose diagnosis.json exists is skipped (runs resume through the store).
+set -uo pipefail
+WETDEM=${WETDEM:-build/host/wetdem}
+start=$(date +%s)
+fail() { echo "$1: wetdem $2 failed (see its log)"; exit 1; }
+# cost DIR WALL: DIR/cost.json as twin_matrix.py's record_cost writes it.
+cost() {
+  local n old=-1
+  n=$(grep -m1 -o '"runs_computed": *[0-9]*' "$1/diagnosis/diagnosis.json" | grep -o '[0-9]*$' || echo 0)
+  [[ -f $1/cost.json ]] && old=$(grep -m1 -o '"runs_computed": *[0-9]*' "$1/cost.json" | grep -o '[0-9]*$' || echo 0)
+  ((old >= n)) && return 0
+  printf '{"wall_s": %s, "runs_computed": %s, "stages": null, "device": null}\\n' "$2" "$n" >"$1/cost.json"
+}
+"""
+    with open(path, "w") as f:
+        f.write(head + "".join(twins))
+    os.chmod(path, 0o755)
 
 
 def identified(r):
@@ -304,6 +350,8 @@ def main():
                     help="seeds per condition for every diagnosis instead of the diagnosis file's (wetdem diagnose "
                          "--replicates)")
     ap.add_argument("--store", help="run store (default OUT/store); share one across matrices to reuse runs")
+    ap.add_argument("--script", metavar="FILE",
+                    help="write the twin files and a bash script of the calls to FILE instead of running them")
     ap.add_argument("--summarize", action="store_true",
                     help="only (re)write matrix.json/.md/.png from the twin folders already in --out")
     a = ap.parse_args()
@@ -322,14 +370,23 @@ def main():
         for k in t:
             if k not in ("name", "effect", "strength", "truth", "perturb", "also_effect", "also_strength"):
                 sys.exit(f"{a.matrix}: twin {t['name']}: unknown key {k}")
+    if a.script and a.summarize:
+        sys.exit("--script and --summarize: one or the other")
+    if a.script:
+        # The script runs from the project root on another machine: every path in it relative to here, and the
+        # twin files' case relative to the twin file (as wetdem reads it).
+        a.out, diagnosis = os.path.relpath(a.out), os.path.relpath(diagnosis)
+        if a.store:
+            a.store = os.path.relpath(a.store)
     os.makedirs(a.out, exist_ok=True)
     store = a.store or os.path.join(a.out, "store")
     t0 = time.time()
     rows = []
+    lines = []
     for i, t in enumerate(spec["twin"]):
         d = os.path.join(a.out, t["name"])
         if a.summarize or (a.only and t["name"] not in a.only):
-            if os.path.exists(os.path.join(d, "diagnosis", "diagnosis.json")):
+            if not a.script and os.path.exists(os.path.join(d, "diagnosis", "diagnosis.json")):
                 rows.append(row_of(d, t))
             continue
         os.makedirs(d, exist_ok=True)
@@ -337,17 +394,28 @@ def main():
         overrides = dict(t.get("truth", {}))
         overrides.update(t.get("perturb", {}))
         tf = os.path.join(d, "twin.toml")
-        open(tf, "w").write(twin_text(base, base_dir, [1000 + 10 * i, 1001 + 10 * i], 500 + i, overrides))
+        bd = os.path.relpath(base_dir, d) if a.script else base_dir
+        open(tf, "w").write(twin_text(base, bd, [1000 + 10 * i, 1001 + 10 * i], 500 + i, overrides))
         common = ["--store", store, "--jobs", str(a.jobs), "--batch", str(a.batch), "--quiet"]
-        run([a.wetdem, "twin", tf, "--out", os.path.join(d, "twin")] + common, os.path.join(d, "twin.log"))
+        twin_cmd = [a.wetdem, "twin", tf, "--out", os.path.join(d, "twin")] + common
         # The diagnosis sees the observations only (truth.json stays in the twin folder).
         rep = ["--replicates", str(a.replicates)] if a.replicates else []
-        run([a.wetdem, "diagnose", diagnosis, "--observations", os.path.join(d, "twin", "observations.csv"),
-             "--out", os.path.join(d, "diagnosis")] + rep + common, os.path.join(d, "diagnose.log"))
+        diag_cmd = [a.wetdem, "diagnose", diagnosis, "--observations", os.path.join(d, "twin", "observations.csv"),
+                    "--out", os.path.join(d, "diagnosis")] + rep + common
+        if a.script:
+            lines.append(script_twin(t["name"], d, twin_cmd, diag_cmd))
+            continue
+        run(twin_cmd, os.path.join(d, "twin.log"))
+        run(diag_cmd, os.path.join(d, "diagnose.log"))
         record_cost(d, time.time() - t_twin)
         rows.append(row_of(d, t))
         r = rows[-1]
         print(f"{t['name']}: {r['verdict']} {r['effect'] or ''} ({time.time() - t0:.0f} s)", flush=True)
+    if a.script:
+        write_script(a.script, lines)
+        print(f"{a.script}: {len(lines)} twins; run it from the project root (WETDEM=path/to/wetdem bash "
+              f"{a.script}), then: {sys.argv[0]} {a.matrix} --out {a.out} --summarize")
+        return
     # The matrix's cost: the twins' computing calls summed (cost.json), not this call's, which may only have
     # re-read the store.
     wall = sum(r["wall_s"] or 0 for r in rows)

@@ -1,0 +1,109 @@
+#!/usr/bin/python3
+"""scripts/twin_matrix.py --script: the twin files and a bash script of the same calls, for a machine without
+Python 3.11 (a lent GPU). Run here with a stand-in for wetdem that records its arguments and writes the files a
+twin and a diagnosis leave: every twin is run once with the options given, paths are relative to the project
+root, cost.json is written as record_cost writes it, a second run of the script skips the finished twins, a
+failing call stops the script with the twin's name, and --summarize reads what the script left.
+usage: twin_matrix_script.py SOURCE_DIR"""
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+
+src = sys.argv[1]
+root = tempfile.mkdtemp(prefix="wetdem-matrix-script-")
+os.makedirs(os.path.join(root, "m"))
+open(os.path.join(root, "m", "twin_base.toml"), "w").write('case = "model.toml"\nseeds = [1, 2]\nnoise_seed = 7\n')
+open(os.path.join(root, "m", "diagnose.toml"), "w").write('name = "d"\n')
+open(os.path.join(root, "m", "matrix.toml"), "w").write('''diagnosis = "diagnose.toml"
+twin_base = "twin_base.toml"
+[[twin]]
+name = "cohesion-strong"
+effect = "cohesion"
+strength = 0.02
+truth = { "effects.cohesion.energy" = "0.02 J/m^2" }
+[[twin]]
+name = "null-1"
+''')
+# The stand-in: `wetdem twin ... --out D` writes D/observations.csv, `wetdem diagnose ... --out D` writes
+# D/diagnosis.json; every call is logged; FAIL_ON=<text> fails a call whose arguments hold that text.
+fake = os.path.join(root, "fake-wetdem")
+open(fake, "w").write(r'''#!/bin/bash
+echo "$*" >>calls.log
+[[ -n ${FAIL_ON:-} && "$*" == *"$FAIL_ON"* ]] && exit 3
+out=""; prev=""
+for a in "$@"; do [[ $prev == --out ]] && out=$a; prev=$a; done
+mkdir -p "$out"
+case $1 in
+  twin) echo "condition,observable,mean,sigma" >"$out/observations.csv" ;;
+  diagnose) cat >"$out/diagnosis.json" <<'J'
+{"verdict": "effect", "effect": "cohesion", "tied": [], "held_out_shrink": 0.9, "held_out_gap_shrink": null,
+ "runs_computed": 7, "wall_s": 1.0, "device": "stand-in", "cells": [],
+ "ranking": [{"effect": "cohesion", "strength": 0.021, "strength_interval": [0.015, 0.03],
+              "strength_interval_open": [false, false]}]}
+J
+  ;;
+esac
+''')
+os.chmod(fake, 0o755)
+
+
+def fail(msg):
+    sys.exit(f"FAIL: {msg}")
+
+
+def sh(cmd, env=None, ok=True):
+    r = subprocess.run(cmd, cwd=root, capture_output=True, text=True, env=dict(os.environ, **(env or {})))
+    if ok and r.returncode != 0:
+        fail(f"{cmd}: exit {r.returncode}\n{r.stdout}\n{r.stderr}")
+    return r
+
+
+matrix = [sys.executable, os.path.join(src, "scripts", "twin_matrix.py"), os.path.join(root, "m", "matrix.toml")]
+sh(matrix + ["--out", os.path.join(root, "out"), "--script", "run.sh", "--replicates", "4", "--jobs", "3",
+             "--batch", "20"])
+text = open(os.path.join(root, "run.sh")).read()
+if root in text:
+    fail("the script holds an absolute path of this machine")
+twin_file = open(os.path.join(root, "out", "cohesion-strong", "twin.toml")).read()
+case = re.search(r'^case = "([^"]+)"', twin_file, re.M)
+# wetdem reads a twin file's case relative to the twin file (diagnose/files.cpp, rel_path).
+if not case or case.group(1).startswith("/") or os.path.normpath(
+        os.path.join(root, "out", "cohesion-strong", case.group(1))) != os.path.join(root, "m", "model.toml"):
+    fail(f"twin.toml: the case relative to the twin file expected:\n{twin_file}")
+if '"effects.cohesion.energy" = "0.02 J/m^2"' not in twin_file:
+    fail(f"twin.toml: the truth expected:\n{twin_file}")
+sh(["bash", "-n", "run.sh"])
+if os.path.exists(os.path.join(root, "out", "null-1", "diagnosis")):
+    fail("--script ran something")
+
+# A failing call stops the script and names the twin.
+r = sh(["bash", "run.sh"], {"WETDEM": fake, "FAIL_ON": "null-1/twin.toml"}, ok=False)
+if r.returncode == 0 or "null-1: wetdem twin failed" not in r.stdout:
+    fail(f"a failing twin call: exit {r.returncode}, output {r.stdout!r}")
+# Run to the end: the first twin is skipped, the second run.
+sh(["bash", "run.sh"], {"WETDEM": fake})
+calls = open(os.path.join(root, "calls.log")).read().splitlines()
+if len(calls) != 5:  # cohesion: twin + diagnose; null-1: the failed twin, then twin + diagnose
+    fail(f"calls: {calls}")
+diag = [c for c in calls if c.startswith("diagnose ")]
+for c in diag:
+    for want in ["m/diagnose.toml", "--replicates 4", "--jobs 3", "--batch 20", "--store out/store", "--quiet"]:
+        if want not in c:
+            fail(f"diagnose call lacks {want!r}: {c}")
+cost = json.load(open(os.path.join(root, "out", "null-1", "cost.json")))
+if cost["runs_computed"] != 7 or cost["wall_s"] < 0:
+    fail(f"cost.json: {cost}")
+# Once more: nothing left to run.
+r = sh(["bash", "run.sh"], {"WETDEM": fake})
+if len(open(os.path.join(root, "calls.log")).read().splitlines()) != 5 or r.stdout.count("done before") != 2:
+    fail(f"a second run of the script ran again: {r.stdout}")
+sh(matrix + ["--out", os.path.join(root, "out"), "--summarize"])
+m = json.load(open(os.path.join(root, "out", "matrix.json")))
+if m.get("top1") != 1 or m.get("confident_wrong") != 1:
+    fail(f"matrix.json from the script's folders: {m}")
+shutil.rmtree(root)
+print("twin matrix script: OK")
