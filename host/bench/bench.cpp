@@ -15,6 +15,7 @@
 #include <fstream>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include <sys/resource.h>
 // Under callgrind (valgrind --tool=callgrind --instr-atstart=no), --timed-only counts instructions in the
@@ -264,10 +265,13 @@ nlohmann::json bench_case(vk::Context& ctx, const app::Case& c, const std::strin
   // The same steps with the rebuild chain recorded, gated, into every step (SystemOptions::split_rebuilds
   // off): the speed-up of split rebuilds measured in this run, on this device.
   // A System in the timed run's state after its warm-up, with other options (the replays below).
-  auto replay = [&](SystemOptions so) {
+  // With other parameters (another skin: the restored list was built with the case's, so the first step
+  // rebuilds it with the new one).
+  auto replay = [&](SystemOptions so, const SimParams* prm = nullptr) {
     so.steps_per_submit = prep.c.run.steps_per_submit;
-    auto sys = std::make_unique<System>(ctx, rotating_prm, n, so);
+    auto sys = std::make_unique<System>(ctx, prm ? *prm : rotating_prm, n, so);
     sys->restore(st.ck.system);
+    if (prm) sys->force_rebuild();
     sys->step(warmup);
     return sys;
   };
@@ -314,50 +318,53 @@ nlohmann::json bench_case(vk::Context& ctx, const app::Case& c, const std::strin
     j["levers"]["split_min_interval"] = lever(so);
   }
 
-  // Ensembles (docs/ensembles.md): k runs of this drum from its steady state, stepped together in one
-  // System; run r's sliding friction is scaled by 1 + 1e-3 r so that the runs part ways. Aggregate
-  // particle-steps/s, and its ratio to the one run timed above (same device, same run).
+  // k runs of this drum from its steady state with parameters `prm`, stepped together in one System; run r's
+  // sliding friction is scaled by 1 + 1e-3 r so that the runs part ways. Aggregate particle-steps/s.
+  std::optional<SystemState> start;
+  auto time_ensemble = [&](size_t k, const SimParams& prm, uint64_t* ens_rebuilds) {
+    if (!start) {
+      app::DrumSession s(ctx, prep, st.ck, [](const std::string&) {});
+      start = s.system().download();
+    }
+    std::vector<SimParams> prms(k, prm);
+    for (size_t r = 0; r < k; ++r) prms[r].pp.mu_s *= 1.0 + 1e-3 * double(r);
+    SystemOptions so;
+    so.steps_per_submit = prep.c.run.steps_per_submit;
+    System ens(ctx, prms, std::vector<size_t>(k, n), so);
+    ens.upload_runs(std::vector<SystemState>(k, *start));
+    ens.step(warmup);
+    const auto t0 = std::chrono::steady_clock::now();
+    ens.step(o.steps);
+    const double agg = double(k) * double(n) * double(o.steps) / seconds_since(t0);
+    if (ens_rebuilds) *ens_rebuilds = ens.counters().rebuilds;
+    return agg;
+  };
+
+  // Ensembles (docs/ensembles.md): its ratio to the one run timed above (same device, same run).
   if (!o.ensembles.empty()) {
-    app::DrumSession s(ctx, prep, st.ck, [](const std::string&) {});
-    const SystemState start = s.system().download();
     j["ensembles"] = nlohmann::json::array();
     for (size_t k : o.ensembles) {
-      std::vector<SimParams> prms(k, rotating_prm);
-      for (size_t r = 0; r < k; ++r) prms[r].pp.mu_s *= 1.0 + 1e-3 * double(r);
-      SystemOptions so;
-      so.steps_per_submit = prep.c.run.steps_per_submit;
-      System ens(ctx, prms, std::vector<size_t>(k, n), so);
-      ens.upload_runs(std::vector<SystemState>(k, start));
-      ens.step(warmup);
-      const auto t0 = std::chrono::steady_clock::now();
-      ens.step(o.steps);
-      const double agg = double(k) * double(n) * double(o.steps) / seconds_since(t0);
+      uint64_t ens_rebuilds = 0;
+      const double agg = time_ensemble(k, rotating_prm, &ens_rebuilds);
       j["ensembles"].push_back({{"runs", k},
                                 {"particles", k * n},
                                 {"particle_steps_per_s", agg},
                                 {"speedup_over_one_run", agg / pss},
-                                {"rebuilds", ens.counters().rebuilds}});
+                                {"rebuilds", ens_rebuilds}});
       log(fmt::format("ensemble of {} x {}: {:.3g} particle-steps/s ({:.2f}x one run)", k, n, agg,
                       agg / pss));
     }
   }
 
-  // Skins: the same steps from the same state with another neighbour-list skin. The restored list was built
-  // with the case's skin, so the first step rebuilds it with the new one (force_rebuild).
+  // Skins: the same steps from the same state with another neighbour-list skin, one run and the largest
+  // ensemble.
   if (!o.skins_mm.empty()) {
-    app::DrumSession s(ctx, prep, st.ck, [](const std::string&) {});
-    const SystemState start = s.system().download();
     const size_t k = o.ensembles.empty() ? 0 : *std::max_element(o.ensembles.begin(), o.ensembles.end());
     j["skins"] = nlohmann::json::array();
     for (double mm : o.skins_mm) {
       SimParams q = rotating_prm;
       q.skin = 1e-3 * mm;
-      SystemOptions so;
-      so.steps_per_submit = prep.c.run.steps_per_submit;
-      auto one = std::make_unique<System>(ctx, q, n, so);
-      one->restore(st.ck.system);
-      one->force_rebuild();
-      one->step(warmup);
+      auto one = replay(SystemOptions{}, &q);
       const SystemCounters c0 = one->counters();
       const Timed t1 = time_steps(*one, o.steps);
       const uint64_t rb = one->counters().rebuilds - c0.rebuilds;
@@ -370,18 +377,7 @@ nlohmann::json bench_case(vk::Context& ctx, const app::Case& c, const std::strin
                           {"rebuild_interval_steps", iv ? nlohmann::json(*iv) : nlohmann::json(nullptr)},
                           {"entries_per_particle", double(one->counters().entries) / double(n)}};
       one.reset();
-      if (k > 0) {
-        std::vector<SimParams> prms(k, q);
-        for (size_t r = 0; r < k; ++r) prms[r].pp.mu_s *= 1.0 + 1e-3 * double(r);
-        System ens(ctx, prms, std::vector<size_t>(k, n), so);
-        ens.upload_runs(std::vector<SystemState>(k, start));
-        ens.step(warmup);
-        const auto t0 = std::chrono::steady_clock::now();
-        ens.step(o.steps);
-        e["ensemble"] = {
-            {"runs", k},
-            {"particle_steps_per_s", double(k) * double(n) * double(o.steps) / seconds_since(t0)}};
-      }
+      if (k > 0) e["ensemble"] = {{"runs", k}, {"particle_steps_per_s", time_ensemble(k, q, nullptr)}};
       log(
           fmt::format("skin {:.3g} mm ({:.2f} r_min): {:.3g} particle-steps/s ({:.2f}x the case's skin), "
                       "rebuild every {} steps, {:.1f} entries/particle{}",
