@@ -1,5 +1,5 @@
 # Shared by the diagnosis end-to-end scripts (sourced: `source "$(dirname "$0")/lib.sh" "$@"`): the arguments
-# WETDEM SOURCE_DIR, a scratch folder $D removed on exit, and two helpers on a JSON file:
+# WETDEM SOURCE_DIR [STORE], a scratch folder $D removed on exit, the run store $S, and two helpers on a JSON file:
 #   J FILE EXPR                  prints EXPR evaluated with j = the file's JSON (python syntax)
 #   expect FILE EXPR WHY [SHOW]  fails with "FAIL: WHY" (and prints SHOW, e.g. the report) unless EXPR is True
 set -euo pipefail
@@ -7,6 +7,10 @@ W=$1
 SRC=$2
 D=$(mktemp -d)
 trap 'rm -rf "$D"' EXIT
+# The run store: STORE when given (the CI's micro scripts share one, tests/CMakeLists.txt, so that the baseline,
+# the screen probes and the twins' runs are made once; a diagnosis never depends on what a store already holds),
+# else a fresh one in the scratch folder.
+S=${3:-$D/store}
 J() { /usr/bin/python3 -c "import json,sys; j=json.load(open(sys.argv[1])); print(eval(sys.argv[2]))" "$@"; }
 expect() {
   [ "$(J "$1" "$2")" = True ] && return 0

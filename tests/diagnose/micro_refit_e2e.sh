@@ -3,13 +3,13 @@
 # the model is V_max = 2 % instead of the calibrated 1 % (twin_vmax.toml, no effect withheld). Diagnosed with
 # V_max re-fitted (micro_refit_ci.toml), the verdict is `refit`: the null at V_max = 2 % leaves no cell
 # significant, and no effect is chosen. The twin's truth.json is moved away before the diagnosis.
-# usage: micro_refit_e2e.sh WETDEM SOURCE_DIR
+# usage: micro_refit_e2e.sh WETDEM SOURCE_DIR [STORE]
 source "$(dirname "$0")/lib.sh" "$@"
 
-"$W" twin "$SRC/assets/diagnosis/micro/twin_vmax.toml" --out "$D/tv" --store "$D/store" --quiet
+"$W" twin "$SRC/assets/diagnosis/micro/twin_vmax.toml" --out "$D/tv" --store "$S" --quiet
 mv "$D/tv/truth.json" "$D/truth-vmax.json"
 "$W" diagnose "$SRC/tests/diagnose/micro_refit_ci.toml" --observations "$D/tv/observations.csv" --out "$D/dv" \
-  --store "$D/store" --quiet --no-figures --replicates 2
+  --store "$S" --quiet --no-figures --replicates 2
 R="$D/dv/diagnosis.json"
 expect "$R" 'j["replicates"] == 2' "--replicates 2 did not replace the file's replicates = 1"
 echo "V_max twin: $(J "$R" 'j["verdict"], j["effect"], j["null_refit"]["label"], j["runs"]')"

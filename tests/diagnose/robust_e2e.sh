@@ -6,12 +6,12 @@
 #  2. The same diagnosis again on the same store: the failed runs are not run again and do not poison it.
 #  3. dt lowered to the damper's limit (default) with max_cost = 3: the costly strengths are not run, the range
 #     is cut there, the diagnosis completes.
-# usage: robust_e2e.sh WETDEM SOURCE_DIR
+# usage: robust_e2e.sh WETDEM SOURCE_DIR [STORE]
 source "$(dirname "$0")/lib.sh" "$@"
-"$W" twin "$SRC/assets/diagnosis/micro/twin_spread.toml" --out "$D/ts" --store "$D/store" --quiet
+"$W" twin "$SRC/assets/diagnosis/micro/twin_spread.toml" --out "$D/ts" --store "$S" --quiet
 diagnose() {  # diagnose SPEC OUT
   "$W" diagnose "$SRC/tests/diagnose/$1" --observations "$D/ts/observations.csv" --out "$D/$2" \
-    --store "$D/store" --quiet --no-figures
+    --store "$S" --quiet --no-figures
 }
 
 diagnose robust_dt.toml d1

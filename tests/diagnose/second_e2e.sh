@@ -3,13 +3,13 @@
 # fast pore absorption) is diagnosed as `spread` and, fitted on top of it, `absorption`; together they leave no
 # cell significant, so the verdict is `effect` naming both. The same diagnosis without the second round
 # (second_effect = false, the same runs through the store) stays `partial` with the spread alone.
-# usage: second_e2e.sh WETDEM SOURCE_DIR
+# usage: second_e2e.sh WETDEM SOURCE_DIR [STORE]
 source "$(dirname "$0")/lib.sh" "$@"
 
-"$W" twin "$SRC/assets/diagnosis/micro/twin_spread_absorption.toml" --out "$D/t" --store "$D/store" --quiet
+"$W" twin "$SRC/assets/diagnosis/micro/twin_spread_absorption.toml" --out "$D/t" --store "$S" --quiet
 mv "$D/t/truth.json" "$D/truth.json"
 "$W" diagnose "$SRC/tests/diagnose/micro_ci.toml" --observations "$D/t/observations.csv" --out "$D/d" \
-  --store "$D/store" --quiet --no-figures
+  --store "$S" --quiet --no-figures
 echo "two withheld: $(J "$D/d/diagnosis.json" 'j["verdict"], j["effects"], (j["second"] or {}).get("outcome")')"
 expect "$D/d/diagnosis.json" 'j["effects"] == ["spread", "absorption"]' "spread then absorption not named" \
   "$D/d/report.md"
@@ -22,7 +22,7 @@ grep -q "Gap explained by \`spread\` and \`absorption\` together" "$D/d/report.m
   { echo "FAIL: the paragraph does not name both"; cat "$D/d/report.md"; exit 1; }
 
 "$W" diagnose "$SRC/tests/diagnose/micro_ci_one_effect.toml" --observations "$D/t/observations.csv" \
-  --out "$D/d1" --store "$D/store" --quiet --no-figures
+  --out "$D/d1" --store "$S" --quiet --no-figures
 echo "one effect at most: $(J "$D/d1/diagnosis.json" 'j["verdict"], j["effects"], j["runs_computed"]')"
 expect "$D/d1/diagnosis.json" 'j["verdict"] == "partial" and j["effects"] == ["spread"] and j["second"] is None' \
   "without the second round the verdict is not partial spread" "$D/d1/report.md"
