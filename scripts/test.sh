@@ -28,11 +28,14 @@ if [ "${WETDEM_SKIP_SANITIZE:-0}" != "1" ]; then
   # group SIGTERM of a study) ran in the Release pass above and are left out.
   cmake --build build-asan -j"$jobs" --target wetdem_tests
   phase "ASan build"
-  # Also left out: the drum-scale runs whose time goes to lavapipe (uninstrumented), not to host code; the host
-  # paths they take (case, fill, step loop, resume, batches) are run here by the shorter tests of the same rooms.
+  # Also left out: the long lavapipe runs (drum-scale runs, bitwise comparisons of whole GPU runs) whose time goes
+  # to the uninstrumented driver, not to host code; the host paths they take (case, fill, step loop, resume,
+  # batches, ensembles) are run here by the shorter tests of the same rooms.
   long_gpu="DryInert\\.|DrumPhysics\\.|PlateRolling\\.|DrumLiquidEffects\\.|DrumRun\\.(Batch|Resume|Stopped)"
   long_gpu+="|GpuSystem\\.(FusedStep|StepsWriteTheirScratch|SameRunTwice)|Backends/Liquid\\.HangingSphere/gpu"
-  long_gpu+="|Backends/CandidateForces\\.ViscousForceFollowsPitois/gpu"
+  long_gpu+="|Backends/CandidateForces\\.ViscousForceFollowsPitois/gpu|Backends/Sinks\\.LiquidConservedExactlyOver1e5Steps/gpu"
+  long_gpu+="|CandidateDrum\\.|LiquidSoak\\.|GpuSystem\\.(SplitRebuilds|NeighbourListEqualsBruteForce|RunIsBitwiseIndependent)"
+  long_gpu+="|Ensemble\\.EachRunIsBitwise|SampleDevice\\.EachRunOfAnEnsemble|Sort\\.OneTileSortIsTheMultiPassSort"
   ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
     ctest --test-dir build-asan --output-on-failure -j"$jobs" --timeout 900 \
     -E "^(StudySlurm|StudySignals|DiagnoseMicro|Cli|PaperPipeline|Bench|ReferenceResume)\\.|^($long_gpu)${WETDEM_SANITIZE_EXCLUDE:+|$WETDEM_SANITIZE_EXCLUDE}"
