@@ -28,27 +28,24 @@
     ivec3 dims_ = ivec3(P.grid_dims[0], P.grid_dims[1], P.grid_dims[2]);                          \
     int zspan_ = (P.period_ticks > 0 && dims_.z < 3) ? dims_.z : 3;                              \
     int reach_ = P.cell_ticks + (P.cell_ticks >> 10) + 4;                                         \
-    uint seen_[27];                                                                               \
-    uint nseen_ = 0u;                                                                             \
-    for (int dz_ = -1; dz_ < zspan_ - 1; ++dz_)                                                   \
-      for (int dy_ = -1; dy_ <= 1; ++dy_)                                                         \
-        for (int dx_ = -1; dx_ <= 1; ++dx_) {                                                     \
-          ivec3 c_ = c0_ + ivec3(dx_, dy_, dz_);                                                  \
+    if (P.hash_mask == 0u) {                                                                      \
+      /* dense grid: x is the fastest cell index and the particles are sorted by cell, so the three   \
+         cells x-1..x+1 of a row hold one contiguous range of particles. One loop per row (9, not 27) \
+         visits the same particles in the same order, with less divergence between SIMD lanes. */    \
+      int xlo_ = max(c0_.x - 1, 0), xhi_ = min(c0_.x + 1, dims_.x - 1);                          \
+      for (int dz_ = -1; dz_ < zspan_ - 1; ++dz_)                                                 \
+        for (int dy_ = -1; dy_ <= 1; ++dy_) {                                                     \
+          ivec3 c_ = ivec3(xlo_, c0_.y + dy_, c0_.z + dz_);                                       \
           if (P.period_ticks > 0) c_.z = (c_.z + dims_.z) % dims_.z;                              \
-          if (P.hash_mask == 0u &&                                                                \
-              (any(lessThan(c_, ivec3(0))) || any(greaterThanEqual(c_, dims_)))) continue;        \
-          uint k_ = cell_index(c_, P) + block_;                                                   \
-          /* hashed grid: two neighbour cells may share a bucket; visit each bucket once (the dense \
-             grid's 27 cells are distinct) */                                                     \
-          if (P.hash_mask != 0u) {                                                                \
-            bool dup_ = false;                                                                    \
-            for (uint q_ = 0u; q_ < nseen_; ++q_) dup_ = dup_ || seen_[q_] == k_;                 \
-            if (dup_) continue;                                                                   \
-            seen_[nseen_++] = k_;                                                                 \
+          if (c_.y < 0 || c_.y >= dims_.y || c_.z < 0 || c_.z >= dims_.z) continue;               \
+          uint k0_ = cell_index(c_, P) + block_;                                                  \
+          uint b_ = 0xFFFFFFFFu, e_ = 0u;                                                         \
+          for (uint k_ = k0_; k_ <= k0_ + uint(xhi_ - xlo_); ++k_) {                              \
+            uint cb_ = cs_.v[k_];                                                                 \
+            if (cb_ == 0xFFFFFFFFu) continue;                                                     \
+            b_ = min(b_, cb_);                                                                    \
+            e_ = ce_.v[k_];                                                                       \
           }                                                                                       \
-          uint b_ = cs_.v[k_];                                                                    \
-          if (b_ == 0xFFFFFFFFu) continue;                                                        \
-          uint e_ = ce_.v[k_];                                                                    \
           for (uint j = b_; j < e_; ++j) {                                                        \
             if (j == i) continue;                                                                 \
             ivec3 D_ = tick_delta(pi_, pos_.v[j].xyz, P.period_ticks);                            \
@@ -57,5 +54,31 @@
             if (length(d_) - (ri_ + props_.v[j].x) < P.cutoff_extra) { VISIT; }                     \
           }                                                                                       \
         }                                                                                         \
+    } else {                                                                                      \
+      /* hashed grid: two neighbour cells may share a bucket; visit each bucket once */          \
+      uint seen_[27];                                                                             \
+      uint nseen_ = 0u;                                                                           \
+      for (int dz_ = -1; dz_ < zspan_ - 1; ++dz_)                                                 \
+        for (int dy_ = -1; dy_ <= 1; ++dy_)                                                       \
+          for (int dx_ = -1; dx_ <= 1; ++dx_) {                                                   \
+            ivec3 c_ = c0_ + ivec3(dx_, dy_, dz_);                                                \
+            if (P.period_ticks > 0) c_.z = (c_.z + dims_.z) % dims_.z;                            \
+            uint k_ = cell_index(c_, P) + block_;                                                 \
+            bool dup_ = false;                                                                    \
+            for (uint q_ = 0u; q_ < nseen_; ++q_) dup_ = dup_ || seen_[q_] == k_;                 \
+            if (dup_) continue;                                                                   \
+            seen_[nseen_++] = k_;                                                                 \
+            uint b_ = cs_.v[k_];                                                                  \
+            if (b_ == 0xFFFFFFFFu) continue;                                                      \
+            uint e_ = ce_.v[k_];                                                                  \
+            for (uint j = b_; j < e_; ++j) {                                                      \
+              if (j == i) continue;                                                               \
+              ivec3 D_ = tick_delta(pi_, pos_.v[j].xyz, P.period_ticks);                          \
+              if (any(greaterThan(abs(D_), ivec3(reach_)))) continue;                             \
+              vec3 d_ = (vec3(D_) + (fi_ - fr_.v[j].xyz)) * P.h;                                  \
+              if (length(d_) - (ri_ + props_.v[j].x) < P.cutoff_extra) { VISIT; }                   \
+            }                                                                                     \
+          }                                                                                       \
+    }                                                                                             \
   }
 #endif
