@@ -12,7 +12,8 @@ jobs=$(nproc)
 # A fresh build directory has no ctest cost data, so ctest would start the tests in file order and leave the long
 # ones (the paper pipeline, the serial Slurm test) as a tail on one core. Seed it with the times of a reference run
 # (tests/ci/ctest-costs.txt): ctest then starts the longest first. Only the order changes; ctest keeps its own
-# measured times from then on.
+# measured times from then on. To refresh it after tests are added or renamed: copy a Release build's
+# Testing/Temporary/CTestCostData.txt over it (ctest's own format, "name runs seconds" per line, nothing else).
 seed_costs() {
   mkdir -p "$1/Testing/Temporary"
   [ -f "$1/Testing/Temporary/CTestCostData.txt" ] || cp tests/ci/ctest-costs.txt "$1/Testing/Temporary/CTestCostData.txt"
