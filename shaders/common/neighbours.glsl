@@ -10,6 +10,17 @@
 #define WETDEM_NEIGHBOURS_GLSL
 #include "geom.glsl"
 
+// The particles j in [b, e) of the sorted order that lie within reach of i (the variables of FOR_EACH_NEIGHBOUR
+// below): an integer box test on the tick difference first, then the exact gap test.
+#define NEIGHBOURS_IN_RANGE_(b, e, VISIT)                                                         \
+  for (uint j = b; j < e; ++j) {                                                                  \
+    if (j == i) continue;                                                                         \
+    ivec3 D_ = tick_delta(pi_, pos_.v[j].xyz, P.period_ticks);                                    \
+    if (any(greaterThan(abs(D_), ivec3(reach_)))) continue;                                       \
+    vec3 d_ = (vec3(D_) + (fi_ - fr_.v[j].xyz)) * P.h;                                            \
+    if (length(d_) - (ri_ + props_.v[j].x) < P.cutoff_extra) { VISIT; }                             \
+  }
+
 // Calls VISIT(j) for every neighbour j of sorted particle i in the set s. In an ensemble each run has its own
 // block of cells (cell_key.comp), so only the particle's own run is searched; its block is read off its sorted
 // key (reading the run table here instead made llvmpipe's compiled loop crash).
@@ -46,13 +57,7 @@
             b_ = min(b_, cb_);                                                                    \
             e_ = ce_.v[k_];                                                                       \
           }                                                                                       \
-          for (uint j = b_; j < e_; ++j) {                                                        \
-            if (j == i) continue;                                                                 \
-            ivec3 D_ = tick_delta(pi_, pos_.v[j].xyz, P.period_ticks);                            \
-            if (any(greaterThan(abs(D_), ivec3(reach_)))) continue;                               \
-            vec3 d_ = (vec3(D_) + (fi_ - fr_.v[j].xyz)) * P.h;                                    \
-            if (length(d_) - (ri_ + props_.v[j].x) < P.cutoff_extra) { VISIT; }                     \
-          }                                                                                       \
+          NEIGHBOURS_IN_RANGE_(b_, e_, VISIT)                                                     \
         }                                                                                         \
     } else {                                                                                      \
       /* hashed grid: two neighbour cells may share a bucket; visit each bucket once */          \
@@ -71,13 +76,7 @@
             uint b_ = cs_.v[k_];                                                                  \
             if (b_ == 0xFFFFFFFFu) continue;                                                      \
             uint e_ = ce_.v[k_];                                                                  \
-            for (uint j = b_; j < e_; ++j) {                                                      \
-              if (j == i) continue;                                                               \
-              ivec3 D_ = tick_delta(pi_, pos_.v[j].xyz, P.period_ticks);                          \
-              if (any(greaterThan(abs(D_), ivec3(reach_)))) continue;                             \
-              vec3 d_ = (vec3(D_) + (fi_ - fr_.v[j].xyz)) * P.h;                                  \
-              if (length(d_) - (ri_ + props_.v[j].x) < P.cutoff_extra) { VISIT; }                   \
-            }                                                                                     \
+            NEIGHBOURS_IN_RANGE_(b_, e_, VISIT)                                                   \
           }                                                                                       \
     }                                                                                             \
   }
