@@ -127,6 +127,41 @@ TEST_F(StudyRun, BatchedRunsAreBitwiseTheRunsOneByOne) {
   EXPECT_EQ(study::run_study(st, o).completed, 2u);
 }
 
+TEST_F(StudyRun, AFailingRunFailsAloneItsBatchmatesComplete) {
+  // A batch fails whole (app::run_batch), so run_batch_of runs each run of a failed batch again alone: the
+  // failing run stays FAILED with its own reason, its batchmates complete bitwise as they do one by one, and
+  // none of them is left FAILED for its batchmate's reason (a diagnosis would then find its baseline failed).
+  const std::string base = three_contents_planned("batch-fail", "");
+  study::ExecOptions o = in_process();
+  o.configure = [](const study::IndexEntry& e, app::RunOptions& ro) {
+    ro.context = &gpu();
+    if (e.index == 1)
+      ro.on_sample = [](const app::Sample& s) {
+        if (s.step > 0) throw std::runtime_error("injected failure");
+      };
+  };
+  EXPECT_EQ(study::run_study(base + "/one", o).completed, 2u);
+  o.batch = 3;
+  const study::ExecReport b = study::run_study(base + "/batch", o);
+  EXPECT_EQ(b.completed, 2u);
+  EXPECT_EQ(b.failed, 1u);
+  const auto ix = study::read_index(base + "/batch");
+  for (size_t i = 0; i < 3; ++i) {
+    std::string why;
+    const study::RunState st = study::run_state(base + "/batch/" + ix.runs[i].run_dir, &why);
+    if (i == 1) {
+      EXPECT_EQ(st, study::RunState::Failed);
+      EXPECT_NE(why.find("injected failure"), std::string::npos) << why;
+      EXPECT_EQ(why.find("batch"), std::string::npos) << "failed for the batch, not alone: " << why;
+    } else {
+      EXPECT_EQ(st, study::RunState::Complete) << "run " << i << ": " << why;
+      EXPECT_EQ(summary(base + "/one", i)["final_state_hash"],
+                summary(base + "/batch", i)["final_state_hash"])
+          << "run " << i;
+    }
+  }
+}
+
 TEST_F(StudyRun, StoppedBatchResumesAsABatchAndEndsBitwise) {
   // Issue 19: a `--batch 3` ensemble stopped as if killed leaves each run resumable; the next `study run`
   // (here without --batch) resumes the three as the batch they were, and each ends bitwise where the run done

@@ -289,6 +289,29 @@ std::vector<OneResult> run_batch_of(
       }
     } catch (const std::exception& ex) {
       for (size_t q : members) res[q].error = ex.what();
+      // A batch fails whole (app::run_batch: its error is one run's, or a counter of the shared System, and
+      // cannot always be pinned on a run), so a probe that blows up would fail its healthy batchmates too and
+      // leave them FAILED in the store, failing every later diagnosis that needs them. Each run of a failed
+      // batch is therefore run again alone (bitwise what it computes in the batch): only the runs that fail
+      // on their own stay failed, each with its own reason. Not after an interruption: that batch resumes
+      // whole.
+      if (members.size() > 1 && !app::interrupt_requested())
+        for (size_t q : members) {
+          const fs::path run_dir(opts[q].out_dir);
+          if (fs::exists(run_dir)) fs::remove_all(run_dir);  // not FAILED for its batchmate's reason
+          res[q] = OneResult{};
+          if (app::interrupt_requested()) {  // not run again: it starts afresh next time
+            res[q].error = "interrupted before it was run again alone";
+            continue;
+          }
+          try {
+            const std::vector<app::RunResult> rr = app::run_batch({opts[q]}, *context_for(opts[q]));
+            res[q].completed = rr[0].completed;
+            if (!rr[0].completed) res[q].error = "stopped before the end (resumable)";
+          } catch (const std::exception& alone) {
+            res[q].error = alone.what();
+          }
+        }
     }
   }
   return res;
