@@ -6,13 +6,13 @@
 # usage: micro_e2e.sh WETDEM SOURCE_DIR [STORE]
 source "$(dirname "$0")/lib.sh" "$@"
 
-"$W" twin "$SRC/assets/diagnosis/micro/twin_spread.toml" --out "$D/ts" --store "$S" --quiet
+wd twin "$SRC/assets/diagnosis/micro/twin_spread.toml" --out "$D/ts" --store "$S" --quiet
 # A dry condition has no liquid_free_fraction: the twin writes no row for it and says so in truth.json.
 expect "$D/ts/truth.json" '[x["observable"] for x in j["not_reported"]] == ["liquid_free_fraction"]' \
   "the dry liquid_free_fraction cell"
 grep -q '"0 %",liquid_free_fraction' "$D/ts/observations.csv" && { echo "FAIL: a row for an unreported cell"; exit 1; }
 mv "$D/ts/truth.json" "$D/truth-spread.json"
-"$W" diagnose "$SRC/tests/diagnose/micro_ci.toml" --observations "$D/ts/observations.csv" --out "$D/ds" \
+wd diagnose "$SRC/tests/diagnose/micro_ci.toml" --observations "$D/ts/observations.csv" --out "$D/ds" \
   --store "$S" --quiet --no-figures
 echo "withheld spread: $(J "$D/ds/diagnosis.json" 'j["verdict"], j["effect"], round(j["held_out_shrink"] or 0, 3)')"
 expect "$D/ds/diagnosis.json" 'j["verdict"] == "effect"' "verdict is not effect" "$D/ds/report.md"
@@ -29,9 +29,9 @@ expect "$D/ds/diagnosis.json" 'len(j["reach"]) == len(j["screen"])' "reach does 
 expect "$D/ds/diagnosis.json" 'any(r["effect"] == "spread" and r["visible"] and r["max_abs_z"] >= 3 for r in j["reach"])' \
   "the effect found is not visible in its reach"
 
-"$W" twin "$SRC/assets/diagnosis/micro/twin_null.toml" --out "$D/tn" --store "$S" --quiet
+wd twin "$SRC/assets/diagnosis/micro/twin_null.toml" --out "$D/tn" --store "$S" --quiet
 mv "$D/tn/truth.json" "$D/truth-null.json"
-"$W" diagnose "$SRC/tests/diagnose/micro_ci.toml" --observations "$D/tn/observations.csv" --out "$D/dn" \
+wd diagnose "$SRC/tests/diagnose/micro_ci.toml" --observations "$D/tn/observations.csv" --out "$D/dn" \
   --store "$S" --quiet --no-figures
 echo "null: $(J "$D/dn/diagnosis.json" 'j["verdict"], j["effect"], j["runs_computed"]')"
 expect "$D/dn/diagnosis.json" 'j["verdict"] != "effect"' "a null twin got an effect" "$D/dn/report.md"

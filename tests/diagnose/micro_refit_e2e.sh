@@ -6,9 +6,9 @@
 # usage: micro_refit_e2e.sh WETDEM SOURCE_DIR [STORE]
 source "$(dirname "$0")/lib.sh" "$@"
 
-"$W" twin "$SRC/assets/diagnosis/micro/twin_vmax.toml" --out "$D/tv" --store "$S" --quiet
+wd twin "$SRC/assets/diagnosis/micro/twin_vmax.toml" --out "$D/tv" --store "$S" --quiet
 mv "$D/tv/truth.json" "$D/truth-vmax.json"
-"$W" diagnose "$SRC/tests/diagnose/micro_refit_ci.toml" --observations "$D/tv/observations.csv" --out "$D/dv" \
+wd diagnose "$SRC/tests/diagnose/micro_refit_ci.toml" --observations "$D/tv/observations.csv" --out "$D/dv" \
   --store "$S" --quiet --no-figures --replicates 2
 R="$D/dv/diagnosis.json"
 expect "$R" 'j["replicates"] == 2' "--replicates 2 did not replace the file's replicates = 1"

@@ -6,12 +6,14 @@
 #  2. The same diagnosis again on the same store: the failed runs are not run again and do not poison it.
 #  3. dt lowered to the damper's limit (default) with max_cost = 3: the costly strengths are not run, the range
 #     is cut there, the diagnosis completes.
+# One replicate (the command line wins over the files' 2): what is tested is the listing and cutting of runs, not
+# the strength (27 Nov 2026: the three diagnoses 186 s -> 132 s, the same verdicts).
 # usage: robust_e2e.sh WETDEM SOURCE_DIR [STORE]
 source "$(dirname "$0")/lib.sh" "$@"
-"$W" twin "$SRC/assets/diagnosis/micro/twin_spread.toml" --out "$D/ts" --store "$S" --quiet
+wd twin "$SRC/assets/diagnosis/micro/twin_spread.toml" --out "$D/ts" --store "$S" --quiet
 diagnose() {  # diagnose SPEC OUT
-  "$W" diagnose "$SRC/tests/diagnose/$1" --observations "$D/ts/observations.csv" --out "$D/$2" \
-    --store "$S" --quiet --no-figures
+  wd diagnose "$SRC/tests/diagnose/$1" --observations "$D/ts/observations.csv" --out "$D/$2" \
+    --store "$S" --quiet --no-figures --replicates 1
 }
 
 diagnose robust_dt.toml d1

@@ -6,9 +6,9 @@
 # usage: second_e2e.sh WETDEM SOURCE_DIR [STORE]
 source "$(dirname "$0")/lib.sh" "$@"
 
-"$W" twin "$SRC/assets/diagnosis/micro/twin_spread_absorption.toml" --out "$D/t" --store "$S" --quiet
+wd twin "$SRC/assets/diagnosis/micro/twin_spread_absorption.toml" --out "$D/t" --store "$S" --quiet
 mv "$D/t/truth.json" "$D/truth.json"
-"$W" diagnose "$SRC/tests/diagnose/micro_ci.toml" --observations "$D/t/observations.csv" --out "$D/d" \
+wd diagnose "$SRC/tests/diagnose/micro_ci.toml" --observations "$D/t/observations.csv" --out "$D/d" \
   --store "$S" --quiet --no-figures
 echo "two withheld: $(J "$D/d/diagnosis.json" 'j["verdict"], j["effects"], (j["second"] or {}).get("outcome")')"
 expect "$D/d/diagnosis.json" 'j["effects"] == ["spread", "absorption"]' "spread then absorption not named" \
@@ -21,7 +21,7 @@ expect "$D/d/diagnosis.json" 'abs(j["ranking"][0]["strength"] / 0.6 - 1) <= 0.25
 grep -q "Gap explained by \`spread\` and \`absorption\` together" "$D/d/report.md" ||
   { echo "FAIL: the paragraph does not name both"; cat "$D/d/report.md"; exit 1; }
 
-"$W" diagnose "$SRC/tests/diagnose/micro_ci_one_effect.toml" --observations "$D/t/observations.csv" \
+wd diagnose "$SRC/tests/diagnose/micro_ci_one_effect.toml" --observations "$D/t/observations.csv" \
   --out "$D/d1" --store "$S" --quiet --no-figures
 echo "one effect at most: $(J "$D/d1/diagnosis.json" 'j["verdict"], j["effects"], j["runs_computed"]')"
 expect "$D/d1/diagnosis.json" 'j["verdict"] == "partial" and j["effects"] == ["spread"] and j["second"] is None' \
