@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <nlohmann/json.hpp>
 
 #include "study/executor.h"
@@ -38,6 +39,17 @@ study::ExecOptions in_process() {
   return o;
 }
 
+// In-process runs on the test's device; run `index` throws "injected failure" at a sample after step 0.
+std::function<void(const study::IndexEntry&, app::RunOptions&)> failing_run(size_t index) {
+  return [index](const study::IndexEntry& e, app::RunOptions& ro) {
+    ro.context = &gpu();
+    if (e.index == index)
+      ro.on_sample = [](const app::Sample& s) {
+        if (s.step > 0) throw std::runtime_error("injected failure");
+      };
+  };
+}
+
 class StudyRun : public GpuTest {};
 
 TEST_F(StudyRun, StoppedRunResumesAndSecondRunComputesNothing) {
@@ -70,13 +82,7 @@ TEST_F(StudyRun, StoppedRunResumesAndSecondRunComputesNothing) {
 TEST_F(StudyRun, FailedRunIsIsolated) {
   const std::string st = tiny_study(study_temp("failed"));
   study::ExecOptions o = in_process();
-  o.configure = [](const study::IndexEntry& e, app::RunOptions& ro) {
-    ro.context = &gpu();
-    if (e.index == 0)
-      ro.on_sample = [](const app::Sample& s) {
-        if (s.step > 0) throw std::runtime_error("injected failure");
-      };
-  };
+  o.configure = failing_run(0);
   const study::ExecReport a = study::run_study(st, o);
   EXPECT_EQ(a.failed, 1u);
   EXPECT_EQ(a.completed, 1u);
@@ -133,13 +139,7 @@ TEST_F(StudyRun, AFailingRunFailsAloneItsBatchmatesComplete) {
   // none of them is left FAILED for its batchmate's reason (a diagnosis would then find its baseline failed).
   const std::string base = three_contents_planned("batch-fail", "");
   study::ExecOptions o = in_process();
-  o.configure = [](const study::IndexEntry& e, app::RunOptions& ro) {
-    ro.context = &gpu();
-    if (e.index == 1)
-      ro.on_sample = [](const app::Sample& s) {
-        if (s.step > 0) throw std::runtime_error("injected failure");
-      };
-  };
+  o.configure = failing_run(1);
   EXPECT_EQ(study::run_study(base + "/one", o).completed, 2u);
   o.batch = 3;
   const study::ExecReport b = study::run_study(base + "/batch", o);
