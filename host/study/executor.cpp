@@ -278,15 +278,19 @@ std::vector<OneResult> run_batch_of(
     }
     groups[key].push_back(q);
   }
-  for (const auto& [key, members] : groups) {
+  // Steps the fresh runs at positions `qs` as one ensemble and records their outcomes (throws as run_batch).
+  auto step_together = [&](const std::vector<size_t>& qs) {
     std::vector<app::RunOptions> batch;
-    for (size_t q : members) batch.push_back(opts[q]);
+    for (size_t q : qs) batch.push_back(opts[q]);
+    const std::vector<app::RunResult> rr = app::run_batch(batch, *context_for(batch[0]));
+    for (size_t m = 0; m < qs.size(); ++m) {
+      res[qs[m]].completed = rr[m].completed;
+      if (!rr[m].completed) res[qs[m]].error = "stopped before the end (resumable)";
+    }
+  };
+  for (const auto& [key, members] : groups) {
     try {
-      const std::vector<app::RunResult> rr = app::run_batch(batch, *context_for(batch[0]));
-      for (size_t m = 0; m < members.size(); ++m) {
-        res[members[m]].completed = rr[m].completed;
-        if (!rr[m].completed) res[members[m]].error = "stopped before the end (resumable)";
-      }
+      step_together(members);
     } catch (const std::exception& ex) {
       for (size_t q : members) res[q].error = ex.what();
       // A batch fails whole (app::run_batch: its error is one run's, or a counter of the shared System, and
@@ -305,9 +309,7 @@ std::vector<OneResult> run_batch_of(
             continue;
           }
           try {
-            const std::vector<app::RunResult> rr = app::run_batch({opts[q]}, *context_for(opts[q]));
-            res[q].completed = rr[0].completed;
-            if (!rr[0].completed) res[q].error = "stopped before the end (resumable)";
+            step_together({q});
           } catch (const std::exception& alone) {
             res[q].error = alone.what();
           }
