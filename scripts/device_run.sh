@@ -12,7 +12,8 @@
 #   scripts/device_run.sh bench ARGS...          wetdem_bench ARGS (JSON into $OUT)
 #   scripts/device_run.sh wetdem ARGS...         the wetdem CLI
 #   scripts/device_run.sh paper ARGS...          the paper pipeline, scripts/paper.sh ARGS (docs/paper.md); give
-#                                                --export "$OUT" to bring back what its figures need
+#                                                --export "$OUT/px" to bring back what its figures need, packed
+#                                                as $OUT/px.tgz
 #   scripts/device_run.sh script FILE            a bash script with $WETDEM set, e.g. the validation matrix's
 #                                                (scripts/twin_matrix.py --script FILE; docs/validation.md)
 # Results go to $OUT (the device tool brings that folder back); elsewhere to ./device-out.
@@ -61,7 +62,20 @@ case "$mode" in
     ;;
   bench) "$B/wetdem_bench" "$@" ;;
   wetdem) "$B/wetdem" "$@" ;;
-  paper) WETDEM=$B/wetdem bash scripts/paper.sh "$@" ;;
+  paper)
+    WETDEM=$B/wetdem bash scripts/paper.sh "$@"
+    # The device tool brings back neither deep trees nor many files (a study's runs/<hash>/frames/ are both), so
+    # an export under $OUT comes back as one archive: DIR.tgz, unpacked here with tar xzf.
+    ex=""
+    prev=""
+    for a in "$@"; do
+      [[ $prev == --export ]] && ex=$a
+      prev=$a
+    done
+    if [[ -n $ex && -d $ex && $(realpath "$ex") == $(realpath "$OUT")/* ]]; then
+      tar czf "$ex.tgz" -C "$(dirname "$ex")" "$(basename "$ex")" && rm -rf "$ex" && echo "export packed: $ex.tgz"
+    fi
+    ;;
   script) WETDEM=$B/wetdem bash "$@" ;;
   *) echo "usage: $0 tests|bench|wetdem|paper|script ..." >&2; exit 2 ;;
 esac
