@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "app/case/case.h"
+#include "diagnose/auto_batch.h"
 #include "diagnose/driver.h"
 #include "diagnose/twin.h"
 #include "study/executor.h"
@@ -51,6 +52,7 @@ class Impl : public study::Commands {
           d.observations = std::filesystem::absolute(observations_).lexically_normal().string();
         }
         if (replicates_ > 0) d.replicates = replicates_;
+        choose_batch();
         const nlohmann::json j = run_diagnosis(d, o_);
         std::string named;  // "spread" or "spread + absorption" (a second effect on top of the first)
         for (const auto& e : j["effects"]) named += (named.empty() ? "" : " + ") + e.get<std::string>();
@@ -62,6 +64,7 @@ class Impl : public study::Commands {
                     named.empty() ? "" : (" (" + named + ")").c_str(), o_.out.c_str());
       } else {
         const TwinSpec t = parse_twin_file(file_);
+        choose_batch();
         run_twin(t, o_);
         std::printf("observations: %s/observations.csv (truth apart: %s/truth.json)\n", o_.out.c_str(),
                     o_.out.c_str());
@@ -80,12 +83,23 @@ class Impl : public study::Commands {
   }
 
  private:
+  // After the files are read (their errors come first), before any run: --batch, or the device's default.
+  void choose_batch() {
+    std::string why;
+    try {
+      o_.batch = resolve_batch(batch_, o_.device, &why);
+    } catch (const std::runtime_error& e) {
+      throw DiagnoseError(std::string("--device: ") + e.what());
+    }
+    if (!o_.quiet) std::printf("%s\n", why.c_str());
+  }
   void add_common(CLI::App* c) {
     c->add_option("--out", o_.out, "output directory")->required();
     c->add_option("--store", o_.store, "run store to use and share (a study directory; default OUT/store)");
     c->add_option("--jobs", o_.jobs, "runs at a time (default 1)");
-    c->add_option("--batch", o_.batch,
-                  "runs handed to one process as ensembles (default 1; docs/ensembles.md)")
+    c->add_option("--batch", batch_,
+                  "runs handed to one process as ensembles (default: 1 on a CPU device such as lavapipe, " +
+                      std::to_string(kGpuAutoBatch) + " on a GPU; docs/ensembles.md)")
         ->check(CLI::PositiveNumber);
     c->add_option("--device", o_.device, "device for every run (index, name substring, gpu, cpu)");
     c->add_flag("--quiet", o_.quiet, "no progress line");
@@ -95,6 +109,7 @@ class Impl : public study::Commands {
   CLI::App *diag_ = nullptr, *twin_ = nullptr;
   std::string file_, observations_;
   int replicates_ = 0;  // 0: the file's
+  size_t batch_ = 0;    // 0: auto (auto_batch.h)
   DiagnoseOptions o_;
 };
 

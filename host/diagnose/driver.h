@@ -14,7 +14,8 @@ struct DiagnoseOptions {
   std::string out;    // DIR: diagnosis.json, report.md, figures/
   std::string store;  // run store (a study directory); default DIR/store
   int jobs = 1;
-  size_t batch = 1;  // > 1: runs handed to one process as ensembles (study --batch)
+  size_t batch = 1;  // > 1: runs handed to one process as ensembles (study --batch); the CLI's 0 (auto) is
+                     // resolved before (auto_batch.h)
   std::string device;
   std::string exe;  // the wetdem binary for run processes; empty: in this process (tests)
   bool quiet = false;
