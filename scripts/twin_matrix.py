@@ -344,7 +344,8 @@ def main():
     ap.add_argument("--wetdem", default="build/host/wetdem")
     ap.add_argument("--out", required=True)
     ap.add_argument("--jobs", type=int, default=1)
-    ap.add_argument("--batch", type=int, default=1)
+    ap.add_argument("--batch", type=int, help="runs per process (wetdem's default when not given: 1 on a CPU "
+                    "device, 16 on a GPU)")
     ap.add_argument("--only", nargs="*", help="run only these twins (names)")
     ap.add_argument("--replicates", type=int,
                     help="seeds per condition for every diagnosis instead of the diagnosis file's (wetdem diagnose "
@@ -396,7 +397,7 @@ def main():
         tf = os.path.join(d, "twin.toml")
         bd = os.path.relpath(base_dir, d) if a.script else base_dir
         open(tf, "w").write(twin_text(base, bd, [1000 + 10 * i, 1001 + 10 * i], 500 + i, overrides))
-        common = ["--store", store, "--jobs", str(a.jobs), "--batch", str(a.batch), "--quiet"]
+        common = ["--store", store, "--jobs", str(a.jobs), "--quiet"] + (["--batch", str(a.batch)] if a.batch else [])
         twin_cmd = [a.wetdem, "twin", tf, "--out", os.path.join(d, "twin")] + common
         # The diagnosis sees the observations only (truth.json stays in the twin folder).
         rep = ["--replicates", str(a.replicates)] if a.replicates else []
