@@ -518,8 +518,14 @@ def main(argv):
                for s in st.values() for r in s if r["summary"])
     n_done = sum(1 for s in st.values() for r in s if r["summary"])
     n_all = sum(len(s) for s in st.values())
-    md += ["Runs complete: %d of %d; device: %s; code: %s; run wall time (each run's share of its batch): %.0f s." %
-           (n_done, n_all, ", ".join(devices) or "–", ", ".join(versions) or "–", wall), ""]
+    # A stage may repeat another's points (the extended range holds five of the PP2 l = 5 grid's): the same
+    # resolved case and seed end in the same final state, so distinct final states count the distinct runs.
+    finals = {(r["summary"] or {}).get("final_state_hash") for s in st.values() for r in s if r["summary"]}
+    finals.discard(None)
+    twice = n_done - len(finals) if finals else 0
+    md += ["Runs complete: %d of %d%s; device: %s; code: %s; run wall time (each run's share of its batch): %.0f s." %
+           (n_done, n_all, " (%d of them the same run in two stages: the same final state)" % twice if twice > 0
+            else "", ", ".join(devices) or "–", ", ".join(versions) or "–", wall), ""]
 
     def section(title, fig, table, caption):
         md.extend(["## " + title, ""])
