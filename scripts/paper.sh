@@ -105,7 +105,7 @@ run_stage() {
     rm -f "$out/$st.estimate.json"
     "$WETDEM" study plan "$file" --out "$dir" --probe --batch "$k" --budget "$secs" --json "$out/$st.estimate.json" \
       "${reuse[@]}" --probe-steps "$([[ $size == smoke ]] && echo 30 || echo 200)" "${dev[@]}" 2>&1 |
-      grep -E '^(study|probe|measured|estimate|budget|nothing|[0-9]+ of|wetdem: error)' | tee -a "$out/paper.log" || true
+      grep -E '^(study|probe|measured|estimate|budget|nothing|note|[0-9]+ of|wetdem: error)' | tee -a "$out/paper.log" || true
     local est
     est=$(json_number "$out/$st.estimate.json" total_s)
     if ((est > secs)) && ((!anyway)); then

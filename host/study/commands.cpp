@@ -16,6 +16,7 @@
 #include "study/executor.h"
 #include "study/probe.h"
 #include "study/refine.h"
+#include "study/reuse.h"
 #include "study/slurm.h"
 
 namespace wetdem::study {
@@ -207,6 +208,7 @@ class Impl : public Commands {
     }
     std::printf("%zu of %zu runs complete; %.3g particle-steps to compute (%.3g in all)\n", done, runs.size(),
                 ps_todo, ps_all);
+    print_other_version_runs(dir, runs);
     if (probe_) return probe_and_estimate(s, runs, dir);
     if (tp > 0)
       std::printf(
@@ -239,6 +241,18 @@ class Impl : public Commands {
   static std::string batch_range(const MeasuredRate& m) {
     return m.batch_min == m.batch_max ? fmt::format("{}", m.batch_min)
                                       : fmt::format("{}-{}", m.batch_min, m.batch_max);
+  }
+
+  // For each --reuse directory: its complete runs that are this study's but of another run version (reuse.h).
+  void print_other_version_runs(const std::string& dir, const std::vector<PlannedRun>& runs) const {
+    if (reuse_.empty()) return;
+    std::vector<PlannedRun> todo;
+    for (const PlannedRun& r : runs)
+      if (state_with_reuse(dir, r.hash) != RunState::Complete) todo.push_back(r);
+    for (const std::string& other : reuse_) {
+      const std::string note = other_version_note(other, other_version_runs(other, todo));
+      if (!note.empty()) std::printf("%s\n", note.c_str());
+    }
   }
 
   // A run's state in DIR, or complete when a --reuse directory holds it complete (study run copies it).
@@ -334,6 +348,7 @@ class Impl : public Commands {
       }
       std::printf("reused %zu complete runs of %s\n", copied, other.c_str());
     }
+    print_other_version_runs(dir, runs);
     app::install_stop_signals(request_study_interrupt);
     ExecOptions eo;
     eo.jobs = jobs_;
