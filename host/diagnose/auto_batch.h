@@ -1,13 +1,10 @@
 // The default of `diagnose --batch` and `twin --batch` (0 = auto): how many runs of a stage one process steps
 // together as an ensemble (docs/ensembles.md). Batching never changes a run (each is bitwise what it is
-// alone), only the wall time, and the two kinds of device answer in opposite ways:
-//   - a GPU: a small drum is bound by ~100 us of dispatches and round trips per step, whatever its size, so
-//     8 micro drums (410 particles) in one ensemble ran at 6.9x one run on the H100 (docs/ensembles.md,
-//     "Speed");
-//   - lavapipe: the CPU cores are already busy with one drum, and the runs of one batch share a rebuild
-//   schedule,
-//     so 4 flowing-model runs (dry and 5 % wet) took 122 s as one batch against 103 s one by one (0.85x;
-//     docs/ensembles.md, 27 Nov 2026).
+// alone), only the wall time, and the two kinds of device answer in opposite ways. On a GPU a small drum is
+// bound by ~100 us of dispatches and round trips per step, whatever its size: 8 micro drums (410 particles)
+// in one ensemble ran at 6.9x one run on the H100 (docs/ensembles.md, "Speed"). On lavapipe the CPU cores are
+// already busy with one drum and the runs of a batch share one rebuild schedule: 4 flowing-model runs (dry
+// and 5 % wet) took 122 s as one batch against 103 s one by one (0.85x; 27 Nov 2026).
 #pragma once
 
 #include <cstddef>
