@@ -5,6 +5,7 @@ the cost column (cost.json from the computing call, not a re-evaluation's ~0 s).
 usage: twin_matrix_score.py SOURCE_DIR"""
 import json
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -85,4 +86,5 @@ for needle in ["| absorption-right | absorption | 0.02 |", "0.022 [0.01, 0.03]",
                "| null-called-effect | none |"]:
     if needle not in md:
         sys.exit(f"FAIL: matrix.md lacks {needle!r}")
+shutil.rmtree(d)  # kept on a failure, for the post-mortem
 print("twin matrix scores: OK")
