@@ -8,12 +8,12 @@
 
 #include "app/drum/aor.h"
 #include "app/drum/psd.h"  // uniform01
+#include "support/numbers.h"
 
 using namespace wetdem;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kR = 0.07;
 
 // A bed filling `fraction` of the cross-section below a flat free surface inclined at beta (degrees; > 0

@@ -32,7 +32,7 @@ struct Window {
 
 // The small case shortened to 0.4 s of rotation (about 1,700 steps); means over the samples from 0.15 s of
 // rotation on. Runs are cached by name: the wet baseline serves two tests.
-Window run_micro(const std::string& name, const std::vector<std::string>& sets) {
+Window run_candidate_micro(const std::string& name, const std::vector<std::string>& sets) {
   static std::map<std::string, Window> cache;
   if (auto it = cache.find(name); it != cache.end()) return it->second;
   std::vector<std::string> o = {"run.duration=\"0.4 s\"", "run.steady_state_start=\"0.15 s\""};
@@ -61,15 +61,16 @@ Window run_micro(const std::string& name, const std::vector<std::string>& sets) 
 class CandidateDrum : public GpuTest {};
 
 TEST_F(CandidateDrum, CohesionRaisesTheDryAngle) {
-  const Window dry = run_micro("dry", {"liquid.content=0"});
-  const Window coh = run_micro("cohesion", {"liquid.content=0", "cohesion.surface_energy=\"100 mJ/m2\""});
+  const Window dry = run_candidate_micro("dry", {"liquid.content=0"});
+  const Window coh =
+      run_candidate_micro("cohesion", {"liquid.content=0", "cohesion.surface_energy=\"100 mJ/m2\""});
   std::printf("dry AoR %.1f deg, with adhesion %.1f deg\n", dry.aor, coh.aor);
   EXPECT_GT(coh.aor, dry.aor + 3.0);
 }
 
 TEST_F(CandidateDrum, ViscosityLowersTheKineticEnergy) {
-  const Window wet = run_micro("wet", {});
-  const Window visc = run_micro("viscous", {"liquid.viscosity=\"20 mPa s\""});
+  const Window wet = run_candidate_micro("wet", {});
+  const Window visc = run_candidate_micro("viscous", {"liquid.viscosity=\"20 mPa s\""});
   std::printf("wet mean KE %.4g J, with eta = 20 mPa s %.4g J (AoR %.1f / %.1f deg)\n", wet.kinetic,
               visc.kinetic, wet.aor, visc.aor);
   EXPECT_LT(visc.kinetic, 0.95 * wet.kinetic);
@@ -77,8 +78,8 @@ TEST_F(CandidateDrum, ViscosityLowersTheKineticEnergy) {
 }
 
 TEST_F(CandidateDrum, RecedingAngleKeepsMoreBridges) {
-  const Window wet = run_micro("wet", {});
-  const Window hyst = run_micro("hysteresis", {"liquid.theta_receding=\"80 deg\""});
+  const Window wet = run_candidate_micro("wet", {});
+  const Window hyst = run_candidate_micro("hysteresis", {"liquid.theta_receding=\"80 deg\""});
   std::printf("wet mean bridges %.1f (stretched %.1f), with theta_r = 80 deg %.1f (stretched %.1f)\n",
               wet.bridges, wet.stretched, hyst.bridges, hyst.stretched);
   ASSERT_EQ(wet.f_wet_min, 1.0) << "stretched = bridges - contacts needs every contact bridged";

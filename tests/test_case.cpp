@@ -13,12 +13,12 @@
 #include "app/case/case.h"
 #include "app/case/units.h"
 #include "app/run/run.h"
+#include "support/numbers.h"
 
 namespace wetdem::app {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kPi = 3.14159265358979323846;
 
 // A complete, valid case (PP2-like, small): every test starts from it.
 const char* kValid = R"(

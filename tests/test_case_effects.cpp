@@ -11,18 +11,17 @@
 
 #include "app/case/case.h"
 #include "app/case/units.h"
+#include "support/numbers.h"
 #include "support/small_case.h"
 
 namespace wetdem::app {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 Case parse(const std::vector<std::string>& sets) {
   return parse_case_string(test::kSmall, sets, "small.toml");
 }
 
-std::string error_key(const std::vector<std::string>& sets) {
+std::string effect_error_key(const std::vector<std::string>& sets) {
   try {
     parse(sets);
   } catch (const CaseError& e) {
@@ -121,15 +120,15 @@ TEST(CaseEffects, CutoffDefaultsToOnePercentOfTheMeanRadiusAndDtIsChecked) {
 }
 
 TEST(CaseEffects, BadValuesNameTheirKey) {
-  EXPECT_EQ(error_key({"liquid.viscosity=\"-1 Pa s\""}), "liquid.viscosity");
-  EXPECT_EQ(error_key({"liquid.viscosity=\"2 Pa\""}), "liquid.viscosity");
-  EXPECT_EQ(error_key({"liquid.viscosity=\"500 Pa s\""}), "liquid.viscosity");
-  EXPECT_EQ(error_key({"liquid.lubrication_cutoff=0"}), "liquid.lubrication_cutoff");
-  EXPECT_EQ(error_key({"liquid.lubrication_cutoff=\"5 mm\""}), "liquid.lubrication_cutoff");
-  EXPECT_EQ(error_key({"liquid.theta_receding=\"95 deg\""}), "liquid.theta_receding");
-  EXPECT_EQ(error_key({"cohesion.surface_energy=\"-1 mJ/m2\""}), "cohesion.surface_energy");
-  EXPECT_EQ(error_key({"cohesion.surface_energy=\"2 J/m2\""}), "cohesion.surface_energy");
-  EXPECT_EQ(error_key({"cohesion.adhesion=1"}), "cohesion.adhesion");
+  EXPECT_EQ(effect_error_key({"liquid.viscosity=\"-1 Pa s\""}), "liquid.viscosity");
+  EXPECT_EQ(effect_error_key({"liquid.viscosity=\"2 Pa\""}), "liquid.viscosity");
+  EXPECT_EQ(effect_error_key({"liquid.viscosity=\"500 Pa s\""}), "liquid.viscosity");
+  EXPECT_EQ(effect_error_key({"liquid.lubrication_cutoff=0"}), "liquid.lubrication_cutoff");
+  EXPECT_EQ(effect_error_key({"liquid.lubrication_cutoff=\"5 mm\""}), "liquid.lubrication_cutoff");
+  EXPECT_EQ(effect_error_key({"liquid.theta_receding=\"95 deg\""}), "liquid.theta_receding");
+  EXPECT_EQ(effect_error_key({"cohesion.surface_energy=\"-1 mJ/m2\""}), "cohesion.surface_energy");
+  EXPECT_EQ(effect_error_key({"cohesion.surface_energy=\"2 J/m2\""}), "cohesion.surface_energy");
+  EXPECT_EQ(effect_error_key({"cohesion.adhesion=1"}), "cohesion.adhesion");
 }
 
 }  // namespace

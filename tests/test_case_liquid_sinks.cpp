@@ -16,13 +16,13 @@
 namespace wetdem::app {
 namespace {
 
-std::string asset(const std::string& name) {
+std::string shipped(const std::string& name) {
   return std::string(WETDEM_SOURCE_DIR) + "/assets/" + name;
 }
 
-std::string error_key(const std::vector<std::string>& sets) {
+std::string sink_error_key(const std::vector<std::string>& sets) {
   try {
-    parse_case_file(asset("pp2_l5.toml"), sets);
+    parse_case_file(shipped("pp2_l5.toml"), sets);
   } catch (const CaseError& e) {
     return e.key();
   }
@@ -30,7 +30,7 @@ std::string error_key(const std::vector<std::string>& sets) {
 }
 
 TEST(CaseLiquidSinks, KeysParseEchoAndReachSimParams) {
-  const Case d = parse_case_file(asset("pp2_l5.toml"));
+  const Case d = parse_case_file(shipped("pp2_l5.toml"));
   EXPECT_EQ(d.absorption.capacity, 0.0);
   EXPECT_EQ(d.absorption.rate, 0.0);
   EXPECT_EQ(d.liquid.evaporation_time, 0.0);
@@ -39,7 +39,7 @@ TEST(CaseLiquidSinks, KeysParseEchoAndReachSimParams) {
   EXPECT_FALSE(p0.sinks.absorbs());
   EXPECT_FALSE(p0.sinks.evaporates());
 
-  const Case c = parse_case_file(asset("pp2_l5.toml"),
+  const Case c = parse_case_file(shipped("pp2_l5.toml"),
                                  {"absorption.capacity=\"12 %\"", "absorption.rate=0.5",
                                   "liquid.evaporation_time=\"2 min\"", "liquid.wetted_fraction=0.4"});
   EXPECT_DOUBLE_EQ(c.absorption.capacity, 0.12);
@@ -57,8 +57,8 @@ TEST(CaseLiquidSinks, KeysParseEchoAndReachSimParams) {
   EXPECT_NE(toml.find("[absorption]"), std::string::npos);
   EXPECT_EQ(case_to_json(parse_case_string(toml)), case_to_json(c));
 
-  const Case inst =
-      parse_case_file(asset("pp2_l5.toml"), {"absorption.capacity=0.1", "absorption.rate=\"instantaneous\""});
+  const Case inst = parse_case_file(shipped("pp2_l5.toml"),
+                                    {"absorption.capacity=0.1", "absorption.rate=\"instantaneous\""});
   EXPECT_TRUE(std::isinf(inst.absorption.rate));
   EXPECT_NE(case_to_toml(inst).find("instantaneous"), std::string::npos);
   EXPECT_EQ(case_to_json(parse_case_string(case_to_toml(inst))), case_to_json(inst));
@@ -68,7 +68,7 @@ TEST(CaseLiquidSinks, KeysParseEchoAndReachSimParams) {
 TEST(CaseLiquidSinks, FastAbsorptionIsNotedAtStart) {
   auto noted = [](const std::string& rate) {
     const Case c =
-        parse_case_file(asset("pp2_l5.toml"), {"absorption.capacity=0.1", "absorption.rate=" + rate});
+        parse_case_file(shipped("pp2_l5.toml"), {"absorption.capacity=0.1", "absorption.rate=" + rate});
     Derived d;
     make_sim_params(c, {1e-3, 1.2e-3}, &d);
     for (const std::string& n : d.notes)
@@ -81,15 +81,15 @@ TEST(CaseLiquidSinks, FastAbsorptionIsNotedAtStart) {
 }
 
 TEST(CaseLiquidSinks, BadValuesNameTheKey) {
-  EXPECT_EQ(error_key({"absorption.capacity=0.5"}), "absorption.capacity");
-  EXPECT_EQ(error_key({"absorption.rate=-1"}), "absorption.rate");
-  EXPECT_EQ(error_key({"absorption.rate=0.001"}), "absorption.rate");
-  EXPECT_EQ(error_key({"absorption.rate=\"fast\""}), "absorption.rate");
-  EXPECT_EQ(error_key({"absorption.pores=1"}), "absorption.pores");  // unknown key
-  EXPECT_EQ(error_key({"liquid.evaporation_time=\"0.5 s\""}), "liquid.evaporation_time");
-  EXPECT_EQ(error_key({"liquid.evaporation_time=\"2 h\""}), "liquid.evaporation_time");
-  EXPECT_EQ(error_key({"liquid.wetted_fraction=0.05"}), "liquid.wetted_fraction");
-  EXPECT_EQ(error_key({"liquid.wetted_fraction=1.2"}), "liquid.wetted_fraction");
+  EXPECT_EQ(sink_error_key({"absorption.capacity=0.5"}), "absorption.capacity");
+  EXPECT_EQ(sink_error_key({"absorption.rate=-1"}), "absorption.rate");
+  EXPECT_EQ(sink_error_key({"absorption.rate=0.001"}), "absorption.rate");
+  EXPECT_EQ(sink_error_key({"absorption.rate=\"fast\""}), "absorption.rate");
+  EXPECT_EQ(sink_error_key({"absorption.pores=1"}), "absorption.pores");  // unknown key
+  EXPECT_EQ(sink_error_key({"liquid.evaporation_time=\"0.5 s\""}), "liquid.evaporation_time");
+  EXPECT_EQ(sink_error_key({"liquid.evaporation_time=\"2 h\""}), "liquid.evaporation_time");
+  EXPECT_EQ(sink_error_key({"liquid.wetted_fraction=0.05"}), "liquid.wetted_fraction");
+  EXPECT_EQ(sink_error_key({"liquid.wetted_fraction=1.2"}), "liquid.wetted_fraction");
 }
 
 // spread: round(f N) particles hold all the liquid, in proportion to their own volume; the total equals the
@@ -99,12 +99,12 @@ TEST(CaseLiquidSinks, SpreadFilmsExactAndReproducible) {
   std::uniform_real_distribution<double> u(0.4e-3, 1.2e-3);
   std::vector<double> radii(2001);
   for (double& r : radii) r = u(rng);
-  const Case uni = parse_case_file(asset("pp2_l5.toml"));
+  const Case uni = parse_case_file(shipped("pp2_l5.toml"));
   const SimParams p = make_sim_params(uni, radii);
   const std::vector<int64_t> f1 = initial_films(uni, radii, p.liquid_unit_m3);
   const int64_t total = std::accumulate(f1.begin(), f1.end(), int64_t(0));
   for (double f : {0.1, 0.37, 0.9}) {
-    const Case c = parse_case_file(asset("pp2_l5.toml"), {"liquid.wetted_fraction=" + std::to_string(f)});
+    const Case c = parse_case_file(shipped("pp2_l5.toml"), {"liquid.wetted_fraction=" + std::to_string(f)});
     const std::vector<int64_t> fs = initial_films(c, radii, p.liquid_unit_m3);
     EXPECT_EQ(std::accumulate(fs.begin(), fs.end(), int64_t(0)), total) << "f = " << f;
     const size_t wet = size_t(std::count_if(fs.begin(), fs.end(), [](int64_t v) { return v > 0; }));
@@ -119,12 +119,12 @@ TEST(CaseLiquidSinks, SpreadFilmsExactAndReproducible) {
     }
     EXPECT_LT((hi - lo) / hi, 1e-6) << "f = " << f;
     EXPECT_EQ(initial_films(c, radii, p.liquid_unit_m3), fs) << "same seed, same films";
-    Case other =
-        parse_case_file(asset("pp2_l5.toml"), {"liquid.wetted_fraction=" + std::to_string(f), "run.seed=99"});
+    Case other = parse_case_file(shipped("pp2_l5.toml"),
+                                 {"liquid.wetted_fraction=" + std::to_string(f), "run.seed=99"});
     EXPECT_NE(initial_films(other, radii, p.liquid_unit_m3), fs) << "another seed, other particles";
   }
   // f = 1 is the uniform films themselves.
-  const Case one = parse_case_file(asset("pp2_l5.toml"), {"liquid.wetted_fraction=1"});
+  const Case one = parse_case_file(shipped("pp2_l5.toml"), {"liquid.wetted_fraction=1"});
   EXPECT_EQ(initial_films(one, radii, p.liquid_unit_m3), f1);
 }
 

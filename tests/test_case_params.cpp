@@ -11,12 +11,12 @@
 
 #include "app/case/case.h"
 #include "app/drum/psd.h"
+#include "support/numbers.h"
 
 namespace wetdem::app {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kTwo40 = 1099511627776.0;
 
 std::string asset(const std::string& name) {

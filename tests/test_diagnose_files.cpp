@@ -30,7 +30,7 @@ struct Dir {
   }
 };
 
-const std::string kCase = std::string(WETDEM_SOURCE_DIR) + "/assets/studies/micro/micro_case.toml";
+const std::string kMicroStudyCase = std::string(WETDEM_SOURCE_DIR) + "/assets/studies/micro/micro_case.toml";
 
 std::string expect_error(const std::function<void()>& f) {
   try {
@@ -85,7 +85,7 @@ TEST(DiagnoseFiles, BadDiagnosisFilesNameTheKey) {
   Dir d;
   const std::string obs =
       d.write("obs.csv", "liquid.content,observable,value,sigma\n\"5 %\",aor_deg_mean,30,1\n");
-  const std::string head = "case = \"" + kCase + "\"\nobservations = \"obs.csv\"\n";
+  const std::string head = "case = \"" + kMicroStudyCase + "\"\nobservations = \"obs.csv\"\n";
   auto err = [&](const std::string& body) {
     const std::string f = d.write("d.toml", head + body);
     return expect_error([&] { parse_diagnosis_file(f); });
@@ -100,7 +100,8 @@ TEST(DiagnoseFiles, BadDiagnosisFilesNameTheKey) {
             std::string::npos);
   EXPECT_NE(err("effects = [\"cohesion\"]\n[probes]\nviscous = [0.1]\n").find("not one of the effects"),
             std::string::npos);
-  const std::string f = d.write("d2.toml", "case = \"" + kCase + "\"\nobservations = \"missing.csv\"\n");
+  const std::string f =
+      d.write("d2.toml", "case = \"" + kMicroStudyCase + "\"\nobservations = \"missing.csv\"\n");
   EXPECT_NE(expect_error([&] { parse_diagnosis_file(f); }).find("observations: no such file"),
             std::string::npos);
 }
@@ -112,8 +113,8 @@ TEST(DiagnoseFiles, RefitIsCheckedAgainstTheCaseBeforeAnyRun) {
   d.write(
       "obs.csv",
       "liquid.content,observable,value,sigma\n\"5 %\",f_wet_mean,0.8,0.02\n\"10 %\",f_wet_mean,0.9,0.02\n");
-  const std::string head =
-      "case = \"" + kCase + "\"\nobservations = \"obs.csv\"\neffects = [\"spread\", \"cohesion\"]\n";
+  const std::string head = "case = \"" + kMicroStudyCase +
+                           "\"\nobservations = \"obs.csv\"\neffects = [\"spread\", \"cohesion\"]\n";
   auto parse = [&](const std::string& body) { return parse_diagnosis_file(d.write("d.toml", head + body)); };
   auto err = [&](const std::string& body) { return expect_error([&] { parse(body); }); };
 
@@ -190,7 +191,8 @@ TEST(DiagnoseFiles, BadObservationTablesAreRefusedBeforeAnyRun) {
   Dir d;
   auto diagnose_with = [&](const std::string& csv) {
     d.write("obs.csv", csv);
-    const std::string f = d.write("d.toml", "case = \"" + kCase + "\"\nobservations = \"obs.csv\"\n");
+    const std::string f =
+        d.write("d.toml", "case = \"" + kMicroStudyCase + "\"\nobservations = \"obs.csv\"\n");
     DiagnoseOptions o;
     o.out = (d.p / "out").string();
     o.figures = false;
@@ -234,7 +236,7 @@ TEST(DiagnoseFiles, BadObservationTablesAreRefusedBeforeAnyRun) {
 // A twin's conditions as explicit points (a laboratory's table is rarely a full product).
 TEST(DiagnoseFiles, TwinPointsAreExplicitConditions) {
   Dir d;
-  const std::string head = "case = \"" + kCase + "\"\nseeds = [7]\n[noise]\naor_deg_mean = 1\n";
+  const std::string head = "case = \"" + kMicroStudyCase + "\"\nseeds = [7]\n[noise]\naor_deg_mean = 1\n";
   const TwinSpec t = parse_twin_file(
       d.write("t.toml", head + "[[points]]\n\"liquid.content\" = \"0 %\"\n\"drum.rpm\" = 30\n"
                                "[[points]]\n\"liquid.content\" = \"10 %\"\n\"drum.rpm\" = 60\n"));
@@ -259,7 +261,7 @@ TEST(DiagnoseFiles, ProbesOutsideThePhysicalRangeAreRefused) {
   Dir d;
   const auto err = [&](const std::string& body) {
     return expect_error(
-        [&] { parse_diagnosis_file(d.write("d.toml", "case = \"" + kCase + "\"\n" + body)); });
+        [&] { parse_diagnosis_file(d.write("d.toml", "case = \"" + kMicroStudyCase + "\"\n" + body)); });
   };
   EXPECT_NE(
       err("[probes]\ncohesion = [0.01, 0.3]\n").find("[probes] cohesion: 0.3 is outside the physical range"),
@@ -271,7 +273,8 @@ TEST(DiagnoseFiles, ProbesOutsideThePhysicalRangeAreRefused) {
   EXPECT_NE(err("[shapes]\ncohesion = [1, 2]\n").find("no second parameter"), std::string::npos);
   EXPECT_NE(err("max_cost = 0.5\n").find("max_cost"), std::string::npos);
   const DiagnosisSpec ok = parse_diagnosis_file(d.write(
-      "d.toml", "case = \"" + kCase + "\"\n[shapes]\nabsorption = [1, 10]\n[verdict]\ntie_delta = 3\n"));
+      "d.toml",
+      "case = \"" + kMicroStudyCase + "\"\n[shapes]\nabsorption = [1, 10]\n[verdict]\ntie_delta = 3\n"));
   EXPECT_EQ(ok.shapes.at("absorption"), (std::vector<double>{1, 10}));
   EXPECT_EQ(ok.rule.tie_delta, 3.0);
   for (const EffectSpec& e : effect_catalogue())
@@ -306,8 +309,8 @@ TEST(DiagnoseFiles, AnEffectThatCannotActIsRefusedBeforeAnyRun) {
   Dir d;
   d.write("obs.csv",
           "liquid.content,observable,value,sigma\n\"5 %\",aor_deg_mean,30,1\n\"10 %\",aor_deg_mean,31,1\n");
-  const std::string f =
-      d.write("d.toml", "case = \"" + kCase + "\"\nobservations = \"obs.csv\"\neffects = [\"plates\"]\n");
+  const std::string f = d.write(
+      "d.toml", "case = \"" + kMicroStudyCase + "\"\nobservations = \"obs.csv\"\neffects = [\"plates\"]\n");
   DiagnoseOptions o;
   o.out = (d.p / "out").string();
   o.figures = false;

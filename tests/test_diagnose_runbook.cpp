@@ -14,7 +14,7 @@ using namespace wetdem::diagnose;
 
 namespace {
 
-const std::string kCase = std::string(WETDEM_SOURCE_DIR) + "/assets/diagnosis/micro/model.toml";
+const std::string kMicroModel = std::string(WETDEM_SOURCE_DIR) + "/assets/diagnosis/micro/model.toml";
 
 Condition at(const std::string& content) {
   Condition c;
@@ -35,7 +35,7 @@ struct Store {
   fs::path p = fs::temp_directory_path() / ("wetdem-runbook-" + std::to_string(::getpid()));
   Store() { fs::remove_all(p); }
   ~Store() { fs::remove_all(p); }
-  RunBook book() const { return RunBook(p.string(), "runbook.toml", "runbook", kCase, {}, {}); }
+  RunBook book() const { return RunBook(p.string(), "runbook.toml", "runbook", kMicroModel, {}, {}); }
 };
 
 TEST(RunBook, ADryLiquidOnlyProbeIsTheDryBaselineRun) {

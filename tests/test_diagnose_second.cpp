@@ -18,13 +18,14 @@ using namespace wetdem::diagnose;
 namespace {
 
 // Two observables at five liquid contents: 10 cells.
-const std::vector<double> kPhi = {0.0, 0.025, 0.05, 0.075, 0.10};
+const std::vector<double> kContents = {0.0, 0.025, 0.05, 0.075, 0.10};
 constexpr double kSigma = 0.3, kSe = 0.1, kBase = 30.0;
 
 std::vector<Cell> cells_of(const std::vector<double>& y) {
   std::vector<Cell> c;
   for (size_t i = 0; i < y.size(); ++i)
-    c.push_back({{{"liquid.content", kPhi[i % 5]}}, i < 5 ? "aor_deg_mean" : "aor_deg_std", y[i], kSigma});
+    c.push_back(
+        {{{"liquid.content", kContents[i % 5]}}, i < 5 ? "aor_deg_mean" : "aor_deg_std", y[i], kSigma});
   return c;
 }
 

@@ -324,11 +324,11 @@ namespace {
 // A model family with a re-fitted parameter p (refit settings p = 1 as calibrated, 0.5, 2): p shifts every
 // cell by 3 (p - 1) and scales the candidate's response, so the effect's strength and p interact.
 constexpr double kP[] = {1.0, 0.5, 2.0};
-const std::vector<double> kSlope = {0.0, 0.3, 1.0, 2.5, 4.0};
+const std::vector<double> kStatsSlope = {0.0, 0.3, 1.0, 2.5, 4.0};
 
 std::vector<Prediction> refit_model(size_t j, double strength) {
   std::vector<Prediction> p;
-  for (double k : kSlope)
+  for (double k : kStatsSlope)
     p.push_back(
         {30.0 + 3.0 * (kP[j] - 1.0) + (strength > 0 ? kP[j] * k * (std::log10(strength) + 4.0) : 0.0), 0.2});
   return p;

@@ -19,13 +19,13 @@
 namespace wetdem::test {
 namespace {
 
-struct Outcome {
+struct EffectOutcome {
   nlohmann::json summary;
   double f_wet_first = 0, f_wet_last = 0;  // mean f_wet over the first and last fifth of the rotation
   int64_t free_first = 0, free_last = 0;   // films + bridges at the first and last sample (units)
 };
 
-Outcome run_micro(const std::string& name, const std::vector<std::string>& sets) {
+EffectOutcome run_micro(const std::string& name, const std::vector<std::string>& sets) {
   std::vector<std::string> o = {"run.duration=\"0.6 s\"", "run.steady_state_start=\"0.2 s\"",
                                 "liquid.v_min=\"6 %\""};
   o.insert(o.end(), sets.begin(), sets.end());
@@ -33,7 +33,7 @@ Outcome run_micro(const std::string& name, const std::vector<std::string>& sets)
   std::vector<app::Sample> rot;
   for (const app::Sample& s : r.samples)
     if (s.time >= 0.25) rot.push_back(s);
-  Outcome out;
+  EffectOutcome out;
   out.summary = r.result.summary;
   const size_t m = std::max<size_t>(rot.size() / 5, 1);
   for (size_t k = 0; k < m && k < rot.size(); ++k) {
@@ -55,11 +55,11 @@ Outcome run_micro(const std::string& name, const std::vector<std::string>& sets)
 class DrumLiquidEffects : public GpuTest {};
 
 TEST_F(DrumLiquidEffects, EachEffectMovesItsFingerprint) {
-  const Outcome base = run_micro("base", {});
-  const Outcome abs = run_micro("absorption", {"absorption.capacity=0.3", "absorption.rate=20"});
-  const Outcome evap = run_micro("evaporation", {"liquid.evaporation_time=\"1 s\""});
-  const Outcome spread = run_micro("spread", {"liquid.wetted_fraction=0.2"});
-  auto line = [](const char* n, const Outcome& o) {
+  const EffectOutcome base = run_micro("base", {});
+  const EffectOutcome abs = run_micro("absorption", {"absorption.capacity=0.3", "absorption.rate=20"});
+  const EffectOutcome evap = run_micro("evaporation", {"liquid.evaporation_time=\"1 s\""});
+  const EffectOutcome spread = run_micro("spread", {"liquid.wetted_fraction=0.2"});
+  auto line = [](const char* n, const EffectOutcome& o) {
     std::printf(
         "%-12s f_wet first %.3f last %.3f, window %.3f, bridges %.1f, AoR %.1f, free liquid %lld -> %lld\n",
         n, o.f_wet_first, o.f_wet_last, o.summary.value("f_wet_mean", -1.0),

@@ -17,13 +17,13 @@
 namespace wetdem::test {
 namespace {
 
-struct Outcome {
+struct DrumOutcome {
   double aor_mean, first_half, second_half;
   bool conserved;
   double f_wet;
 };
 
-Outcome run_slice(const std::string& name, const std::vector<std::string>& sets) {
+DrumOutcome run_slice(const std::string& name, const std::vector<std::string>& sets) {
   // The small test case, run longer: 2.25 s of rotation (1.1 revolutions), AoR averaged over the last 1.5 s.
   std::vector<std::string> o = {"run.duration=\"2.25 s\"", "run.steady_state_start=\"0.75 s\"", "run.seed=5"};
   o.insert(o.end(), sets.begin(), sets.end());
@@ -31,7 +31,7 @@ Outcome run_slice(const std::string& name, const std::vector<std::string>& sets)
   std::vector<app::Sample> window;
   for (const app::Sample& s : r.samples)
     if (s.time >= 0.25 + 0.75 && !s.flagged) window.push_back(s);
-  Outcome out{};
+  DrumOutcome out{};
   out.aor_mean = r.result.summary.value("aor_deg_mean", -1.0);
   out.conserved = r.result.summary.value("liquid_conserved", false);
   out.f_wet = r.result.summary.value("f_wet_mean", -1.0);
@@ -47,12 +47,12 @@ Outcome run_slice(const std::string& name, const std::vector<std::string>& sets)
 class DrumPhysics : public GpuTest {};
 
 TEST_F(DrumPhysics, DrySliceIsSteadyAndWetSliceStandsSteeper) {
-  const Outcome dry = run_slice("dry", {"liquid.content=0"});
+  const DrumOutcome dry = run_slice("dry", {"liquid.content=0"});
   // Moderate cohesion (Bond number f0/mg ~ 3) and bridges to the cylinder too. Measured: without cylinder
   // bridges the bridged bed moves as a cohesive block that slips on the dry wall and stands *lower* (35
   // degrees against 39 dry, with Bond 1.5-6 alike); with them it stands at ~50 degrees. In a 13-particle-wide
   // slice the wall condition decides the outcome.
-  const Outcome wet = run_slice(
+  const DrumOutcome wet = run_slice(
       "wet", {"liquid.content=5%", "liquid.gamma=\"10 mN/m\"", "walls.cylinder.liquid_bridges=true"});
   std::printf(
       "dry AoR %.1f (halves %.1f / %.1f), wet AoR %.1f (halves %.1f / %.1f), f_wet dry %.3f wet %.3f\n",

@@ -8,12 +8,11 @@
 #include <stdexcept>
 
 #include "app/drum/fill.h"
+#include "support/numbers.h"
 
 using namespace wetdem;
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // O(N²) reference for the overlap check, written without the cell grid.
 double brute_overlap(const FillResult& r, double L, bool periodic) {

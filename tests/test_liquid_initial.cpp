@@ -6,12 +6,10 @@
 #include "reference/liquid_events.h"
 #include "reference/scenario.h"
 #include "support/backend.h"
+#include "support/liquid_pair.h"
 
 namespace wetdem::test {
 namespace {
-
-constexpr double kR = 1e-3, kRho = 2500.0;
-constexpr int64_t kVmax = 1'000'000'000;  // 1e-12 m^3 in units of 1e-21 m^3
 
 class LiquidInitial : public ::testing::TestWithParam<std::string> {};
 

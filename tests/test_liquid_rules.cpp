@@ -9,12 +9,10 @@
 #include "reference/liquid_events.h"
 #include "reference/scenario.h"
 #include "support/backend.h"
+#include "support/liquid_pair.h"
 
 namespace wetdem::test {
 namespace {
-
-constexpr double kR = 1e-3, kRho = 2500.0;
-constexpr int64_t kVmax = 1'000'000'000;  // 1e-12 m^3 in units of 1e-21 m^3
 
 SimParams wet_params(int64_t v_min, int64_t v_max, double d_c = 1.0) {
   SimParams prm = dry_params(5e6, 2e6, 0.5, 1e-6);
@@ -25,11 +23,6 @@ SimParams wet_params(int64_t v_min, int64_t v_max, double d_c = 1.0) {
 
 double gap_of(const SystemState& s, uint32_t i, uint32_t j) {
   return glm::length(s.p.x[i] - s.p.x[j]) - s.p.radius[i] - s.p.radius[j];
-}
-
-// Position of a sphere whose surface gap to the sphere at `from` (same radius kR) is `gap`, along `dir`.
-glm::dvec3 beside(const glm::dvec3& from, const glm::dvec3& dir, double gap) {
-  return from + (2.0 * kR + gap) * glm::normalize(dir);
 }
 
 class Liquid : public ::testing::TestWithParam<std::string> {};

@@ -8,14 +8,12 @@
 #include "reference/liquid_events.h"
 #include "reference/reference.h"
 #include "reference/scenario.h"
+#include "support/liquid_pair.h"
 
 namespace wetdem::test {
 namespace {
 
-constexpr double kR = 1e-3, kRho = 2500.0;
-constexpr int64_t kVmax = 1'000'000'000;
-
-SimParams wet_params(double d_c = 1.0, int64_t v_min = 0) {
+SimParams pair_params(double d_c = 1.0, int64_t v_min = 0) {
   SimParams prm = dry_params(5e6, 2e6, 0.5, 1e-6);
   prm.liquid_unit_m3 = 1e-21;
   prm.liq_pp = water(v_min, kVmax, d_c);
@@ -31,16 +29,12 @@ PairRecord bridge_record(uint32_t i, uint32_t j, int64_t v) {
   return r;
 }
 
-glm::dvec3 beside(const glm::dvec3& from, const glm::dvec3& dir, double gap) {
-  return from + (2.0 * kR + gap) * glm::normalize(dir);
-}
-
-struct Outcome {
+struct StepOutcome {
   SystemState st;
   EventCounts ev;
 };
 
-Outcome one_step(const SimParams& prm, const SystemState& s, bool sequential) {
+StepOutcome one_step_by_rule(const SimParams& prm, const SystemState& s, bool sequential) {
   ref::ReferenceSystem sys(prm);
   sys.set_sequential_events(sequential);
   sys.set_state(s);
@@ -82,7 +76,7 @@ TEST(SimultaneousEvents, TwoPhaseEqualsSequentialOnIsolatedEvents) {
   uint64_t total_events = 0;
   for (int config = 0; config < 25; ++config) {
     const double d_c = std::array<double, 3>{1.0, 0.8, 0.37}[config % 3];
-    SimParams prm = wet_params(d_c, uni(0, 300'000'000));
+    SimParams prm = pair_params(d_c, uni(0, 300'000'000));
     prm.drum.radius = 1.0;
     prm.drum.length = 0.2;
     prm.drum.plate_lo.present = true;
@@ -135,8 +129,8 @@ TEST(SimultaneousEvents, TwoPhaseEqualsSequentialOnIsolatedEvents) {
         }
       }
     }
-    const Outcome two = one_step(prm, s, false);
-    const Outcome seq = one_step(prm, s, true);
+    const StepOutcome two = one_step_by_rule(prm, s, false);
+    const StepOutcome seq = one_step_by_rule(prm, s, true);
     ASSERT_EQ(two.st.total_liquid(), s.total_liquid());
     ASSERT_EQ(seq.st.total_liquid(), s.total_liquid());
     EXPECT_EQ(two.ev.formations, seq.ev.formations) << "config " << config;
@@ -164,19 +158,19 @@ TEST(SimultaneousEvents, TwoPhaseEqualsSequentialOnIsolatedEvents) {
 //  two-phase: A offers floor(V_f,A / 2) = 3e8 to each; AB = 3e8 + 1e8, AC = 3e8 + 2e8; A keeps the odd unit.
 //  sequential: AB forms first from the full films (7e8 + 1), then AC finds A dry and takes only C's 2e8.
 TEST(SimultaneousEvents, ParticleTouchingTwoNewPartners) {
-  const SimParams prm = wet_params();
+  const SimParams prm = pair_params();
   SystemState s = empty_state(3);
   const glm::dvec3 xa(0.0);
   put_sphere(s, 0, xa, kR, kRho);
   put_sphere(s, 1, beside(xa, glm::dvec3(-1, 0, 0), 0.0), kR, kRho);
   put_sphere(s, 2, beside(xa, glm::dvec3(1, 0, 0), 0.0), kR, kRho);
   s.p.film = {600'000'001, 100'000'000, 200'000'000};
-  const Outcome two = one_step(prm, s, false);
+  const StepOutcome two = one_step_by_rule(prm, s, false);
   EXPECT_EQ(bridge_of(two.st, 0, 1), 400'000'000);
   EXPECT_EQ(bridge_of(two.st, 0, 2), 500'000'000);
   EXPECT_EQ(two.st.p.film, (std::vector<int64_t>{1, 0, 0}));
   EXPECT_EQ(two.ev.formations, 2u);
-  const Outcome seq = one_step(prm, s, true);
+  const StepOutcome seq = one_step_by_rule(prm, s, true);
   EXPECT_EQ(bridge_of(seq.st, 0, 1), 700'000'001);
   EXPECT_EQ(bridge_of(seq.st, 0, 2), 200'000'000);
   EXPECT_EQ(seq.st.p.film, (std::vector<int64_t>{0, 0, 0}));
@@ -190,7 +184,7 @@ TEST(SimultaneousEvents, ParticleTouchingTwoNewPartners) {
 //  sequential: AB first fills B-C exactly to V_max; then C's whole share overflows into C's film:
 //             films A = 3e8, B = 0, C = 3e8, D = 3e8.
 TEST(SimultaneousEvents, BridgeFedFromBothEnds) {
-  const SimParams prm = wet_params();
+  const SimParams prm = pair_params();
   SystemState s = empty_state(4);
   const glm::dvec3 xb(0.0);
   put_sphere(s, 1, xb, kR, kRho);
@@ -199,11 +193,11 @@ TEST(SimultaneousEvents, BridgeFedFromBothEnds) {
   put_sphere(s, 3, beside(s.p.x[2], glm::dvec3(1, 0, 0), 1.1e-4), kR, kRho);
   s.pairs = {bridge_record(0, 1, 600'000'000), bridge_record(1, 2, 700'000'000),
              bridge_record(2, 3, 600'000'000)};
-  const Outcome two = one_step(prm, s, false);
+  const StepOutcome two = one_step_by_rule(prm, s, false);
   EXPECT_EQ(two.ev.ruptures, 2u);
   EXPECT_EQ(bridge_of(two.st, 1, 2), kVmax);
   EXPECT_EQ(two.st.p.film, (std::vector<int64_t>{300'000'000, 150'000'000, 150'000'000, 300'000'000}));
-  const Outcome seq = one_step(prm, s, true);
+  const StepOutcome seq = one_step_by_rule(prm, s, true);
   EXPECT_EQ(seq.ev.ruptures, 2u);
   EXPECT_EQ(bridge_of(seq.st, 1, 2), kVmax);
   EXPECT_EQ(seq.st.p.film, (std::vector<int64_t>{300'000'000, 0, 300'000'000, 300'000'000}));

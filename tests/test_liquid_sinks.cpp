@@ -10,11 +10,10 @@
 
 #include "reference/scenario.h"
 #include "support/backend.h"
+#include "support/liquid_pair.h"
 
 namespace wetdem::test {
 namespace {
-
-constexpr double kR = 1e-3, kRho = 2500.0;
 
 class Sinks : public ::testing::TestWithParam<std::string> {};
 

@@ -16,12 +16,11 @@
 #include "app/output/gltf_writer.h"
 #include "app/output/vtk_writer.h"
 
+#include "support/numbers.h"
 #include "support/tiny_gltf_quiet.h"
 
 namespace wetdem::test {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 SystemState particles(size_t n, double r = 1e-3) {
   SystemState s;

@@ -10,11 +10,10 @@
 #include "app/observe/window.h"
 #include "app/output/summary.h"
 #include "app/output/timeseries_stats.h"
+#include "support/numbers.h"
 
 namespace wetdem::test {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 TEST(ObserveWindow, DriftOfAnExactLine) {
   // 40 - 0.5 °/s over 10 s at ω = π/2 rad/s (a revolution every 4 s): -2 °/rev.

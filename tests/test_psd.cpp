@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "app/drum/psd.h"
+#include "support/numbers.h"
 
 using namespace wetdem;
 
@@ -18,8 +19,6 @@ namespace {
 // drum.md "Powders", µm, volume basis.
 const double kPP1[5] = {304.0, 555.5, 736.7, 891.6, 1033.0};
 const double kPP2[5] = {506.0, 712.7, 904.6, 1123.0, 1345.0};
-
-constexpr double kPi = 3.14159265358979323846;
 
 struct Case {
   const char* name;

@@ -15,12 +15,10 @@
 
 #include "reference/scenario.h"
 #include "support/backend.h"
+#include "support/liquid_pair.h"
 
 namespace wetdem::test {
 namespace {
-
-constexpr double kR = 1e-3;
-constexpr int64_t kVmax = 1'000'000'000;  // 1e-12 m^3 in units of 1e-21 m^3
 
 // Willett (§4): f0 / (1 + 1.05 S' + 2.5 S'^2), S' = S sqrt(R_h / V); f0 while touching.
 double willett(double f0, double R_h, double V, double S) {

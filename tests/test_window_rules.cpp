@@ -12,14 +12,13 @@
 #include "app/case/case.h"
 #include "app/output/summary.h"
 #include "app/output/window_rules.h"
+#include "support/numbers.h"
 
 namespace wetdem {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 // AR(1) series x_{i+1} = phi x_i + noise (sd 1), mean m.
-std::vector<double> ar1(size_t n, double phi, double m, unsigned seed) {
+std::vector<double> ar1_series(size_t n, double phi, double m, unsigned seed) {
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> g(0.0, 1.0);
   std::vector<double> v(n);
@@ -40,7 +39,7 @@ std::vector<double> times(size_t n, double dt) {
 
 TEST(WindowRules, DriftNeedsOneRevolution) {
   const double omega = 2 * kPi * 10 / 60;  // 10 rpm: 6 s per revolution
-  const std::vector<double> t = times(400, 0.02), white = ar1(400, 0.0, 30, 1);
+  const std::vector<double> t = times(400, 0.02), white = ar1_series(400, 0.0, 30, 1);
   // The demo's window: 0.8 s at 10 rpm, 0.13 revolutions (its drift read -129 deg/rev).
   const std::string short_window = app::drift_rule_reason(t, white, 0.8, omega, 0.02);
   EXPECT_TRUE(has(short_window, "0.13 revolutions")) << short_window;
@@ -54,20 +53,20 @@ TEST(WindowRules, DriftNeedsTenIndependentSamplesAboutItsTrend) {
   const double omega = 2 * kPi;  // 1 revolution per second: 4 revolutions in the window
   const std::vector<double> t = times(200, 0.02);
   // Strongly correlated (tau_int = 49.5 samples): 200 samples are ~2 independent ones.
-  const std::vector<double> slow = ar1(200, 0.98, 30, 7);
+  const std::vector<double> slow = ar1_series(200, 0.98, 30, 7);
   const std::string why = app::drift_rule_reason(t, slow, 4.0, omega, 0.02);
   EXPECT_FALSE(why.empty());
   EXPECT_TRUE(has(why, "n_eff") || has(why, "correlation time")) << why;
-  EXPECT_EQ(app::drift_rule_reason(t, ar1(200, 0.3, 30, 7), 4.0, omega, 0.02), "");
+  EXPECT_EQ(app::drift_rule_reason(t, ar1_series(200, 0.3, 30, 7), 4.0, omega, 0.02), "");
   // A real drift (10 deg over the window) on white noise: the trend itself does not hide the drift.
-  std::vector<double> drifting = ar1(200, 0.0, 30, 11);
+  std::vector<double> drifting = ar1_series(200, 0.0, 30, 11);
   for (size_t i = 0; i < drifting.size(); ++i) drifting[i] += 10.0 * t[i] / 4.0;
   EXPECT_FALSE(window_stats(drifting, 0.02).stationary);
   EXPECT_EQ(app::drift_rule_reason(t, drifting, 4.0, omega, 0.02), "");
 }
 
 TEST(WindowRules, MeanNeedsAStationaryWindow) {
-  EXPECT_EQ(app::mean_rule_reason(window_stats(ar1(300, 0.2, 0.7, 3), 0.02)), "");
+  EXPECT_EQ(app::mean_rule_reason(window_stats(ar1_series(300, 0.2, 0.7, 3), 0.02)), "");
   std::vector<double> ramp(300);
   for (size_t i = 0; i < ramp.size(); ++i) ramp[i] = 0.5 + 0.001 * double(i);
   EXPECT_FALSE(app::mean_rule_reason(window_stats(ramp, 0.02)).empty());
@@ -117,7 +116,8 @@ TEST(WindowRules, ShortWindowReportsNoDriftAndLabelsTheNetwork) {
   const app::Case c = app::parse_case_file(std::string(WETDEM_SOURCE_DIR) + "/assets/demo.toml",
                                            {"run.sample_interval=\"0.002 s\""});
   const size_t n = 401;  // 0.8 s every 2 ms
-  const nlohmann::json j = summary_of(c, window(c, ar1(n, 0.0, 40, 5), ar1(n, 0.0, 0.9, 6), 1834.0), 1834);
+  const nlohmann::json j =
+      summary_of(c, window(c, ar1_series(n, 0.0, 40, 5), ar1_series(n, 0.0, 0.9, 6), 1834.0), 1834);
   ASSERT_TRUE(j["aor_stationary"].get<bool>()) << j["aor_stationary_reason"];
   EXPECT_TRUE(j["aor_drift_deg_per_rev"].is_null());
   EXPECT_TRUE(j["aor_drift_deg_per_rev_sem"].is_null());
@@ -146,7 +146,8 @@ TEST(WindowRules, LongWindowReportsDriftAndATrendIsNotQuoted) {
                            {"drum.rpm=60", "run.duration=\"4.8 s\"", "run.steady_state_start=\"0.8 s\"",
                             "run.sample_interval=\"0.02 s\""});
   const size_t n = 201;
-  const nlohmann::json j = summary_of(c, window(c, ar1(n, 0.0, 35, 8), ar1(n, 0.0, 0.7, 9), 3.0), 400);
+  const nlohmann::json j =
+      summary_of(c, window(c, ar1_series(n, 0.0, 35, 8), ar1_series(n, 0.0, 0.7, 9), 3.0), 400);
   ASSERT_TRUE(j["aor_drift_deg_per_rev"].is_number()) << j["aor_drift_reason"];
   EXPECT_EQ(j["aor_drift_reason"], "");
   EXPECT_LT(std::fabs(j["aor_drift_deg_per_rev"].get<double>()),
