@@ -177,3 +177,31 @@ TEST(DiagnoseParagraph, TheSeedLuckIsNamedWhereItDecided) {
   const std::string unconfirmed = verdict_paragraph(u);
   EXPECT_NE(unconfirmed.find("the fresh runs left `cohesion` unconfirmed"), std::string::npos) << unconfirmed;
 }
+
+// A second effect whose fresh runs did not beat the first alone by the seed luck (confirm_second) is not
+// named: the verdict stays `partial` on the first, and the paragraph says which candidate was not confirmed
+// and why.
+TEST(DiagnoseParagraph, AnUnconfirmedSecondEffectIsNotNamed) {
+  Report r = chosen_with_fresh_runs("partial");
+  r.cell_condition = {"0 %", "5 %", "10 %"};
+  r.fresh[0].gaps_after[1].significant = true;
+  r.verdict.seed_luck = 49.1;
+  Candidate s;
+  s.effect = "scale";
+  r.second.verdict.kind = "effect";
+  r.second.verdict.ranking.push_back(s);
+  r.second.fresh.effect = "scale";
+  r.second.fresh.after.resize(3);
+  r.second.fresh.gaps_after.resize(3);
+  r.second.outcome = "part";
+  ASSERT_NE(r.second_named(), nullptr);
+  r.second.outcome = "unconfirmed";
+  EXPECT_EQ(r.second_named(), nullptr);
+  const std::string p = verdict_paragraph(r);
+  EXPECT_NE(p.find("**Gap explained in part by `cohesion`.**"), std::string::npos) << p;
+  EXPECT_NE(
+      p.find("`scale`, fitted on top of it, explains part of them with seeds 1..R, but its fresh runs do "
+             "not beat `cohesion` alone by the model's seed luck (49.1), so it is not named"),
+      std::string::npos)
+      << p;
+}

@@ -144,3 +144,24 @@ TEST(DiagnoseSecond, OutcomeRule) {
   EXPECT_EQ(second_outcome(v, {clear, left}), "part");
   EXPECT_EQ(second_outcome(v, {}), "part") << "no fresh runs of the pair: not shown to close the gap";
 }
+
+// The pair's fresh runs must beat the first effect alone on the same fresh seeds by max(min_drop, seed luck)
+// before the second effect is named; otherwise "unconfirmed" (it fails on a rule that named it on less).
+TEST(DiagnoseSecond, ASecondEffectIsNamedOnlyWhenItsFreshRunsBeatTheLuck) {
+  VerdictRule rule;
+  rule.min_drop = 4.0;
+  // The cohesion-weak twin of the flowing matrix at R = 2 had a luck of ~50: a drop of 20 is not enough.
+  EXPECT_EQ(confirm_second("part", 120.0, 100.0, rule, 50.0), "unconfirmed");
+  EXPECT_EQ(confirm_second("closes", 120.0, 100.0, rule, 50.0), "unconfirmed");
+  EXPECT_EQ(confirm_second("part", 160.0, 100.0, rule, 50.0), "part");
+  EXPECT_EQ(confirm_second("closes", 160.0, 100.0, rule, 50.0), "closes");
+  // Without luck (no control runs) min_drop is the margin.
+  EXPECT_EQ(confirm_second("closes", 103.0, 100.0, rule, 0.0), "unconfirmed");
+  EXPECT_EQ(confirm_second("closes", 104.0, 100.0, rule, 0.0), "closes");
+  // A pair worse on fresh seeds than the first alone is never named, whatever the luck.
+  EXPECT_EQ(confirm_second("part", 90.0, 100.0, rule, 0.0), "unconfirmed");
+  // Outcomes that name nothing stay; so does a pair whose fresh runs failed (no χ²).
+  EXPECT_EQ(confirm_second("none", 160.0, 100.0, rule, 0.0), "none");
+  EXPECT_EQ(confirm_second("noise", 90.0, 100.0, rule, 0.0), "noise");
+  EXPECT_EQ(confirm_second("part", 120.0, std::nan(""), rule, 50.0), "part");
+}

@@ -277,6 +277,12 @@ std::string verdict_core(const Report& r) {
             ? fmt::format(" With the baseline's seeds the model with `{}` leaves no cell significant: "
                           "the cells its fresh seeds left may be seed-to-seed scatter.",
                           c.effect)
+        : r.second.outcome == "unconfirmed"
+            ? fmt::format(
+                  " `{}`, fitted on top of it, explains part of them with seeds 1..R, but its fresh "
+                  "runs do not beat `{}` alone by the model's seed luck ({:.1f}), so it is not named; "
+                  "more replicates would decide.",
+                  r.second.fresh.effect, c.effect, r.verdict.seed_luck)
             : "");
   }
   const double ratio = r.spec->rule.ratio;

@@ -141,6 +141,13 @@ nlohmann::json second_json(const Report& r) {
                             {"notes", cr ? cr->notes : std::vector<std::string>{}},
                             {"text", strength_text(c, cr)}});
   }
+  // The confirmation (confirm_second): the pair's fresh runs against the first effect alone on the same
+  // seeds.
+  if (!s.fresh.gaps_after.empty() && r.chosen()) {
+    j["fresh_candidate"] = s.fresh.effect;
+    j["pair_fresh_chi2"] = chi2_of(s.fresh.gaps_after);
+    j["first_fresh_chi2"] = chi2_of(r.chosen()->gaps_after);
+  }
   const Candidate* b = r.second_named();
   j["effect"] = b ? json(b->effect) : json(nullptr);
   if (b) {
@@ -189,8 +196,18 @@ std::string second_markdown(const Report& r) {
       {"noise",
        "with the first effect and seeds 1..R no cell is significant: nothing is left for a second "
        "effect (only the fresh seeds left cells)"},
-      {"none", "no second candidate explains what the first leaves by the rule's margin"}};
+      {"none", "no second candidate explains what the first leaves by the rule's margin"},
+      {"unconfirmed",
+       "the best second candidate passes the rule against the first alone on seeds 1..R, but its fresh-seed "
+       "runs with the first are not better than the first alone on the same seeds by the model's seed luck, "
+       "so it is not named"}};
   md += "Outcome: **" + s.outcome + "**: " + says.at(s.outcome) + ".";
+  if (s.outcome == "unconfirmed" && !s.fresh.gaps_after.empty() && r.chosen())
+    md += fmt::format(
+        " Fresh runs of `{}` + `{}` at {:.3g}: χ² {:.1f}; `{}` alone on the same seeds: {:.1f} "
+        "(seed luck {:.1f}).",
+        s.base_effect, s.fresh.effect, s.fresh.strength, chi2_of(s.fresh.gaps_after), s.base_effect,
+        chi2_of(r.chosen()->gaps_after), r.verdict.seed_luck);
   if (const FreshCheck* f = r.second_fresh())
     md += fmt::format(" Fresh runs of `{}` + `{}` at {:.3g}: χ² {:.1f} over the {} cells, {} significant.",
                       s.base_effect, f->effect, f->strength, chi2_of(f->gaps_after), r.cells.size(),

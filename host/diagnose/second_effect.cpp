@@ -11,6 +11,7 @@
 #include "diagnose/screen.h"
 #include "diagnose/shrink.h"
 #include "diagnose/verdict.h"
+#include "diagnose/where.h"
 
 namespace wetdem::diagnose {
 
@@ -20,6 +21,13 @@ std::string second_outcome(const Verdict& second, const std::vector<CellGap>& pa
   const bool left =
       std::any_of(pair_after.begin(), pair_after.end(), [](const CellGap& g) { return g.significant; });
   return pair_after.empty() || left ? "part" : "closes";
+}
+
+std::string confirm_second(const std::string& outcome, double chi2_first_fresh, double chi2_pair_fresh,
+                           const VerdictRule& rule, double luck) {
+  if (outcome != "closes" && outcome != "part") return outcome;
+  if (std::isnan(chi2_first_fresh) || std::isnan(chi2_pair_fresh)) return outcome;
+  return fresh_confirms(chi2_first_fresh, chi2_pair_fresh, rule, luck) ? outcome : "unconfirmed";
 }
 
 namespace {
@@ -219,6 +227,24 @@ void run_second_effect(Procedure& p) {
     }
   }
   sr.outcome = second_outcome(sr.verdict, sr.fresh.gaps_after);
+  // 6. Named only if the pair's fresh runs beat the first effect's own fresh runs (same seeds) by the luck.
+  if (!sr.fresh.gaps_after.empty()) {
+    const double before = chi2_of(a.gaps_after), after = chi2_of(sr.fresh.gaps_after);
+    const std::string settled = confirm_second(sr.outcome, before, after, p.d.rule, p.verdict.seed_luck);
+    if (settled == "unconfirmed") {
+      if (confirm_second(sr.outcome, before, after, p.d.rule, 0.0) != "unconfirmed")
+        p.verdict.held_by_luck.push_back(sr.fresh.effect);
+      sr.notes.push_back(
+          fmt::format("second effect: the fresh runs of {} + {} at {:.3g} give χ² {:.1f} over the cells "
+                      "against {:.1f} for "
+                      "{} alone on the same fresh seeds: not lower by min_drop = {:g} or the model's own "
+                      "seed luck {:.1f}, "
+                      "so {} is not named",
+                      a.effect, sr.fresh.effect, sr.fresh.strength, after, before, a.effect,
+                      p.d.rule.min_drop, p.verdict.seed_luck, sr.fresh.effect));
+    }
+    sr.outcome = settled;
+  }
   if (sr.outcome == "closes") p.verdict.kind = "effect";
   if (sr.outcome == "noise")
     sr.notes.push_back(fmt::format(

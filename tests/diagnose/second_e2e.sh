@@ -18,6 +18,10 @@ expect "$D/d/diagnosis.json" 'j["verdict"] == "effect" and j["second"]["outcome"
 expect "$D/d/diagnosis.json" 'j["second"]["significant_cells"] == 0 and j["second"]["chi2_after"] < j["chi2_after"]' \
   "the pair's fresh runs leave cells"
 expect "$D/d/diagnosis.json" 'abs(j["ranking"][0]["strength"] / 0.6 - 1) <= 0.25' "spread strength (truth 0.6)"
+# The second effect is named only when the pair's fresh runs beat the first alone on the same fresh seeds by
+# the model's seed luck (second_effect.h, confirm_second).
+expect "$D/d/diagnosis.json" 'j["second"]["first_fresh_chi2"] - j["second"]["pair_fresh_chi2"] >= max(4, j["seed_luck_chi2"])' \
+  "the second effect was named without beating the seed luck on fresh seeds"
 grep -q "Gap explained by \`spread\` and \`absorption\` together" "$D/d/report.md" ||
   { echo "FAIL: the paragraph does not name both"; cat "$D/d/report.md"; exit 1; }
 
