@@ -234,14 +234,12 @@ void run_second_effect(Procedure& p) {
     if (settled == "unconfirmed") {
       if (confirm_second(sr.outcome, before, after, p.d.rule, 0.0) != "unconfirmed")
         p.verdict.held_by_luck.push_back(sr.fresh.effect);
-      sr.notes.push_back(
-          fmt::format("second effect: the fresh runs of {} + {} at {:.3g} give χ² {:.1f} over the cells "
-                      "against {:.1f} for "
-                      "{} alone on the same fresh seeds: not lower by min_drop = {:g} or the model's own "
-                      "seed luck {:.1f}, "
-                      "so {} is not named",
-                      a.effect, sr.fresh.effect, sr.fresh.strength, after, before, a.effect,
-                      p.d.rule.min_drop, p.verdict.seed_luck, sr.fresh.effect));
+      sr.notes.push_back(fmt::format(
+          "second effect: the fresh runs of {} + {} at {:.3g} give χ² {:.1f} over the cells against {:.1f} "
+          "for {} alone on the same fresh seeds: not lower by min_drop = {:g} or the model's own seed luck "
+          "{:.1f}, so {} is not named",
+          a.effect, sr.fresh.effect, sr.fresh.strength, after, before, a.effect, p.d.rule.min_drop,
+          p.verdict.seed_luck, sr.fresh.effect));
     }
     sr.outcome = settled;
   }
