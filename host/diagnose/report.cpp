@@ -202,16 +202,13 @@ std::string second_markdown(const Report& r) {
        "runs with the first are not better than the first alone on the same seeds by the model's seed luck, "
        "so it is not named"}};
   md += "Outcome: **" + s.outcome + "**: " + says.at(s.outcome) + ".";
-  if (s.outcome == "unconfirmed" && !s.fresh.gaps_after.empty() && r.chosen())
+  // The pair's fresh runs, named or not, beside the first effect alone on the same seeds (confirm_second).
+  if (!s.fresh.gaps_after.empty() && r.chosen())
     md += fmt::format(
-        " Fresh runs of `{}` + `{}` at {:.3g}: χ² {:.1f}; `{}` alone on the same seeds: {:.1f} "
-        "(seed luck {:.1f}).",
-        s.base_effect, s.fresh.effect, s.fresh.strength, chi2_of(s.fresh.gaps_after), s.base_effect,
-        chi2_of(r.chosen()->gaps_after), r.verdict.seed_luck);
-  if (const FreshCheck* f = r.second_fresh())
-    md += fmt::format(" Fresh runs of `{}` + `{}` at {:.3g}: χ² {:.1f} over the {} cells, {} significant.",
-                      s.base_effect, f->effect, f->strength, chi2_of(f->gaps_after), r.cells.size(),
-                      significant(f->gaps_after));
+        " Fresh runs of `{}` + `{}` at {:.3g}: χ² {:.1f} over the {} cells, {} significant; "
+        "`{}` alone on the same seeds: {:.1f} (seed luck {:.1f}).",
+        s.base_effect, s.fresh.effect, s.fresh.strength, chi2_of(s.fresh.gaps_after), r.cells.size(),
+        significant(s.fresh.gaps_after), s.base_effect, chi2_of(r.chosen()->gaps_after), r.verdict.seed_luck);
   return md + "\n\n";
 }
 

@@ -22,6 +22,8 @@ expect "$D/d/diagnosis.json" 'abs(j["ranking"][0]["strength"] / 0.6 - 1) <= 0.25
 # the model's seed luck (second_effect.h, confirm_second).
 expect "$D/d/diagnosis.json" 'j["second"]["first_fresh_chi2"] - j["second"]["pair_fresh_chi2"] >= max(4, j["seed_luck_chi2"])' \
   "the second effect was named without beating the seed luck on fresh seeds"
+grep -q "\`spread\` alone on the same seeds: " "$D/d/report.md" ||
+  { echo "FAIL: the report does not show the pair's confirmation"; cat "$D/d/report.md"; exit 1; }
 grep -q "Gap explained by \`spread\` and \`absorption\` together" "$D/d/report.md" ||
   { echo "FAIL: the paragraph does not name both"; cat "$D/d/report.md"; exit 1; }
 
