@@ -463,3 +463,13 @@ TEST(DiagnoseVerdict, SeedLuckIsTheMeanOverEverySplitOfTheSeeds) {
   EXPECT_DOUBLE_EQ(split_luck({7, 9}, sum), 2.0);
   EXPECT_THROW(split_luck({1, 2, 3}, sum), std::invalid_argument);
 }
+
+// A candidate whose tie the luck kept in the first round, and whose confirmation on top of the first effect
+// the luck decided in the second, is one entry of held_by_luck, in the order first held.
+TEST(DiagnoseVerdict, HeldByLuckListsEachCandidateOnce) {
+  Verdict v;
+  hold_by_luck(v, "hysteresis");
+  hold_by_luck(v, "scale");
+  hold_by_luck(v, "hysteresis");
+  EXPECT_EQ(v.held_by_luck, (std::vector<std::string>{"hysteresis", "scale"}));
+}

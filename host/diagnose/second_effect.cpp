@@ -233,7 +233,7 @@ void run_second_effect(Procedure& p) {
     const std::string settled = confirm_second(sr.outcome, before, after, p.d.rule, p.verdict.seed_luck);
     if (settled == "unconfirmed") {
       if (confirm_second(sr.outcome, before, after, p.d.rule, 0.0) != "unconfirmed")
-        p.verdict.held_by_luck.push_back(sr.fresh.effect);
+        hold_by_luck(p.verdict, sr.fresh.effect);
       sr.notes.push_back(fmt::format(
           "second effect: the fresh runs of {} + {} at {:.3g} give χ² {:.1f} over the cells against {:.1f} "
           "for {} alone on the same fresh seeds: not lower by min_drop = {:g} or the model's own seed luck "

@@ -182,8 +182,7 @@ void judge_unseen_on_fresh(Procedure& p) {
                         f.effect, b, f.strength, a, chosen.effect, luck));
         break;
       case FreshJudgement::kKeep:
-        if (unseen_on_fresh(a, b, n, p.d.rule) != FreshJudgement::kKeep)
-          p.verdict.held_by_luck.push_back(f.effect);
+        if (unseen_on_fresh(a, b, n, p.d.rule) != FreshJudgement::kKeep) hold_by_luck(p.verdict, f.effect);
         p.notes.push_back(fmt::format(
             "shrink: {} (unseen, tied held out) gives χ² {:.1f} on fresh runs at {:.3g} against "
             "{:.1f} for {}: within the tie margin or the model's own seed luck ({:.1f}), still tied",
@@ -283,7 +282,7 @@ void run_shrink(Procedure& p) {
   const double before = control ? chi2_of(p.null_fresh.gaps_after) : chi2_of(p.gaps);
   const double after = chi2_of(chosen.gaps_after);
   if (!fresh_confirms(before, after, p.d.rule, p.verdict.seed_luck)) {
-    if (fresh_confirms(before, after, p.d.rule)) p.verdict.held_by_luck.push_back(chosen.effect);
+    if (fresh_confirms(before, after, p.d.rule)) hold_by_luck(p.verdict, chosen.effect);
     p.notes.push_back(fmt::format(
         "shrink: the fresh runs of {} at {:.3g} give χ² {:.1f} over the cells against {:.1f} for the model "
         "without it ({}): not lower by min_drop = {:g} or the model's own seed luck {:.1f}, so the fit is "
@@ -307,7 +306,7 @@ void run_shrink(Procedure& p) {
     if (std::find(p.verdict.tied.begin(), p.verdict.tied.end(), f.effect) != p.verdict.tied.end()) continue;
     const double other = chi2_of(f.gaps_after);
     if (fresh_tie(after, other, p.tab.cells.size(), p.d.rule, p.verdict.seed_luck)) {
-      if (!fresh_tie(after, other, p.tab.cells.size(), p.d.rule)) p.verdict.held_by_luck.push_back(f.effect);
+      if (!fresh_tie(after, other, p.tab.cells.size(), p.d.rule)) hold_by_luck(p.verdict, f.effect);
       p.verdict.tied.push_back(f.effect);
       p.verdict.tied_on_fresh.push_back(f.effect);
       p.notes.push_back(

@@ -197,4 +197,9 @@ void settle_verdict(Verdict& v, const std::vector<bool>& significant_after) {
     v.kind = "partial";
 }
 
+void hold_by_luck(Verdict& v, const std::string& effect) {
+  if (std::find(v.held_by_luck.begin(), v.held_by_luck.end(), effect) == v.held_by_luck.end())
+    v.held_by_luck.push_back(effect);
+}
+
 }  // namespace wetdem::diagnose

@@ -159,4 +159,8 @@ FreshJudgement unseen_on_fresh(double chi2_chosen, double chi2_unseen, size_t n,
 // with a luck of 69.8: not confirmed.
 bool fresh_confirms(double chi2_before, double chi2_fresh, const VerdictRule& rule, double luck = 0.0);
 
+// Lists `effect` in v.held_by_luck once: the first round and the second may both find its comparison decided
+// by the luck (a tie kept, then the same candidate unconfirmed on top).
+void hold_by_luck(Verdict& v, const std::string& effect);
+
 }  // namespace wetdem::diagnose
