@@ -204,4 +204,11 @@ TEST(DiagnoseParagraph, AnUnconfirmedSecondEffectIsNotNamed) {
              "not beat `cohesion` alone by the model's seed luck (49.1), so it is not named"),
       std::string::npos)
       << p;
+  // Held by the luck with a tie of the first round: the tie is kept, the second is unconfirmed on top.
+  r.verdict.held_by_luck = {"hysteresis", "scale"};
+  const std::string l = verdict_paragraph(r);
+  EXPECT_NE(l.find("the fresh runs kept `hysteresis` in the tie, and left `scale` unconfirmed on top of "
+                   "`cohesion`"),
+            std::string::npos)
+      << l;
 }

@@ -140,10 +140,14 @@ std::string luck_sentence(const Report& r) {
   const std::vector<std::string>& h = r.verdict.held_by_luck;
   if (h.empty()) return "";
   std::vector<std::string> k;
-  std::string unconfirmed;
+  std::string unconfirmed, on_top;
+  // The second round's candidate was not in a tie: the luck decided its confirmation on top of the first.
+  const bool second = r.second.outcome == "unconfirmed" && r.chosen();
   for (const std::string& e : h)
     if (e == r.verdict.effect && r.verdict.fresh_rejected)
       unconfirmed = e;
+    else if (second && e == r.second.fresh.effect)
+      on_top = e;
     else
       k.push_back(e);
   std::string kept;
@@ -153,6 +157,9 @@ std::string luck_sentence(const Report& r) {
   if (!kept.empty()) what = "kept " + kept + " in the tie";
   if (!unconfirmed.empty())
     what += (what.empty() ? "" : ", and ") + fmt::format("left `{}` unconfirmed", unconfirmed);
+  if (!on_top.empty())
+    what += (what.empty() ? "" : ", and ") +
+            fmt::format("left `{}` unconfirmed on top of `{}`", on_top, r.chosen()->effect);
   return fmt::format(
       " **The seed luck decided:** the fresh runs {} although their χ² differ by more than the tie "
       "margin (or min_drop), because the same model moves on average by {:.1f} between two seed sets of {} "
