@@ -23,25 +23,23 @@ layout(local_size_x = 256) in;
 
 void gather_kick(uint i, uint s, uint mode) {
   Params P = PRM_OF(i, s);
-  Vec4s vel = Vec4s(paddr(s, PF_VEL)), omg = Vec4s(paddr(s, PF_OMG));
-  Vec3s force = Vec3s(paddr(s, PF_FORCE)), torque = Vec3s(paddr(s, PF_TORQUE));
-  vec4 pr = Vec4s(paddr(s, PF_PROPS)).v[i];  // radius, mass, inertia
+  vec4 pr = load_v4(paddr(s, PF_PROPS), i);  // radius, mass, inertia
   vec3 g = vec3(P.gravity[0], P.gravity[1], P.gravity[2]);
   const float hdt = 0.5 * P.dt;
-  vec3 v = vel.v[i].xyz, w = omg.v[i].xyz, F, Tq;
+  vec3 v = load_v4(paddr(s, PF_VEL), i).xyz, w = load_v4(paddr(s, PF_OMG), i).xyz, F, Tq;
   if ((mode & GK_GATHER) != 0u) {
     Uints nbr_off = Uints(paddr(s, PF_NOFFSET)), nbr_cnt = Uints(paddr(s, PF_NCOUNT));
-    Vec3s pf = Vec3s(T().pair_f), pt = Vec3s(T().pair_t);
     F = vec3(0.0);
     Tq = vec3(0.0);
     uint b = nbr_off.v[i], c = nbr_cnt.v[i];
     for (uint e = b; e < b + c; ++e) {
-      F += pf.v[e];  // a mirrored entry holds -F of its owner: x + (-y) is x - y exactly
-      Tq += pt.v[e];
+      vec4 ft = load_v4(T().pair_f, e);  // (F, T.x); a mirrored entry holds -F of its owner: x + (-y) is x - y
+      F += ft.xyz;
+      Tq += vec3(ft.w, load_v2(T().pair_t, e));
     }
     for (uint k = 0u; k < 3u; ++k) wall_contact(k, i, s, P, F, Tq);
-    force.v[i] = F;
-    torque.v[i] = Tq;
+    store_v4(paddr(s, PF_FORCE), i, vec4(F, Tq.x));  // (F, T.x), (T.y, T.z): access.glsl
+    store_v2(paddr(s, PF_TORQUE), i, Tq.yz);
     precise vec3 a = F / pr.y + g;
     precise vec3 al = Tq / pr.z;
     precise vec3 v1 = v + hdt * a;
@@ -57,8 +55,9 @@ void gather_kick(uint i, uint s, uint mode) {
     }
     if ((mode & GK_SHARE) != 0u) rupture_share(i, s, P, (CTL().v[CTL_CAND_PAIR] & CAND_RUPT) != 0u);
   } else {
-    F = force.v[i];
-    Tq = torque.v[i];
+    vec4 ft = load_v4(paddr(s, PF_FORCE), i);
+    F = ft.xyz;
+    Tq = vec3(ft.w, load_v2(paddr(s, PF_TORQUE), i));
   }
   // The next step's first half kick and drift: stored when folded here or run on its own; after a gather
   // it also gives the positions of the next force evaluation, where the list must hold every pair (the skin
@@ -67,10 +66,8 @@ void gather_kick(uint i, uint s, uint mode) {
   precise vec3 al2 = Tq / pr.z;
   precise vec3 v2 = v + hdt * a2;
   precise vec3 w2 = w + hdt * al2;
-  IVec4s pos = IVec4s(paddr(s, PF_POS));
-  Vec4s frac = Vec4s(paddr(s, PF_FRAC));
-  ivec4 p = pos.v[i];
-  vec4 f = frac.v[i];
+  ivec4 p = load_i4(paddr(s, PF_POS), i);
+  vec4 f = load_v4(paddr(s, PF_FRAC), i);
   // Displacement in ticks: whole ticks move the integer position, the remainder stays in the fraction.
   precise vec3 fx = f.xyz + v2 * (P.dt * P.inv_h);
   vec3 carry = roundEven(fx);
@@ -80,14 +77,14 @@ void gather_kick(uint i, uint s, uint mode) {
   if ((mode & GK_KICK_DRIFT) != 0u) {
     v = v2;
     w = w2;
-    pos.v[i] = p;
-    frac.v[i] = f;
+    store_i4(paddr(s, PF_POS), i, p);
+    store_v4(paddr(s, PF_FRAC), i, f);
   }
-  vel.v[i] = vec4(v, 0.0);
-  omg.v[i] = vec4(w, 0.0);
+  store_v4(paddr(s, PF_VEL), i, vec4(v, 0.0));
+  store_v4(paddr(s, PF_OMG), i, vec4(w, 0.0));
   bool gather = (mode & GK_GATHER) != 0u;
   float disp = 0.0;
-  if (gather) disp = length(vec3(tick_delta(p.xyz, IVec4s(T().ref_pos).v[i].xyz, P.period_ticks))) * P.h;
+  if (gather) disp = length(vec3(tick_delta(p.xyz, load_i4(T().ref_pos, i).xyz, P.period_ticks))) * P.h;
   // Rebuild when the largest exceeds skin/2. Max of non-negative floats = max of their bits.
   if (gather) atomicMax(CTL().v[CTL_MAX_DISP], floatBitsToUint(disp));
 }

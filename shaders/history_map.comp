@@ -13,7 +13,6 @@ void main() {
   Params P = PRM();
   if (i >= P.num_particles || halted()) return;
   uint s = parity(), t = 1u - s;  // s: old list, t: new list
-  Vec3s st_new = Vec3s(eaddr(t, EF_ST)), sr_new = Vec3s(eaddr(t, EF_SR));
   Int64s liq_new = Int64s(eaddr(t, EF_LIQ));
   Uints fl_new = Uints(eaddr(t, EF_FLAGS)), mir_new = Uints(eaddr(t, EF_MIRROR)), nbr_new = Uints(eaddr(t, EF_NBR));
   IVec4s pos_new = IVec4s(paddr(t, PF_POS)), pos_old = IVec4s(paddr(s, PF_POS));
@@ -24,7 +23,8 @@ void main() {
   uint ko = k + Uints(paddr(s, PF_NCOUNT)).v[io];
   int idk = k < ko ? pos_old.v[nbr_old.v[k]].w : 0;
   for (uint e = b; e < b + c; ++e) {
-    vec3 st = vec3(0.0), sr = vec3(0.0);
+    uvec4 st = uvec4(0u);  // the springs as stored (access.glsl): (t, r.x), (r.y, r.z)
+    uint64_t sr = 0ul;
     int64_t liq = 0;
     uint fl = 0u;
     if (mir_new.v[e] == e) {
@@ -34,16 +34,16 @@ void main() {
         if (k < ko) idk = pos_old.v[nbr_old.v[k]].w;
       }
       if (k < ko && idk == idj) {
-        st = Vec3s(eaddr(s, EF_ST)).v[k];
-        sr = Vec3s(eaddr(s, EF_SR)).v[k];
+        st = load_u4(eaddr(s, EF_ST), k);
+        sr = U64s(eaddr(s, EF_SR)).v[k];
         liq = Int64s(eaddr(s, EF_LIQ)).v[k];
         uint fo = fl_old.v[k];
         fl = fo & FLAG_WIC;
         fl_old.v[k] = fo | FLAG_MAPPED;
       }
     }
-    st_new.v[e] = st;
-    sr_new.v[e] = sr;
+    store_u4(eaddr(t, EF_ST), e, st);
+    U64s(eaddr(t, EF_SR)).v[e] = sr;
     liq_new.v[e] = liq;
     fl_new.v[e] = fl;
   }

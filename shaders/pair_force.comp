@@ -17,20 +17,20 @@ void main() {
   uint i = Uints(eaddr(s, EF_SELF)).v[e], j = Uints(eaddr(s, EF_NBR)).v[e];
   IVec4s pos = IVec4s(paddr(s, PF_POS));
   Vec4s vel = Vec4s(paddr(s, PF_VEL)), omg = Vec4s(paddr(s, PF_OMG)), props = Vec4s(paddr(s, PF_PROPS));
-  Vec3s stb = Vec3s(eaddr(s, EF_ST)), srb = Vec3s(eaddr(s, EF_SR));
   Int64s liq = Int64s(eaddr(s, EF_LIQ));
   Uints flags = Uints(eaddr(s, EF_FLAGS));
 
-  vec4 pi = props.v[i], pj = props.v[j];
+  vec4 pi = load_v4(paddr(s, PF_PROPS), i), pj = load_v4(paddr(s, PF_PROPS), j);
   Vec4s frac = Vec4s(paddr(s, PF_FRAC));
-  vec4 fi = frac.v[i], fj = frac.v[j];
-  ivec3 D = tick_delta(pos.v[i].xyz, pos.v[j].xyz, P.period_ticks);
+  vec4 fi = load_v4(paddr(s, PF_FRAC), i), fj = load_v4(paddr(s, PF_FRAC), j);
+  ivec3 D = tick_delta(load_i4(paddr(s, PF_POS), i).xyz, load_i4(paddr(s, PF_POS), j).xyz, P.period_ticks);
   vec3 n;
   float dist;
   float delta = pair_overlap_ticks(D, fi.xyz - fj.xyz, floatBitsToInt(pi.w) + floatBitsToInt(pj.w), fi.w + fj.w, n,
                                    dist) * P.h;
   float S = -delta;
-  vec3 st = stb.v[e], sr = srb.v[e];
+  vec4 sp = load_v4(eaddr(s, EF_ST), e);  // springs (t, r.x), (r.y, r.z): access.glsl
+  vec3 st = sp.xyz, sr = vec3(sp.w, load_v2(eaddr(s, EF_SR), e));
   int64_t vb = liq.v[e];
   uint fl = flags.v[e] & FLAG_WIC;
 
@@ -44,8 +44,9 @@ void main() {
   if (delta > 0.0) {
     float Rs = pi.x * pj.x / (pi.x + pj.x);
     float ms = pi.y * pj.y / (pi.y + pj.y);
-    vec3 wi = omg.v[i].xyz, wj = omg.v[j].xyz;
-    vec3 vrel = vel.v[i].xyz + cross(wi, ci) - vel.v[j].xyz - cross(wj, cj);
+    vec3 wi = load_v4(paddr(s, PF_OMG), i).xyz, wj = load_v4(paddr(s, PF_OMG), j).xyz;
+    vec3 vi = load_v4(paddr(s, PF_VEL), i).xyz, vj = load_v4(paddr(s, PF_VEL), j).xyz;
+    vec3 vrel = vi + cross(wi, ci) - vj - cross(wj, cj);
     contact_force(P.pp, P.dt, n, delta, Rs, ms, vrel, wi - wj, st, sr, F, t);
   }
   Effects X = P.fx[0];
@@ -75,13 +76,14 @@ void main() {
     uint cand = ((fl & FLAG_RUPT) != 0u ? CAND_RUPT : 0u) | ((fl & FLAG_FORM) != 0u ? CAND_FORM : 0u);
     if (cand != 0u) atomicOr(CTL().v[CTL_CAND_PAIR], cand);
   }
-  stb.v[e] = st;
-  srb.v[e] = sr;
+  store_v4(eaddr(s, EF_ST), e, vec4(st, sr.x));
+  store_v2(eaddr(s, EF_SR), e, sr.yz);
   flags.v[e] = fl;
   uint m = Uints(T().partner).v[e];  // the mirrored entry, in j's segment
-  Vec3s pf = Vec3s(T().pair_f), pt = Vec3s(T().pair_t);
-  pf.v[e] = F;
-  pf.v[m] = -F;
-  pt.v[e] = t + cross(ci, F);
-  pt.v[m] = -t - cross(cj, F);
+  // Force and torque of each entry as (F, T.x) in pair_f and (T.y, T.z) in pair_t (buffer_set.h).
+  vec3 ti = t + cross(ci, F), tj = -t - cross(cj, F);
+  store_v4(T().pair_f, e, vec4(F, ti.x));
+  store_v2(T().pair_t, e, ti.yz);
+  store_v4(T().pair_f, m, vec4(-F, tj.x));
+  store_v2(T().pair_t, m, tj.yz);
 }

@@ -63,8 +63,8 @@ BufferSet::~BufferSet() {
 void BufferSet::grow_scratch(uint32_t entries) {
   if (entries <= scratch_capacity_) return;
   const uint64_t E = std::max<uint32_t>(entries, 1);
-  pair_f = vk::Buffer(ctx, E * 12);
-  pair_t = vk::Buffer(ctx, E * 12);
+  pair_f = vk::Buffer(ctx, E * 16);                             // (F, T.x) per entry
+  pair_t = vk::Buffer(ctx, E * 8);                              // (T.y, T.z)
   ev = vk::Buffer(ctx, event_slots ? E * kEventSlotBytes : 0);  // (16 bytes when unused)
   partner = vk::Buffer(ctx, E * 4);
   owners = vk::Buffer(ctx, E * 4);

@@ -36,13 +36,15 @@ enum EntryField : uint32_t { kNbr, kSelf, kMirror, kSt, kSr, kLiq, kFlags, kNumE
 
 // Bytes per element of each field: per particle, or per wall slot of a particle (the wall fields: a particle
 // keeps one record per wall the system has, wall_slots() of them: the cylinder, and the plates of a closed
-// drum). Force, torque and the entries' springs are packed vec3 (scalar layout).
+// drum). Force and torque are stored as (F, T.x) in kForce and (T.y, T.z) in kTorque, an entry's springs as
+// (t, r.x) in kSt and (r.y, r.z) in kSr: whole 16- and 8-byte words, which lavapipe moves in fewer loops than
+// packed vec3 (table.glsl). The bytes are those of two packed vec3.
 inline constexpr std::array<uint32_t, kNumParticleFields> kParticleFieldBytes = {
-    16, 16, 16, 16, 12, 12, 8, 16, 16, 8, 4, 4, 4, 16, 8, 8, 8};
+    16, 16, 16, 16, 16, 8, 8, 16, 16, 8, 4, 4, 4, 16, 8, 8, 8};
 inline constexpr std::array<bool, kNumParticleFields> kPerWallSlot = {
     false, false, false, false, false, false, false, true, true,
     true,  true,  false, false, false, false, false, false};
-inline constexpr std::array<uint32_t, kNumEntryFields> kEntryFieldBytes = {4, 4, 4, 12, 12, 8, 4};
+inline constexpr std::array<uint32_t, kNumEntryFields> kEntryFieldBytes = {4, 4, 4, 16, 8, 8, 4};
 // Bytes of particle field f per particle, and of one particle set, with `wall_slots` wall records each.
 constexpr uint32_t particle_field_bytes(uint32_t f, uint32_t wall_slots) {
   return kParticleFieldBytes[f] * (kPerWallSlot[f] ? wall_slots : 1u);
@@ -57,9 +59,10 @@ constexpr uint32_t entry_set_bytes() {
   for (uint32_t f : kEntryFieldBytes) b += f;
   return b;
 }
-// Per-entry scratch: pair force and torque (packed vec3), partner, owner list; the event slots (8 B) only
-// when the step is recorded pass by pass (SystemOptions::fused_step off, or no 64-bit atomics).
-inline constexpr uint32_t kEntryScratchBytes = 12 + 12 + 4 + 4;
+// Per-entry scratch: pair force and torque as (F, T.x) and (T.y, T.z), whole 16- and 8-byte words that
+// lavapipe moves in fewer loops than packed vec3 (table.glsl), partner, owner list; the event slots (8 B)
+// only when the step is recorded pass by pass (SystemOptions::fused_step off, or no 64-bit atomics).
+inline constexpr uint32_t kEntryScratchBytes = 16 + 8 + 4 + 4;
 inline constexpr uint32_t kEventSlotBytes = 8;
 
 // Address table, std430 (all uint64), mirror of `Table` in access.glsl.

@@ -15,6 +15,18 @@ namespace wetdem {
 
 using gpu::groups_for;
 
+namespace {
+// Two vec3 a, b of element k stored split as (a, b.x) in a 16-byte word and (b.y, b.z) in an 8-byte word
+// (force and torque; an entry's springs: buffer_set.h).
+struct Split {
+  std::vector<float> w4, w2;
+  explicit Split(size_t count) : w4(4 * count), w2(2 * count) {}
+  Split(std::vector<float> four, std::vector<float> two) : w4(std::move(four)), w2(std::move(two)) {}
+  float& a(size_t k, int c) { return w4[4 * k + c]; }
+  float& b(size_t k, int c) { return c == 0 ? w4[4 * k + 3] : w2[2 * k + c - 1]; }
+};
+}  // namespace
+
 void System::Impl::upload(const SystemState& s) {
   if (s.p.size() != n)
     throw std::invalid_argument(fmt::format("upload: state has {} particles, system {}", s.p.size(), n));
@@ -32,7 +44,8 @@ void System::Impl::upload(const SystemState& s) {
   // Particles into set 0 in stable-id order.
   std::vector<int32_t> pos(4 * n);
   std::vector<float> frac(4 * size_t(n));
-  std::vector<float> vel(4 * n), omg(4 * n), props(4 * n), frc(3 * n), trq(3 * n);
+  std::vector<float> vel(4 * n), omg(4 * n), props(4 * n);
+  Split ft(n);  // force, torque
   // One wall record per wall the drum has (buffer_set.h): the slot of wall w is its rank among them.
   const uint32_t ns = B->wall_slots;
   std::vector<float> wst(4 * size_t(ns) * n), wsr(4 * size_t(ns) * n);
@@ -53,8 +66,8 @@ void System::Impl::upload(const SystemState& s) {
       pos[4 * k + a] = int32_t(t);
       vel[4 * k + a] = float(s.p.v[k][a]);
       omg[4 * k + a] = float(s.p.w[k][a]);
-      frc[3 * k + a] = float(s.p.f[k][a]);
-      trq[3 * k + a] = float(s.p.t[k][a]);
+      ft.a(k, a) = float(s.p.f[k][a]);
+      ft.b(k, a) = float(s.p.t[k][a]);
     }
     pos[4 * k + 3] = int32_t(k);
     props[4 * k + 0] = float(s.p.radius[k]);
@@ -88,8 +101,8 @@ void System::Impl::upload(const SystemState& s) {
   P0[gpu::kVel].upload(vel);
   P0[gpu::kOmg].upload(omg);
   P0[gpu::kProps].upload(props);
-  P0[gpu::kForce].upload(frc);
-  P0[gpu::kTorque].upload(trq);
+  P0[gpu::kForce].upload(ft.w4);
+  P0[gpu::kTorque].upload(ft.w2);
   P0[gpu::kFilm].upload(s.p.film);
   P0[gpu::kWallSt].upload(wst);
   P0[gpu::kWallSr].upload(wsr);
@@ -115,7 +128,7 @@ void System::Impl::upload(const SystemState& s) {
   });
   const uint32_t E = uint32_t(recs.size());
   std::vector<uint32_t> cnt(n, 0), off(n, 0), nbr(E), self(E), mir(E), fl(E);
-  std::vector<float> st(3 * size_t(E)), sr(3 * size_t(E));
+  Split sp(E);  // springs: tangential, rolling
   std::vector<int64_t> liq(E);
   for (uint32_t e = 0; e < E; ++e) {
     const PairRecord& r = recs[e];
@@ -126,8 +139,8 @@ void System::Impl::upload(const SystemState& s) {
     self[e] = r.id_i;
     mir[e] = e;
     for (int a = 0; a < 3; ++a) {
-      st[3 * e + a] = float(r.spring_t[a]);
-      sr[3 * e + a] = float(r.spring_r[a]);
+      sp.a(e, a) = float(r.spring_t[a]);
+      sp.b(e, a) = float(r.spring_r[a]);
     }
     liq[e] = r.bridge;
     fl[e] = r.flags & kFlagWasInContact;
@@ -142,8 +155,8 @@ void System::Impl::upload(const SystemState& s) {
   E0[gpu::kNbr].upload(nbr);
   E0[gpu::kSelf].upload(self);
   E0[gpu::kMirror].upload(mir);
-  E0[gpu::kSt].upload(st);
-  E0[gpu::kSr].upload(sr);
+  E0[gpu::kSt].upload(sp.w4);
+  E0[gpu::kSr].upload(sp.w2);
   E0[gpu::kLiq].upload(liq);
   E0[gpu::kFlags].upload(fl);
   B->upload_table();
@@ -211,8 +224,8 @@ SystemState System::Impl::download() {
   auto vel = P[gpu::kVel].download_as<float>(4 * size_t(n));
   auto omg = P[gpu::kOmg].download_as<float>(4 * size_t(n));
   auto props = P[gpu::kProps].download_as<float>(4 * size_t(n));
-  auto frc = P[gpu::kForce].download_as<float>(3 * size_t(n));
-  auto trq = P[gpu::kTorque].download_as<float>(3 * size_t(n));
+  Split ft(P[gpu::kForce].download_as<float>(4 * size_t(n)),
+           P[gpu::kTorque].download_as<float>(2 * size_t(n)));
   auto film = P[gpu::kFilm].download_as<int64_t>(n);
   auto frac = P[gpu::kFrac].download_as<float>(4 * size_t(n));
   const uint32_t ns = B->wall_slots;
@@ -234,8 +247,8 @@ SystemState System::Impl::download() {
       out.p.x[i][a] = (double(pos[4 * k + a]) + double(frac[4 * k + a])) * h;
       out.p.v[i][a] = vel[4 * k + a];
       out.p.w[i][a] = omg[4 * k + a];
-      out.p.f[i][a] = frc[3 * k + a];
-      out.p.t[i][a] = trq[3 * k + a];
+      out.p.f[i][a] = ft.a(k, a);
+      out.p.t[i][a] = ft.b(k, a);
     }
     int32_t r_ticks;
     std::memcpy(&r_ticks, &props[4 * k + 3], 4);
@@ -261,8 +274,7 @@ SystemState System::Impl::download() {
   auto nbr = Es[gpu::kNbr].download_as<uint32_t>(E);
   auto self = Es[gpu::kSelf].download_as<uint32_t>(E);
   auto mir = Es[gpu::kMirror].download_as<uint32_t>(E);
-  auto st = Es[gpu::kSt].download_as<float>(3 * size_t(E));
-  auto sr = Es[gpu::kSr].download_as<float>(3 * size_t(E));
+  Split sp(Es[gpu::kSt].download_as<float>(4 * size_t(E)), Es[gpu::kSr].download_as<float>(2 * size_t(E)));
   auto liq = Es[gpu::kLiq].download_as<int64_t>(E);
   auto fl = Es[gpu::kFlags].download_as<uint32_t>(E);
   for (uint32_t e = 0; e < E; ++e) {
@@ -273,8 +285,8 @@ SystemState System::Impl::download() {
     if (r.id_i > r.id_j)
       throw std::runtime_error("download: owner entry is not the lower id (internal error)");
     for (int a = 0; a < 3; ++a) {
-      r.spring_t[a] = st[3 * e + a];
-      r.spring_r[a] = sr[3 * e + a];
+      r.spring_t[a] = sp.a(e, a);
+      r.spring_r[a] = sp.b(e, a);
     }
     r.bridge = liq[e];
     r.flags = fl[e] & kFlagWasInContact;
@@ -305,11 +317,12 @@ std::vector<std::pair<uint32_t, uint32_t>> System::Impl::neighbour_pairs() {
 }
 
 namespace {
-// "WMDSNP05": 03 (02 + the radii the cell grid was sized from) with the control words of the fused step, wall
-// records for the walls the drum has, force, torque and springs packed vec3.
-constexpr uint64_t kSnapMagic = 0x3530504E53444D57ull;
-constexpr uint64_t kSnapMagicOld[] = {0x3230504E53444D57ull, 0x3330504E53444D57ull,
-                                      0x3430504E53444D57ull};  // 02, 03, 04
+// "WMDSNP06": 03 (02 + the radii the cell grid was sized from) with the control words of the fused step, wall
+// records for the walls the drum has, and force and torque, and the pair springs, as (a, b.x) and (b.y, b.z)
+// words (05: packed vec3 each).
+constexpr uint64_t kSnapMagic = 0x3630504E53444D57ull;
+constexpr uint64_t kSnapMagicOld[] = {0x3230504E53444D57ull, 0x3330504E53444D57ull, 0x3430504E53444D57ull,
+                                      0x3530504E53444D57ull};  // 02, 03, 04, 05
 struct SnapHeader {
   uint64_t magic;
   uint32_t n, parity, entries, pad;

@@ -10,8 +10,8 @@
 #define PF_VEL 1
 #define PF_OMG 2
 #define PF_PROPS 3
-#define PF_FORCE 4
-#define PF_TORQUE 5
+#define PF_FORCE 4   // vec4: force (xyz) and the torque's x (w)
+#define PF_TORQUE 5  // vec2: the torque's y, z
 #define PF_FILM 6
 #define PF_WST 7
 #define PF_WSR 8
@@ -28,8 +28,8 @@
 #define EF_NBR 0
 #define EF_SELF 1
 #define EF_MIRROR 2
-#define EF_ST 3
-#define EF_SR 4
+#define EF_ST 3  // vec4: the tangential spring (xyz) and the rolling spring's x (w)
+#define EF_SR 4  // vec2: the rolling spring's y, z
 #define EF_LIQ 5
 #define EF_FLAGS 6
 #define EF_COUNT 7

@@ -15,9 +15,9 @@
 #define NEIGHBOURS_IN_RANGE_(b, e, VISIT)                                                         \
   for (uint j = b; j < e; ++j) {                                                                  \
     if (j == i) continue;                                                                         \
-    ivec3 D_ = tick_delta(pi_, pos_.v[j].xyz, P.period_ticks);                                    \
+    ivec3 D_ = tick_delta(pi_, load_i4(pos_a_, j).xyz, P.period_ticks);                            \
     if (any(greaterThan(abs(D_), ivec3(reach_)))) continue;                                       \
-    vec3 d_ = (vec3(D_) + (fi_ - fr_.v[j].xyz)) * P.h;                                            \
+    vec3 d_ = (vec3(D_) + (fi_ - load_v4(fr_a_, j).xyz)) * P.h;                                    \
     if (length(d_) - (ri_ + props_.v[j].x) < P.cutoff_extra) { VISIT; }                             \
   }
 
@@ -26,13 +26,12 @@
 // key (reading the run table here instead made llvmpipe's compiled loop crash).
 #define FOR_EACH_NEIGHBOUR(i, s, P, VISIT)                                                        \
   {                                                                                               \
-    IVec4s pos_ = IVec4s(paddr(s, PF_POS));                                                       \
+    uint64_t pos_a_ = paddr(s, PF_POS), fr_a_ = paddr(s, PF_FRAC);                                \
     Vec4s props_ = Vec4s(paddr(s, PF_PROPS));                                                     \
     Uints cs_ = Uints(T().cell_start), ce_ = Uints(T().cell_end);                                 \
-    ivec3 pi_ = pos_.v[i].xyz;                                                                    \
+    ivec3 pi_ = load_i4(pos_a_, i).xyz;                                                            \
     uint block_ = (Uints(T().cell_key).v[i] / P.cells_per_run) * P.cells_per_run;                 \
-    Vec4s fr_ = Vec4s(paddr(s, PF_FRAC));                                                         \
-    vec3 fi_ = fr_.v[i].xyz;                                                                      \
+        vec3 fi_ = load_v4(fr_a_, i).xyz;                                                              \
     float ri_ = props_.v[i].x;                                                                    \
     bool esc_;                                                                                    \
     ivec3 c0_ = cell_of(pi_, P, esc_);                                                            \

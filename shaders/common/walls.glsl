@@ -42,21 +42,19 @@ bool wall_geometry(uint w, ivec3 p, vec3 pf, int r_t, float r_f, Params P, out f
 
 // Force and torque of wall w on particle i; updates that wall's springs and event flags.
 void wall_contact(uint w, uint i, uint s, Params P, inout vec3 F, inout vec3 Tq) {
-  IVec4s pos = IVec4s(paddr(s, PF_POS));
-  ivec3 p = pos.v[i].xyz;
-  vec4 pr = Vec4s(paddr(s, PF_PROPS)).v[i];
+  ivec3 p = load_i4(paddr(s, PF_POS), i).xyz;
+  vec4 pr = load_v4(paddr(s, PF_PROPS), i);
   float delta, wom;
   vec3 n;
-  vec4 pf = Vec4s(paddr(s, PF_FRAC)).v[i];
+  vec4 pf = load_v4(paddr(s, PF_FRAC), i);
   if (!wall_geometry(w, p, pf.xyz, floatBitsToInt(pr.w), pf.w, P, delta, n, wom)) return;
-  Vec4s wst = Vec4s(paddr(s, PF_WST)), wsr = Vec4s(paddr(s, PF_WSR));
   Int64s wliq = Int64s(paddr(s, PF_WLIQ));
   Uints wfl = Uints(paddr(s, PF_WFLAGS));
   uint k = wall_slot(i, w, P);
   float r = pr.x;
   float S = -delta;
   Liquid L = P.lpw[w];
-  vec3 st = wst.v[k].xyz, sr = wsr.v[k].xyz;
+  vec3 st = load_v4(paddr(s, PF_WST), k).xyz, sr = load_v4(paddr(s, PF_WSR), k).xyz;
   int64_t vb = wliq.v[k];
   uint fl = wfl.v[k] & FLAG_WIC;
   if (S >= L.range) {
@@ -69,8 +67,8 @@ void wall_contact(uint w, uint i, uint s, Params P, inout vec3 F, inout vec3 Tq)
     vec3 xi = (vec3(p) + pf.xyz) * P.h;
     vec3 wom3 = vec3(0.0, 0.0, wom);
     vec3 vw = cross(wom3, xi + ci);  // wall surface velocity at the contact point
-    vec3 wi = Vec4s(paddr(s, PF_OMG)).v[i].xyz;
-    vec3 vrel = Vec4s(paddr(s, PF_VEL)).v[i].xyz + cross(wi, ci) - vw;
+    vec3 wi = load_v4(paddr(s, PF_OMG), i).xyz;
+    vec3 vrel = load_v4(paddr(s, PF_VEL), i).xyz + cross(wi, ci) - vw;
     contact_force(P.pw[w], P.dt, n, delta, r, pr.y, vrel, wi - wom3, st, sr, Fw, t);
   }
   Effects X = P.fx[1u + w];
@@ -89,8 +87,8 @@ void wall_contact(uint w, uint i, uint s, Params P, inout vec3 F, inout vec3 Tq)
     if (vb == 0 && (fl & FLAG_WIC) == 0u && delta >= 0.0) fl |= FLAG_FORM;
     if (vb == 0 && S > 0.0) fl &= ~FLAG_WIC;
   }
-  wst.v[k] = vec4(st, 0.0);
-  wsr.v[k] = vec4(sr, 0.0);
+  store_v4(paddr(s, PF_WST), k, vec4(st, 0.0));
+  store_v4(paddr(s, PF_WSR), k, vec4(sr, 0.0));
   wfl.v[k] = fl;
   F += Fw;
   Tq += t + cross(ci, Fw);

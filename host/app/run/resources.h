@@ -65,7 +65,7 @@ constexpr double particle_set_bytes(bool periodic_slice) {
 inline constexpr double kEntrySetBytes = gpu::entry_set_bytes();
 // ref_pos; cell_key, sort_val, cnt_scan, own_scan; p_share, p_gain, p_full, p_offer
 inline constexpr double kParticleScratchBytes = 16 + 4 * 4 + 4 * 8;
-// pair_f, pair_t (packed vec3); partner, owners (the fused step needs no event slots)
+// pair_f, pair_t ((F, T.x) and (T.y, T.z)); partner, owners (the fused step needs no event slots)
 inline constexpr double kEntryScratchBytes = gpu::kEntryScratchBytes;
 inline constexpr double kSortScratchBytes = 2 * 4;           // radix sort ping-pong keys, values
 inline constexpr double kDeviceCellBytesPerParticle = 64.0;  // <= 8 cells x (start, end) per particle
