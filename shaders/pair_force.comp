@@ -13,15 +13,12 @@ void main() {
   if (k >= CTL().v[CTL_OWNERS]) return;
   uint e = Uints(T().owners).v[k];
   uint s = parity();
-  Params P = PRM_OF(Uints(eaddr(s, EF_SELF)).v[e], s);
   uint i = Uints(eaddr(s, EF_SELF)).v[e], j = Uints(eaddr(s, EF_NBR)).v[e];
-  IVec4s pos = IVec4s(paddr(s, PF_POS));
-  Vec4s vel = Vec4s(paddr(s, PF_VEL)), omg = Vec4s(paddr(s, PF_OMG)), props = Vec4s(paddr(s, PF_PROPS));
+  Params P = PRM_OF(i, s);
   Int64s liq = Int64s(eaddr(s, EF_LIQ));
   Uints flags = Uints(eaddr(s, EF_FLAGS));
 
   vec4 pi = load_v4(paddr(s, PF_PROPS), i), pj = load_v4(paddr(s, PF_PROPS), j);
-  Vec4s frac = Vec4s(paddr(s, PF_FRAC));
   vec4 fi = load_v4(paddr(s, PF_FRAC), i), fj = load_v4(paddr(s, PF_FRAC), j);
   ivec3 D = tick_delta(load_i4(paddr(s, PF_POS), i).xyz, load_i4(paddr(s, PF_POS), j).xyz, P.period_ticks);
   vec3 n;
@@ -59,7 +56,8 @@ void main() {
     F -= f * n;
     if (X.visc_eta > 0.0) {  // `viscous`: lubrication opposing the normal relative velocity
       float Rs = pi.x * pj.x / (pi.x + pj.x);
-      float vn = dot(vel.v[i].xyz - vel.v[j].xyz, n);  // omega x (c - x) has no normal part
+      vec3 dv = load_v4(paddr(s, PF_VEL), i).xyz - load_v4(paddr(s, PF_VEL), j).xyz;
+      float vn = dot(dv, n);  // omega x (c - x) has no normal part
       F -= lubrication_coef(X, S, Rs, float(vb) * P.lpp.unit_m3) * vn * n;
     }
   }

@@ -31,7 +31,7 @@
     Uints cs_ = Uints(T().cell_start), ce_ = Uints(T().cell_end);                                 \
     ivec3 pi_ = load_i4(pos_a_, i).xyz;                                                            \
     uint block_ = (Uints(T().cell_key).v[i] / P.cells_per_run) * P.cells_per_run;                 \
-        vec3 fi_ = load_v4(fr_a_, i).xyz;                                                              \
+    vec3 fi_ = load_v4(fr_a_, i).xyz;                                                             \
     float ri_ = props_.v[i].x;                                                                    \
     bool esc_;                                                                                    \
     ivec3 c0_ = cell_of(pi_, P, esc_);                                                            \
