@@ -93,6 +93,12 @@ TEST(DiagnoseFiles, BadDiagnosisFilesNameTheKey) {
   EXPECT_NE(err("effects = [\"gravity\"]\n").find("unknown effect 'gravity'"), std::string::npos);
   EXPECT_NE(err("colour = 3\n").find("colour: unknown key"), std::string::npos);
   EXPECT_NE(err("replicates = 0\n").find("replicates"), std::string::npos);
+  // Escalation must add seeds: at or below `replicates` it would run the same diagnosis twice.
+  EXPECT_NE(err("replicates = 2\nescalate_replicates = 2\n")
+                .find("escalate_replicates: 2 is not more than replicates (2)"),
+            std::string::npos);
+  EXPECT_NE(err("escalate_replicates = -1\n").find("escalate_replicates: an integer in [0, 100]"),
+            std::string::npos);
   EXPECT_NE(err("second_effect = 1\n").find("second_effect: true or false"), std::string::npos);
   EXPECT_NE(err("reach_conditions = -1\n").find("reach_conditions: an integer in [0, 20]"),
             std::string::npos);

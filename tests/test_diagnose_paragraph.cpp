@@ -178,6 +178,40 @@ TEST(DiagnoseParagraph, TheSeedLuckIsNamedWhereItDecided) {
   EXPECT_NE(unconfirmed.find("the fresh runs left `cohesion` unconfirmed"), std::string::npos) << unconfirmed;
 }
 
+// An escalated diagnosis (driver.cpp, escalate_replicates) says what the first pass found and why it ran
+// again; the verdict itself is the second pass's. verdict_line is also the CLI's one-line verdict.
+TEST(DiagnoseParagraph, AnEscalatedDiagnosisSaysWhyItRanAgain) {
+  Report r = chosen_with_fresh_runs("effect");
+  EXPECT_EQ(verdict_paragraph(r).find("Run again with more seeds"), std::string::npos) << "one pass";
+  Verdict first;
+  first.kind = "partial";
+  first.effect = "cohesion";
+  first.tied = {"hysteresis"};
+  EXPECT_EQ(verdict_line(first), "partial (cohesion; tied: hysteresis)");
+  EXPECT_EQ(verdict_line(first, "scale"), "partial (cohesion + scale; tied: hysteresis)");
+  first.kind = "no_gap";
+  EXPECT_EQ(verdict_line(first), "no_gap");
+  r.escalation.from = 2;
+  r.escalation.to = 4;
+  r.escalation.verdict = "partial (cohesion; tied: hysteresis)";
+  r.escalation.tied = {"hysteresis"};
+  r.escalation.held_by_luck = {"hysteresis"};
+  r.escalation.seed_luck = 49.1;
+  const std::string p = verdict_paragraph(r);
+  EXPECT_NE(
+      p.find("**Run again with more seeds:** at 2 seeds per condition the verdict was partial (cohesion; "
+             "tied: hysteresis): the tie with `hysteresis` held on fresh runs, and the model's seed luck "
+             "(49.1) decided `hysteresis`. This report is the diagnosis at 4 seeds per condition"),
+      std::string::npos)
+      << p;
+  r.escalation.tied = {"evaporation", "spread"};
+  r.escalation.held_by_luck.clear();
+  const std::string two = verdict_paragraph(r);
+  EXPECT_NE(two.find("the tie with `evaporation` and `spread` held on fresh runs. This report"),
+            std::string::npos)
+      << two;
+}
+
 // A second effect whose fresh runs did not beat the first alone by the seed luck (confirm_second) is not
 // named: the verdict stays `partial` on the first, and the paragraph says which candidate was not confirmed
 // and why.

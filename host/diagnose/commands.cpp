@@ -32,6 +32,11 @@ class Impl : public study::Commands {
                      "seeds per condition instead of the file's `replicates` (baseline seeds 1..R, fresh "
                      "seeds R+1..2R): more lowers the model's seed luck")
         ->check(CLI::Range(1, 100));
+    diag_
+        ->add_option("--escalate-replicates", escalate_,
+                     "when the seed luck decides the verdict, run again at this many seeds per condition "
+                     "(instead of the file's `escalate_replicates`; 0: never)")
+        ->check(CLI::Range(0, 100));
     add_common(diag_);
     twin_ =
         cli.add_subcommand("twin", "synthetic observations from a model with a withheld effect (validation)");
@@ -52,6 +57,16 @@ class Impl : public study::Commands {
           d.observations = std::filesystem::absolute(observations_).lexically_normal().string();
         }
         if (replicates_ > 0) d.replicates = replicates_;
+        if (escalate_ >= 0) {
+          if (escalate_ != 0 && escalate_ <= d.replicates)
+            throw DiagnoseError(
+                fmt::format("--escalate-replicates: {} is not more than the replicates ({}); 0 turns it off",
+                            escalate_, d.replicates));
+          d.escalate_replicates = escalate_;
+        } else if (d.escalate_replicates <= d.replicates) {
+          d.escalate_replicates =
+              0;  // --replicates at or past the file's escalation: that many from the start
+        }
         choose_batch();
         const nlohmann::json j = run_diagnosis(d, o_);
         std::string named;  // "spread" or "spread + absorption" (a second effect on top of the first)
@@ -60,6 +75,11 @@ class Impl : public study::Commands {
         std::string tied;
         for (const auto& e : j["tied"]) tied += (tied.empty() ? "; tied: " : ", ") + e.get<std::string>();
         named += tied;
+        if (!j["escalation"].is_null())
+          std::printf("first pass at R = %d: %s, not decided; run again at R = %d\n",
+                      j["escalation"]["from_replicates"].get<int>(),
+                      j["escalation"]["verdict"].get<std::string>().c_str(),
+                      j["escalation"]["to_replicates"].get<int>());
         std::printf("verdict: %s%s\nreport: %s/report.md\n", j["verdict"].get<std::string>().c_str(),
                     named.empty() ? "" : (" (" + named + ")").c_str(), o_.out.c_str());
       } else {
@@ -109,6 +129,7 @@ class Impl : public study::Commands {
   CLI::App *diag_ = nullptr, *twin_ = nullptr;
   std::string file_, observations_;
   int replicates_ = 0;  // 0: the file's
+  int escalate_ = -1;   // -1: the file's
   size_t batch_ = 0;    // 0: auto (auto_batch.h)
   DiagnoseOptions o_;
 };

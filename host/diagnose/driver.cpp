@@ -1,6 +1,10 @@
 #include "diagnose/driver.h"
 
+#include <algorithm>
 #include <chrono>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "diagnose/baseline.h"
 #include "diagnose/fit_stage.h"
@@ -36,16 +40,12 @@ class StageClock {
   std::vector<StageCost> stages_;
 };
 
-}  // namespace
-
-nlohmann::json run_diagnosis(const DiagnosisSpec& d, const DiagnoseOptions& o) {
-  const auto t0 = std::chrono::steady_clock::now();
-  Procedure p(d, o);  // reads and checks the table and every run it may need; wants the baseline
-  StageClock clock(p);
+// Stages 1-6b: baseline to the verdict, its fresh checks and a second effect.
+void run_to_verdict(Procedure& p, StageClock& clock) {
   want_screen(p);   // the screen's probes run together with the baseline
   run_baseline(p);  // 1. baseline
   clock.done("baseline and screen probes");
-  p.gaps = where(p.tab.cells, p.baselines[0], d.rule.q);  // 2. where
+  p.gaps = where(p.tab.cells, p.baselines[0], p.d.rule.q);  // 2. where
   const bool any_gap =
       std::any_of(p.gaps.begin(), p.gaps.end(), [](const CellGap& g) { return g.significant; });
   run_screen(p);  // 3. screen
@@ -53,22 +53,81 @@ nlohmann::json run_diagnosis(const DiagnosisSpec& d, const DiagnoseOptions& o) {
   if (!any_gap) {
     p.verdict.kind = "no_gap";
     p.verdict.null_loco = loco_null(p.tab.cells, p.baselines);
-  } else {
-    run_fit(p);                  // 4. fit
-    mark_unseen(p);              // 5. only what the table can see is named first
-    p.verdict = decide_seen(p);  // 5. verdict
-    clock.done("fit and verdict");
-    run_shrink(p);  // 6. shrink (and the verdict settled)
-    clock.done("shrink");
-    run_second_effect(p);  // 6b. a second effect, when partial
-    clock.done("second effect");
+    return;
+  }
+  run_fit(p);                  // 4. fit
+  mark_unseen(p);              // 5. only what the table can see is named first
+  p.verdict = decide_seen(p);  // 5. verdict
+  clock.done("fit and verdict");
+  run_shrink(p);  // 6. shrink (and the verdict settled)
+  clock.done("shrink");
+  run_second_effect(p);  // 6b. a second effect, when partial
+  clock.done("second effect");
+}
+
+// A verdict more seeds could decide: a tie kept on fresh runs, or a fresh comparison the seed luck decided.
+bool undecided(const Verdict& v) {
+  return !v.tied.empty() || !v.held_by_luck.empty();
+}
+
+// Stages 7-8: the experiment that would separate a tie, and what the table can see of each candidate.
+void run_after_verdict(Procedure& p, StageClock& clock) {
+  if (p.verdict.kind != "no_gap") {
     run_next_experiment(p);  // 7. next experiment (ties)
     clock.done("next experiment");
   }
   run_reach(p);  // 8. what the table can see of each candidate (its strongest probe if none shows it)
   clock.done("reach");
-  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  return write_report(o.out, make_report(p, wall_s, clock.stages()), o.figures);
+}
+
+}  // namespace
+
+nlohmann::json run_diagnosis(const DiagnosisSpec& d, const DiagnoseOptions& o) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto wall = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
+  Procedure p(d, o);  // reads and checks the table and every run it may need; wants the baseline
+  StageClock clock(p);
+  run_to_verdict(p, clock);
+  // Sequential replication: when the first pass leaves its verdict undecided (a tie kept on fresh runs, or a
+  // comparison only the model's seed luck decided), more seeds per condition lower the luck and the models'
+  // errors (docs/validation.md: the luck 49.1 -> 18.0 from R = 2 to 4 on cohesion-weak, and its tie went) and
+  // may decide it. Only then are they paid for. The first pass's runs stay in the store, and the second
+  // reuses those it needs (the baseline's seeds 1..R and fresh seeds R+1..2R become seeds 1..2R; probes and
+  // fits).
+  if (d.escalate_replicates <= d.replicates || !undecided(p.verdict)) {
+    run_after_verdict(p, clock);
+    return write_report(o.out, make_report(p, wall(), clock.stages()), o.figures);
+  }
+  Escalation e;
+  e.from = d.replicates;
+  e.to = d.escalate_replicates;
+  e.held_by_luck = p.verdict.held_by_luck;
+  e.tied = p.verdict.tied;
+  e.seed_luck = p.verdict.seed_luck;
+  const Report first = make_report(p, 0.0);
+  e.verdict = verdict_line(p.verdict, first.second_named() ? first.second_named()->effect : "");
+  e.runs_computed = p.book.computed();
+  if (!o.quiet)
+    fmt::print("diagnose: at {} seeds per condition the verdict is {}, not decided; running again at {}\n",
+               e.from, e.verdict, e.to);
+  DiagnosisSpec more = d;
+  more.replicates = d.escalate_replicates;
+  Procedure q(more, o);
+  q.escalation = e;
+  StageClock clock2(q);
+  run_to_verdict(q, clock2);
+  run_after_verdict(q, clock2);
+  std::vector<StageCost> stages;
+  for (StageCost c : clock.stages()) {
+    c.stage = fmt::format("R = {}: {}", e.from, c.stage);
+    stages.push_back(c);
+  }
+  for (const StageCost& c : clock2.stages()) stages.push_back(c);
+  Report r = make_report(q, wall(), stages);
+  r.computed += e.runs_computed;
+  return write_report(o.out, r, o.figures);
 }
 
 }  // namespace wetdem::diagnose

@@ -77,10 +77,26 @@ std::string toml_text_of_written(const std::string& w) {
 DiagnosisSpec parse_diagnosis_file(const std::string& path_in) {
   const std::string path = fs::absolute(path_in).lexically_normal().string();
   const toml::table root = load(path);
-  reject_unknown(root, path,
-                 {"name", "case", "observations", "effects", "replicates", "screen_top", "refine", "extend",
-                  "confirm", "max_cost", "next_conditions", "reach_conditions", "second_effect", "set",
-                  "probes", "shapes", "verdict", "refit", "refit_values"});
+  reject_unknown(root, path, {"name",
+                              "case",
+                              "observations",
+                              "effects",
+                              "replicates",
+                              "escalate_replicates",
+                              "screen_top",
+                              "refine",
+                              "extend",
+                              "confirm",
+                              "max_cost",
+                              "next_conditions",
+                              "reach_conditions",
+                              "second_effect",
+                              "set",
+                              "probes",
+                              "shapes",
+                              "verdict",
+                              "refit",
+                              "refit_values"});
   DiagnosisSpec d;
   d.path = path;
   d.name = root["name"].value_or(fs::path(path).stem().string());
@@ -112,6 +128,17 @@ DiagnosisSpec parse_diagnosis_file(const std::string& path_in) {
     if (!r || *r < 1 || *r > 100)
       throw DiagnoseError(fmt::format("{}: replicates: an integer in [1, 100]", path));
     d.replicates = int(*r);
+  }
+  if (root.contains("escalate_replicates")) {
+    const auto r = root["escalate_replicates"].value<int64_t>();
+    if (!r || *r < 0 || *r > 100)
+      throw DiagnoseError(fmt::format("{}: escalate_replicates: an integer in [0, 100] (0: never)", path));
+    if (*r != 0 && *r <= d.replicates)
+      throw DiagnoseError(
+          fmt::format("{}: escalate_replicates: {} is not more than replicates ({}); 0 turns "
+                      "it off",
+                      path, *r, d.replicates));
+    d.escalate_replicates = int(*r);
   }
   if (root.contains("screen_top")) {
     const auto r = root["screen_top"].value<int64_t>();

@@ -35,8 +35,12 @@ struct DiagnosisSpec {
   double max_cost = 10;        // a run needing more than this many times a baseline run's steps is not run
   size_t next_conditions = 6;  // conditions the next-experiment stage may propose and run (0: none)
   size_t reach_conditions =
-      3;                      // conditions beyond the table where a candidate it cannot see is run (power.h)
-  int replicates = 2;         // baseline and shrink seeds
+      3;               // conditions beyond the table where a candidate it cannot see is run (power.h)
+  int replicates = 2;  // baseline and shrink seeds
+  // When the verdict at `replicates` seeds is not decided (a tie, or a comparison the seed luck decided), the
+  // diagnosis runs again at this many, reusing every run of the first pass the second needs (driver.cpp).
+  // 0: never.
+  int escalate_replicates = 0;
   size_t screen_top = 3;      // candidates fitted after the screen
   bool second_effect = true;  // a partial verdict fits a second candidate on top (second_effect.h)
   int refine = 2;             // per fitted candidate: runs added at its fitted strength, then refitted (0-5)

@@ -172,10 +172,31 @@ std::string luck_sentence(const Report& r) {
       h.size() == 1 ? "it" : "them");
 }
 
+// An escalated diagnosis (driver.cpp): what the first pass found and why it ran again.
+std::string escalation_sentence(const Report& r) {
+  const Escalation& e = r.escalation;
+  if (e.from == 0) return "";
+  const auto list = [](const std::vector<std::string>& v) {
+    std::string s;
+    for (size_t i = 0; i < v.size(); ++i) s += (i == 0 ? "`" : i + 1 == v.size() ? "` and `" : "`, `") + v[i];
+    return s.empty() ? s : s + "`";
+  };
+  std::string why;
+  if (!e.tied.empty()) why = "the tie with " + list(e.tied) + " held on fresh runs";
+  if (!e.held_by_luck.empty())
+    why += (why.empty() ? "" : ", and ") +
+           fmt::format("the model's seed luck ({:.1f}) decided {}", e.seed_luck, list(e.held_by_luck));
+  return fmt::format(
+      " **Run again with more seeds:** at {} seed{} per condition the verdict was {}: {}. This report is the "
+      "diagnosis at {} seeds per condition (`escalate_replicates`), which reused the first pass's runs it "
+      "needed.",
+      e.from, e.from == 1 ? "" : "s", e.verdict, why, e.to);
+}
+
 }  // namespace
 
 std::string verdict_paragraph(const Report& r) {
-  return verdict_core(r) + luck_sentence(r) + blind_sentence(r);
+  return verdict_core(r) + escalation_sentence(r) + luck_sentence(r) + blind_sentence(r);
 }
 
 namespace {

@@ -88,6 +88,18 @@ struct SecondRound {
   std::vector<std::string> notes;
 };
 
+// The first pass of an escalated diagnosis (DiagnosisSpec::escalate_replicates; driver.cpp): at `from` seeds
+// per condition its verdict was not decided (a tie, or a comparison the seed luck decided), so the diagnosis
+// ran again at `to`.
+struct Escalation {
+  int from = 0, to = 0;
+  std::vector<std::string> tied;          // the first pass's ties
+  std::vector<std::string> held_by_luck;  // what the luck decided in the first pass
+  double seed_luck = 0.0;                 // the first pass's luck (χ²)
+  std::string verdict;                    // the first pass's verdict: "partial (cohesion; tied: hysteresis)"
+  size_t runs_computed = 0;               // runs the first pass computed
+};
+
 class Procedure {
  public:
   Procedure(const DiagnosisSpec& d, const DiagnoseOptions& o);
@@ -119,6 +131,7 @@ class Procedure {
   std::vector<std::string> unseen;           // fitted candidates whose runs the table cannot see (power.h)
   std::vector<std::string> unseen_rejected;  // of them, tied held out but clearly worse on fresh runs
   std::vector<std::string> notes;            // failed runs, cut ranges, what could not be probed
+  Escalation escalation;                     // from = 0: this is the only pass
 
   // The effect (none: "") at strength s, refit setting j, shape value (NaN: the effect's default shape).
   Variant variant(const std::string& effect, double s, size_t j = 0,

@@ -71,6 +71,7 @@ Report make_report(const Procedure& p, double wall_s, std::vector<StageCost> sta
   r.within_inflation = p.within_inflation;
   r.unseen = p.unseen;
   r.notes = p.notes;
+  r.escalation = p.escalation;
   r.notes.insert(r.notes.end(), p.second.notes.begin(), p.second.notes.end());
   r.not_measured = p.tab.not_measured;
   r.runs = p.book.runs();
@@ -257,6 +258,14 @@ std::string reach_markdown(const Report& r) {
   return md + "\n";
 }
 
+std::string verdict_line(const Verdict& v, const std::string& second) {
+  const bool named = v.kind == "effect" || v.kind == "partial";
+  if (!named) return v.kind;
+  std::string s = v.kind + " (" + v.effect + (second.empty() ? "" : " + " + second);
+  for (size_t i = 0; i < v.tied.size(); ++i) s += (i == 0 ? "; tied: " : ", ") + v.tied[i];
+  return s + ")";
+}
+
 nlohmann::json write_report(const std::string& dir, const Report& r, bool figures) {
   fs::create_directories(dir);
   using nlohmann::json;
@@ -281,6 +290,15 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
   j["tied"] = r.verdict.tied;
   j["tied_on_fresh"] = r.verdict.tied_on_fresh;  // near ties held out that tie on fresh runs
   j["held_by_luck"] = r.verdict.held_by_luck;    // fresh comparisons the seed luck decided (verdict.h)
+  // The first pass at fewer seeds, when its verdict was not decided and the diagnosis ran again.
+  j["escalation"] = r.escalation.from == 0 ? json(nullptr)
+                                           : json{{"from_replicates", r.escalation.from},
+                                                  {"to_replicates", r.escalation.to},
+                                                  {"tied", r.escalation.tied},
+                                                  {"held_by_luck", r.escalation.held_by_luck},
+                                                  {"seed_luck_chi2", r.escalation.seed_luck},
+                                                  {"verdict", r.escalation.verdict},
+                                                  {"runs_computed", r.escalation.runs_computed}};
   j["rule"] = {{"fdr", r.spec->rule.q},
                {"ratio", r.spec->rule.ratio},
                {"min_drop", r.spec->rule.min_drop},

@@ -45,6 +45,7 @@ struct Report {
   std::string device, store;
   double wall_s = 0.0;
   std::vector<StageCost> stages;  // where the wall time went, in the procedure's order
+  Escalation escalation;          // the first pass, when the seed luck decided it (from = 0: none)
 
   const CandidateRuns* runs_of(const std::string& effect) const;
   const FreshCheck* fresh_of(const std::string& effect) const;
@@ -73,6 +74,9 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
 bool has_refit(const Report& r);
 
 std::string verdict_paragraph(const Report& r);
+
+// The verdict in one line, as the CLI prints it: "partial (cohesion + scale; tied: hysteresis)".
+std::string verdict_line(const Verdict& v, const std::string& second = "");
 
 // "liquid.v_max re-fitted to 0.5 %" ("liquid.v_max kept as calibrated") for refit setting j; "" without
 // refit.
