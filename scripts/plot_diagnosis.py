@@ -132,10 +132,22 @@ def main(d):
     rk = j.get("ranking") or []
     refit = lambda r: f"\n{r['refit']['label']}" if "refit" in r else ""  # noqa: E731
     null = "none (null)" + (f"\n{j['null_refit']['label']}" if "null_refit" in j else "")
-    names = [null] + [r["effect"] + refit(r) for r in rk]
+    # What the verdict made of each candidate, on its bar: the one named, those tied with it, and those whose
+    # probes the table cannot see (never named first on their held-out score alone: a lower bar can come second).
+    unseen = set(j.get("unseen") or [])
+    def role(e):
+        r = "named" if e == j.get("effect") else "tied" if e in (j.get("tied") or []) else ""
+        return r + (", " if r else "") + "probes not seen" if e in unseen else r
+    names = [null] + [r["effect"] + (f" ({role(r['effect'])})" if role(r["effect"]) else "") + refit(r) for r in rk]
     vals = [j["null_loco_chi2"]] + [r["loco_chi2"] for r in rk]
-    fig, ax = plt.subplots(figsize=(5.5, 1 + (0.65 if "refit" in j else 0.4) * len(names)))
-    ax.barh(range(len(names)), vals, color=["0.6"] + ["tab:blue"] * len(rk))
+    fig, ax = plt.subplots(figsize=(6.2, 1 + (0.65 if "refit" in j else 0.4) * len(names)))
+    shade = {"named": "tab:blue"}
+    bars = ax.barh(range(len(names)), vals,
+                   color=["0.6"] + [shade.get(role(r["effect"]).split(",")[0], "lightsteelblue") for r in rk])
+    for b, r in zip(bars[1:], rk):
+        if r["effect"] in unseen:
+            b.set_hatch("///")
+            b.set_edgecolor("0.3")
     ax.set_yticks(range(len(names)), names)
     ax.invert_yaxis()
     # The chosen candidate's χ² is often a thousandth of the null's: a log axis, and each value written out.
@@ -155,7 +167,7 @@ def main(d):
         ax.axvline(margin, color="tab:red", ls=":", lw=1.2, label=f"effect margin {margin:.3g}")
         ax.legend(fontsize=7, loc="lower right", frameon=False)
     ax.set_xlim(right=max(vals) * (3.0 if ax.get_xscale() == "log" else 1.15) if vals else 1)
-    ax.set_xlabel("held-out χ² (leave one condition out); lower is better")
+    ax.set_xlabel("held-out χ² (leave one condition out)\nlower is better")
     fig.tight_layout()
     fig.savefig(os.path.join(out, "ranking.png"), dpi=120)
     plt.close(fig)
