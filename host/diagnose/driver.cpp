@@ -4,7 +4,6 @@
 #include <chrono>
 
 #include <fmt/format.h>
-#include <fmt/ranges.h>
 
 #include "diagnose/baseline.h"
 #include "diagnose/fit_stage.h"

@@ -102,6 +102,14 @@ std::string beyond_clause(const Reach& x) {
                      x.beyond_tried.size(), x.beyond_z, x.beyond_observable, x.beyond_condition);
 }
 
+// Names as code in a sentence: "`a`", "`a` and `b`", "`a`, `b` and `c`" ("" for none).
+std::string code_list(const std::vector<std::string>& v) {
+  std::string s;
+  for (size_t i = 0; i < v.size(); ++i)
+    s += (i == 0 ? "`" : i + 1 == v.size() ? " and `" : ", `") + v[i] + "`";
+  return s;
+}
+
 // The candidates this table cannot show (power.h): what the verdict is silent on, where each comes closest,
 // and where it would show.
 std::string blind_sentence(const Report& r) {
@@ -150,9 +158,7 @@ std::string luck_sentence(const Report& r) {
       on_top = e;
     else
       k.push_back(e);
-  std::string kept;
-  for (size_t i = 0; i < k.size(); ++i)
-    kept += (i == 0 ? "`" : i + 1 == k.size() ? " and `" : ", `") + k[i] + "`";
+  const std::string kept = code_list(k);
   std::string what;
   if (!kept.empty()) what = "kept " + kept + " in the tie";
   if (!unconfirmed.empty())
@@ -176,16 +182,11 @@ std::string luck_sentence(const Report& r) {
 std::string escalation_sentence(const Report& r) {
   const Escalation& e = r.escalation;
   if (e.from == 0) return "";
-  const auto list = [](const std::vector<std::string>& v) {
-    std::string s;
-    for (size_t i = 0; i < v.size(); ++i) s += (i == 0 ? "`" : i + 1 == v.size() ? "` and `" : "`, `") + v[i];
-    return s.empty() ? s : s + "`";
-  };
   std::string why;
-  if (!e.tied.empty()) why = "the tie with " + list(e.tied) + " held on fresh runs";
+  if (!e.tied.empty()) why = "the tie with " + code_list(e.tied) + " held on fresh runs";
   if (!e.held_by_luck.empty())
     why += (why.empty() ? "" : ", and ") +
-           fmt::format("the model's seed luck ({:.1f}) decided {}", e.seed_luck, list(e.held_by_luck));
+           fmt::format("the model's seed luck ({:.1f}) decided {}", e.seed_luck, code_list(e.held_by_luck));
   return fmt::format(
       " **Run again with more seeds:** at {} seed{} per condition the verdict was {}: {}. This report is the "
       "diagnosis at {} seeds per condition (`escalate_replicates`), which reused the first pass's runs it "
