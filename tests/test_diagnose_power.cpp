@@ -71,6 +71,29 @@ Cell cell_of(const std::string& observable) {
   return c;
 }
 
+// R runs on each side (a candidate's fresh runs against the control's, power.h): both sides' errors are in
+// the noise and in what the excess subtracts, by hand: cell 0 a shift of 3 against sqrt(1 + 0.36 + 0.64) =
+// sqrt(2): 2.12 sigma; cell 1 a shift of -3 against sqrt(4 + 0 + 0) = 2: 1.5 sigma. chi2 4.5 + 2.25 =
+// 6.75, less 1/2 + 0 = 0.5. The same pair with the control's error dropped (one side's noise, as shift_of
+// counts a probe against the baseline) would over-state the shift.
+TEST(DiagnosePower, FreshRunsAgainstTheControlCountBothSidesNoise) {
+  const std::vector<Cell> cells = {cell(1.0), cell(2.0)};
+  const std::vector<Prediction> control = {{10.0, 0.8}, {5.0, 0.0}};
+  const std::vector<Prediction> fresh = {{13.0, 0.6}, {2.0, 0.0}};
+  const Shift s = fresh_shift(cells, control, fresh);
+  EXPECT_NEAR(s.max_z, 3.0 / std::sqrt(2.0), 1e-12);
+  EXPECT_EQ(s.cell, 0u);
+  EXPECT_EQ(s.cells, 2u);
+  EXPECT_NEAR(s.chi2_excess, 6.75 - 0.5, 1e-12);
+  EXPECT_GT(shift_of(cells, control, fresh).max_z, s.max_z);
+  EXPECT_FALSE(shows(s, cells.size())) << "2.1 sigma and an excess of 6.25 over 2 cells (visible from 7.2)";
+  // Twice the shift shows, in one cell and through the table.
+  const Shift twice = fresh_shift(cells, control, {{16.0, 0.6}, {-1.0, 0.0}});
+  EXPECT_NEAR(twice.max_z, 6.0 / std::sqrt(2.0), 1e-12);
+  EXPECT_TRUE(shows(twice, cells.size()));
+  EXPECT_EQ(fresh_shift(cells, control, control).max_z, 0.0);
+}
+
 TEST(DiagnoseWithinInflation, SeedSpreadOverOwnErrorPooledPerObservable) {
   // Two seeds at two conditions of each observable. Clumps: the seeds differ by 4 and 2 (sample variances
   // 8 and 2) with own SEs 1 (mean SE² 1 and 1): f² = (8 + 2) / (1 + 1) = 5. AoR: the seeds differ by 1 and 0

@@ -438,6 +438,41 @@ TEST(DiagnoseVerdict, AnUnseenCandidateIsTiedNeitherDroppedNorNamedFirst) {
   EXPECT_EQ(unseen_on_fresh(30.5, 79.3, 48, rule, 14.9), FreshJudgement::kDrop) << "absorption-weak's spread";
 }
 
+// An unseen candidate that its own fresh runs show (power.h, fresh_shift) is ranked as a seen one: by its
+// held-out score, with the fresh runs as the check (seen_on_fresh); the candidates tied with the former first
+// stay tied unless clearly worse both held out and on fresh runs (stays_tied). Numbers of evaporation-strong
+// at R = 4 (docs/validation.md): absorption named first at 28.4 held out (fresh 31.6), evaporation unseen at
+// 14.8 (fresh 34.2, its fresh runs 4.7 σ from the control's), spread tied at 30.2 (fresh 57.2), luck 16.9.
+TEST(DiagnoseVerdict, ACandidateItsFreshRunsShowIsRankedAsASeenOne) {
+  const auto cand = [](const std::string& e, double loco) {
+    Candidate c;
+    c.effect = e;
+    c.loco = loco;
+    c.loco_cells.assign(48, loco / 48);
+    return c;
+  };
+  const VerdictRule rule;
+  const double luck = 16.9;
+  const Candidate abs = cand("absorption", 28.4), evap = cand("evaporation", 14.8),
+                  spread = cand("spread", 30.2);
+  // Better held out and not clearly worse on fresh runs: named first (an unseen one would only stay tied).
+  EXPECT_EQ(seen_on_fresh(abs, evap, 31.6, 34.2, 48, rule, luck), FreshJudgement::kSwap);
+  EXPECT_EQ(unseen_on_fresh(31.6, 34.2, 48, rule, luck), FreshJudgement::kKeep);
+  // Worse held out and not clearly worse fresh: tied, second.
+  EXPECT_EQ(seen_on_fresh(evap, abs, 34.2, 31.6, 48, rule, luck), FreshJudgement::kKeep);
+  // Clearly worse on fresh runs (by more than the luck): dropped, whatever it scored held out.
+  EXPECT_EQ(seen_on_fresh(abs, evap, 31.6, 50.0, 48, rule, luck), FreshJudgement::kDrop);
+  // Clearly better on fresh runs: first, even when worse held out.
+  EXPECT_EQ(seen_on_fresh(evap, abs, 60.0, 31.6, 48, rule, luck), FreshJudgement::kSwap);
+  // With evaporation first, absorption is clearly worse held out (13.6 past a margin of 4) but ties on fresh
+  // runs: tied. Spread is clearly worse on both (23.0 past the luck): no longer tied.
+  EXPECT_TRUE(clearly_worse(evap, abs, rule));
+  EXPECT_TRUE(stays_tied(evap, abs, 34.2, 31.6, 48, rule, luck));
+  EXPECT_FALSE(stays_tied(evap, spread, 34.2, 57.2, 48, rule, luck));
+  // Close held out keeps it whatever the fresh runs say.
+  EXPECT_TRUE(stays_tied(abs, spread, 31.6, 57.2, 48, rule, luck));
+}
+
 // The seed luck is the mean |Δχ²| over every split of the model's 2R seeds into two halves, each split once
 // (split_luck, shrink.h). With χ² of a set = the sum of its seeds, the splits of {1, 2, 3, 4} are {1,2|3,4},
 // {1,3|2,4}, {1,4|2,3}: |3-7|, |4-6|, |5-5|, mean 2. On the flowing matrix the one split 1-2 against 3-4 was

@@ -18,18 +18,50 @@ double visible_chi2_excess(size_t cells) {
   return n * std::pow(1.0 - a + 2.326 * std::sqrt(a), 3) - n;
 }
 
-Shift shift_of(const std::vector<Cell>& cells, const std::vector<Prediction>& baseline,
-               const std::vector<Prediction>& probe) {
+namespace {
+
+// z_k = (to - from) / sqrt(σ² + se_to² [+ se_from²]) and the χ² excess over the same own noise.
+Shift shift_between(const std::vector<Cell>& cells, const std::vector<Prediction>& from,
+                    const std::vector<Prediction>& to, bool from_noise) {
   Shift s;
-  for (size_t k = 0; k < cells.size() && k < baseline.size() && k < probe.size(); ++k) {
-    const double v = cells[k].sigma * cells[k].sigma + probe[k].se * probe[k].se;
-    const double z = std::fabs(probe[k].mean - baseline[k].mean) / std::sqrt(v);
+  for (size_t k = 0; k < cells.size() && k < from.size() && k < to.size(); ++k) {
+    const double own = to[k].se * to[k].se + (from_noise ? from[k].se * from[k].se : 0.0);
+    const double v = cells[k].sigma * cells[k].sigma + own;
+    const double z = std::fabs(to[k].mean - from[k].mean) / std::sqrt(v);
     if (!std::isfinite(z)) continue;
     ++s.cells;
-    s.chi2_excess += z * z - probe[k].se * probe[k].se / v;
+    s.chi2_excess += z * z - own / v;
     if (z > s.max_z) s.max_z = z, s.cell = k;
   }
   return s;
+}
+
+}  // namespace
+
+Shift shift_of(const std::vector<Cell>& cells, const std::vector<Prediction>& baseline,
+               const std::vector<Prediction>& probe) {
+  return shift_between(cells, baseline, probe, false);
+}
+
+bool shows(const Shift& s, size_t cells) {
+  return s.max_z >= kVisibleZ || s.chi2_excess >= visible_chi2_excess(cells);
+}
+
+Shift fresh_shift(const std::vector<Cell>& cells, const std::vector<Prediction>& control,
+                  const std::vector<Prediction>& fresh) {
+  return shift_between(cells, control, fresh, true);
+}
+
+bool fresh_shift_of(const Procedure& p, const std::string& effect, Shift* out, double* strength) {
+  if (p.null_fresh.after.empty()) return false;
+  for (const FreshCheck& f : p.fresh) {
+    if (f.effect != effect) continue;
+    if (f.after.empty() || f.refit != p.null_fresh.refit) return false;
+    *out = fresh_shift(p.tab.cells, p.null_fresh.after, f.after);
+    *strength = f.strength;
+    return true;
+  }
+  return false;
 }
 
 std::vector<Reach> table_reach(const Procedure& p) {
@@ -65,6 +97,13 @@ std::vector<Reach> table_reach(const Procedure& p) {
         if (sh.chi2_excess > r.chi2_excess) r.chi2_excess = sh.chi2_excess, r.chi2_at = s;
       }
     r.visible = r.max_z >= kVisibleZ || r.chi2_excess >= visible_chi2_excess(p.tab.cells.size());
+    Shift f;
+    if (r.strongest > 0 && fresh_shift_of(p, e, &f, &r.fresh_at)) {
+      r.fresh = true;
+      r.fresh_max_z = f.max_z, r.fresh_cell = f.cell, r.fresh_chi2_excess = f.chi2_excess;
+      r.seen_on_fresh = shows(f, p.tab.cells.size());
+      r.visible = r.visible || r.seen_on_fresh;
+    }
     out.push_back(r);
   }
   return out;

@@ -39,6 +39,22 @@ struct Shift {
 Shift shift_of(const std::vector<Cell>& cells, const std::vector<Prediction>& baseline,
                const std::vector<Prediction>& probe);
 
+// Whether a shift shows: some cell at kVisibleZ, or the table's χ² excess at visible_chi2_excess.
+bool shows(const Shift& s, size_t cells);
+
+// The same shift with R runs on each side: a fitted candidate's fresh runs (R seeds at its fitted strength,
+// shrink.h) against the control's (the model without an effect, the same seeds), z_k = (fresh - control) /
+// sqrt(σ² + se_f² + se_c²), the excess over both sides' own noise. One probe run against the baseline carries
+// one run's window error, and a sink's is large (the bed dries within the window: evaporation-strong's probe
+// at 1/τ = 1 had ±5.6 on an agglomerate size of 2.6); its R fresh runs against the control's are the
+// strongest evidence the diagnosis has of what the candidate does to the table.
+Shift fresh_shift(const std::vector<Cell>& cells, const std::vector<Prediction>& control,
+                  const std::vector<Prediction>& fresh);
+
+// The fresh shift of `effect` (its first fresh check in p.fresh) against p.null_fresh, when both ran and
+// share the refit setting; false otherwise.
+bool fresh_shift_of(const Procedure& p, const std::string& effect, Shift* out, double* strength);
+
 struct Reach {
   std::string effect;
   double strongest = 0.0;    // the strongest strength with probe runs at every condition (0: none could run)
@@ -47,7 +63,9 @@ struct Reach {
   size_t cell = 0;           // and its cell
   double chi2_excess = 0.0;  // the largest table χ² excess over the probes (Shift)
   double chi2_at = 0.0;      // the strength it came from
-  bool visible = false;      // max_z >= kVisibleZ, or chi2_excess >= visible_chi2_excess(cells)
+  // The probes' shift shows (max_z >= kVisibleZ, or chi2_excess >= visible_chi2_excess), or the fresh runs'
+  // does (seen_on_fresh).
+  bool visible = false;
   // Not visible: the strongest probe and the baseline (seed 1 each) at conditions beyond the table
   // (propose_conditions around the cell where it comes closest), and where it would move most.
   std::vector<std::string> beyond_tried;  // the conditions that ran
@@ -55,6 +73,11 @@ struct Reach {
   double beyond_z =
       0.0;  // |probe - baseline| / sqrt(sigma² + se_probe² + se_baseline²), sigma the table's median
   size_t beyond_seeds = 1;  // runs each side behind beyond_z: the baseline's seeds where one pair reached 3 σ
+  // The fresh runs at the fitted strength against the control (fresh_shift), where the shrink made them.
+  bool fresh = false;
+  double fresh_at = 0.0, fresh_max_z = 0.0, fresh_chi2_excess = 0.0;
+  size_t fresh_cell = 0;
+  bool seen_on_fresh = false;  // shows(fresh shift), whatever the probes showed
 };
 
 // Before the verdict (stage 5): the fitted candidates whose runs so far (every strength the fit ran, its

@@ -130,6 +130,7 @@ class Procedure {
   std::vector<Reach> reach;                  // what the table can see of every candidate (power.h)
   std::vector<std::string> unseen;           // fitted candidates whose runs the table cannot see (power.h)
   std::vector<std::string> unseen_rejected;  // of them, tied held out but clearly worse on fresh runs
+  std::vector<std::string> seen_on_fresh;    // of them, shown by their fresh runs (power.h, fresh_shift)
   std::vector<std::string> notes;            // failed runs, cut ranges, what could not be probed
   Escalation escalation;                     // from = 0: this is the only pass
 

@@ -70,6 +70,7 @@ Report make_report(const Procedure& p, double wall_s, std::vector<StageCost> sta
   r.reach = p.reach;
   r.within_inflation = p.within_inflation;
   r.unseen = p.unseen;
+  r.seen_on_fresh = p.seen_on_fresh;
   r.notes = p.notes;
   r.escalation = p.escalation;
   r.notes.insert(r.notes.end(), p.second.notes.begin(), p.second.notes.end());
@@ -236,14 +237,15 @@ std::string reach_markdown(const Report& r) {
       "candidate was also run beside the baseline at conditions beyond the table (one run each, and the "
       "baseline's other seeds too where that pair differs by 3 σ; noise the "
       "table's median σ of the observable, each run's own error scaled to the seed spread of the baseline's "
-      "replicates: {}): where it would show.\n\n"
-      "| effect | strongest probed | largest shift (σ) | at strength | cell | χ² excess | visible | beyond "
-      "the "
-      "table |\n|---|---|---|---|---|---|---|---|\n",
+      "replicates: {}): where it would show. The fresh runs of a fitted candidate (R seeds at its fitted "
+      "strength) are also set against the model without it on the same seeds, z = (fresh − control) / √(σ² "
+      "+ se_f² + se_c²): a candidate they show is seen, whatever its single probe runs showed.\n\n"
+      "| effect | strongest probed | largest shift (σ) | at strength | cell | χ² excess | fresh runs | "
+      "visible | beyond the table |\n|---|---|---|---|---|---|---|---|---|\n",
       kVisibleZ, visible_chi2_excess(r.cells.size()), r.cells.size(), inflation_text(r.within_inflation));
   for (const Reach& x : r.reach) {
     if (x.strongest <= 0) {
-      md += fmt::format("| {} | (no probe could run) | | | | | no | |\n", x.effect);
+      md += fmt::format("| {} | (no probe could run) | | | | | | no | |\n", x.effect);
       continue;
     }
     std::string beyond;
@@ -251,9 +253,17 @@ std::string reach_markdown(const Report& r) {
       beyond = fmt::format("{:.1f} σ: {} at {} (of {} tried{})", x.beyond_z, x.beyond_observable,
                            x.beyond_condition, x.beyond_tried.size(),
                            x.beyond_seeds > 1 ? fmt::format("; {} runs each there", x.beyond_seeds) : "");
-    md += fmt::format("| {} | {:.3g} | {:.1f} | {:.3g} | {} at {} | {:.1f} | {} | {} |\n", x.effect,
+    const std::string fresh =
+        x.fresh ? fmt::format("{:.1f} σ ({} at {}), χ² excess {:.1f}, at {:.3g}", x.fresh_max_z,
+                              r.cells[x.fresh_cell].observable, r.cell_condition[x.fresh_cell],
+                              x.fresh_chi2_excess, x.fresh_at)
+                : std::string();
+    // Visible on the fresh runs alone: say so, the probes' columns show no shift.
+    const bool by_probes = x.max_z >= kVisibleZ || x.chi2_excess >= visible_chi2_excess(r.cells.size());
+    const char* visible = !x.visible ? "**no**" : by_probes ? "yes" : "yes (fresh runs)";
+    md += fmt::format("| {} | {:.3g} | {:.1f} | {:.3g} | {} at {} | {:.1f} | {} | {} | {} |\n", x.effect,
                       x.strongest, x.max_z, x.at, r.cells[x.cell].observable, r.cell_condition[x.cell],
-                      x.chi2_excess, x.visible ? "yes" : "**no**", beyond);
+                      x.chi2_excess, fresh, visible, beyond);
   }
   return md + "\n";
 }
@@ -460,7 +470,14 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
          {"beyond_condition", x.beyond_condition},
          {"beyond_observable", x.beyond_observable},
          {"beyond_max_abs_z", x.beyond_z},
-         {"beyond_seeds", x.beyond_seeds}});
+         {"beyond_seeds", x.beyond_seeds},
+         {"fresh",
+          x.fresh ? json{{"strength", x.fresh_at},
+                         {"max_abs_z", x.fresh_max_z},
+                         {"cell", r.cells[x.fresh_cell].observable + " at " + r.cell_condition[x.fresh_cell]},
+                         {"chi2_excess", x.fresh_chi2_excess},
+                         {"visible", x.seen_on_fresh}}
+                  : json()}});
   j["within_inflation"] = r.within_inflation;
   // Unseen: the probes cannot show them apart from noise (power.h); such a candidate is named only as tied
   // on its held-out score and kept on fresh runs, or first where fresh runs favour it (name_only_seen).
@@ -471,6 +488,8 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
         std::find(r.verdict.tied.begin(), r.verdict.tied.end(), e) == r.verdict.tied.end())
       not_named.push_back(e);
   j["not_named_unseen"] = not_named;
+  // Unseen on their probes but shown by their fresh runs against the control (power.h, fresh_shift).
+  j["seen_on_fresh"] = r.seen_on_fresh;
   j["notes"] = r.notes;
   j["not_measured"] = r.not_measured;
   j["runs"] = r.runs;
@@ -533,6 +552,10 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
     if (std::find(r.unseen.begin(), r.unseen.end(), c.effect) != r.unseen.end())
       notes += std::string(notes.empty() ? "" : "; ") +
                "**unseen**: its probes move no cell by 3 σ, so it is never named first on this score";
+    if (std::find(r.seen_on_fresh.begin(), r.seen_on_fresh.end(), c.effect) != r.seen_on_fresh.end())
+      notes += std::string(notes.empty() ? "" : "; ") +
+               "**seen on its fresh runs**: its probes alone move no cell by 3 σ, its fresh runs against the "
+               "model without it do";
     md += fmt::format("| {} | {:.2f} | {:.2f} | {} {} |", c.effect, c.screen, c.loco,
                       effect_spec(c.effect).strength, strength_text(c, cr));
     md += refit ? fmt::format(" {} |", r.settings.at(c.refit).label) : "";

@@ -39,6 +39,7 @@ struct Report {
   std::vector<Reach> reach;                        // what the table can see of each candidate (power.h)
   std::map<std::string, double> within_inflation;  // per observable (baseline.h)
   std::vector<std::string> unseen;                 // fitted, but the probes cannot show them (power.h)
+  std::vector<std::string> seen_on_fresh;          // unseen on their probes, shown by their fresh runs
   std::vector<std::string> notes;                  // failed runs, cut ranges
   std::vector<std::string> not_measured;           // table rows that say a quantity was not measured
   size_t runs = 0, computed = 0;

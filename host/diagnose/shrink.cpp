@@ -152,12 +152,91 @@ double seed_luck(const Procedure& p) {
   }
 }
 
+// Names p.fresh[i] first: the former first stays tied unless its fresh runs are clearly worse
+// (unseen_on_fresh, the luck included). The other tied candidates were tied with the former first; against
+// the new one each stays tied unless it is clearly worse both held out (clearly_worse) and on fresh runs
+// (fresh_tie, the luck included); those dropped go into `gone` (their fresh checks leave p.fresh after the
+// caller's loop). The fresh checks follow the order.
+void swap_first(Procedure& p, size_t i, std::vector<std::string>& gone) {
+  const FreshCheck chosen = p.fresh.front(), f = p.fresh[i];
+  const size_t n = p.tab.cells.size();
+  const double luck = p.verdict.seed_luck, a = chi2_of(f.gaps_after);
+  std::vector<std::string>& tied = p.verdict.tied;
+  tied.erase(std::find(tied.begin(), tied.end(), f.effect));
+  choose(p.verdict, f.effect);
+  std::rotate(p.fresh.begin(), p.fresh.begin() + long(i), p.fresh.begin() + long(i) + 1);
+  const Candidate* first = ranked(p, f.effect);
+  for (const FreshCheck& t : p.fresh) {
+    const Candidate* c = ranked(p, t.effect);
+    if (t.effect == f.effect || t.effect == chosen.effect || !listed(tied, t.effect) || !first || !c ||
+        t.after.empty() || stays_tied(*first, *c, a, chi2_of(t.gaps_after), n, p.d.rule, luck))
+      continue;
+    tied.erase(std::find(tied.begin(), tied.end(), t.effect));
+    gone.push_back(t.effect);
+    p.notes.push_back(fmt::format(
+        "shrink: {} is no longer tied with {} named first: held-out χ² {:.1f} against {:.1f}, and on fresh "
+        "runs {:.1f} against {:.1f}, clearly worse on both",
+        t.effect, f.effect, c->loco, first->loco, chi2_of(t.gaps_after), a));
+  }
+  // The former first is now at index 1; the others keep their order.
+  if (unseen_on_fresh(a, chi2_of(chosen.gaps_after), n, p.d.rule, luck) != FreshJudgement::kDrop)
+    tied.insert(tied.begin(), chosen.effect);
+}
+
+// An unseen candidate tied held out whose fresh runs show it against the control (shows(fresh_shift)): the
+// table sees it after all, so its held-out score counts as any seen candidate's (name_only_seen would have
+// ranked it by that score). Named first when that score is the best and its fresh runs are not clearly worse
+// than the chosen one's; dropped when they are; otherwise it stays tied. a, b: the fresh χ² of the chosen
+// one and of it.
+void see_on_fresh(Procedure& p, size_t i, const Shift& sh, double a, double b,
+                  std::vector<std::string>& gone) {
+  const FreshCheck f = p.fresh[i], chosen = p.fresh.front();
+  const double luck = p.verdict.seed_luck;
+  p.unseen.erase(std::find(p.unseen.begin(), p.unseen.end(), f.effect));
+  p.seen_on_fresh.push_back(f.effect);
+  p.notes.push_back(fmt::format(
+      "shrink: {} is seen on its fresh runs: at {:.3g} they move {} at {} by {:.1f} σ and the table's χ² "
+      "by {:.1f} against the model without it on the same seeds (visible from {} σ or {:.1f}); its probes "
+      "alone could not show it, so its held-out score now counts as any seen candidate's",
+      f.effect, f.strength, p.tab.cells[sh.cell].observable,
+      p.tab.conditions[p.tab.cell_condition[sh.cell]].label, sh.max_z, sh.chi2_excess, kVisibleZ,
+      visible_chi2_excess(p.tab.cells.size())));
+  const Candidate *cf = ranked(p, f.effect), *cc = ranked(p, chosen.effect);
+  if (!cf || !cc) return;
+  const FreshJudgement j = seen_on_fresh(*cc, *cf, a, b, p.tab.cells.size(), p.d.rule, luck);
+  if (j == FreshJudgement::kDrop) {
+    p.verdict.tied.erase(std::find(p.verdict.tied.begin(), p.verdict.tied.end(), f.effect));
+    p.unseen_rejected.push_back(f.effect);
+    p.notes.push_back(fmt::format(
+        "shrink: {} gives χ² {:.1f} on fresh runs at {:.3g} against {:.1f} for {}: worse by more than the "
+        "tie margin and the model's own seed luck ({:.1f}); not named",
+        f.effect, b, f.strength, a, chosen.effect, luck));
+    return;
+  }
+  if (j == FreshJudgement::kSwap) {
+    p.notes.push_back(fmt::format(
+        "shrink: {} is named first: held-out χ² {:.1f} against {:.1f} for {}, and on fresh runs {:.1f} "
+        "against {:.1f}, {} by the tie margin and the model's own seed luck ({:.1f})",
+        f.effect, cf->loco, cc->loco, chosen.effect, b, a,
+        unseen_on_fresh(a, b, p.tab.cells.size(), p.d.rule, luck) == FreshJudgement::kSwap
+            ? "better"
+            : "not clearly worse",
+        luck));
+    swap_first(p, i, gone);
+    return;
+  }
+  if (unseen_on_fresh(a, b, p.tab.cells.size(), p.d.rule) != FreshJudgement::kKeep)
+    hold_by_luck(p.verdict, f.effect);
+}
+
 // The unseen candidates tied on their held-out scores (name_only_seen), judged on their fresh runs against
-// the chosen one's (unseen_on_fresh): dropped when clearly worse there, named first when clearly better.
+// the chosen one's: seen after all where those runs show them (see_on_fresh); otherwise (unseen_on_fresh)
+// dropped when clearly worse there, named first when clearly better.
 void judge_unseen_on_fresh(Procedure& p) {
   if (p.fresh.empty() || !p.fresh.front().failure.empty() || p.fresh.front().after.empty()) return;
   const size_t n = p.tab.cells.size();
   const double luck = p.verdict.seed_luck;
+  std::vector<std::string> gone;  // tied ones a new first leaves clearly worse (swap_first)
   for (size_t i = 1; i < p.fresh.size(); ++i) {
     const FreshCheck f = p.fresh[i], chosen = p.fresh.front();
     if (!listed(p.unseen, f.effect) || !listed(p.verdict.tied, f.effect)) continue;
@@ -171,6 +250,12 @@ void judge_unseen_on_fresh(Procedure& p) {
       continue;
     }
     const double b = chi2_of(f.gaps_after);
+    Shift sh;
+    double at = 0.0;
+    if (fresh_shift_of(p, f.effect, &sh, &at) && shows(sh, n)) {
+      see_on_fresh(p, i, sh, a, b, gone);
+      continue;
+    }
     switch (unseen_on_fresh(a, b, n, p.d.rule, luck)) {
       case FreshJudgement::kDrop:
         tied.erase(std::find(tied.begin(), tied.end(), f.effect));
@@ -188,7 +273,7 @@ void judge_unseen_on_fresh(Procedure& p) {
             "{:.1f} for {}: within the tie margin or the model's own seed luck ({:.1f}), still tied",
             f.effect, b, f.strength, a, chosen.effect, luck));
         break;
-      case FreshJudgement::kSwap: {
+      case FreshJudgement::kSwap:
         // The fresh runs, which carry no probe's noise, favour it: it is named first, the other stays tied
         // only where it is not clearly worse on the same fresh runs.
         p.notes.push_back(fmt::format(
@@ -196,19 +281,15 @@ void judge_unseen_on_fresh(Procedure& p) {
             "{:.1f} for {}: better by more than the tie margin and the model's own seed luck ({:.1f}), "
             "so it is named first",
             f.effect, b, f.strength, a, chosen.effect, luck));
-        tied.erase(std::find(tied.begin(), tied.end(), f.effect));
-        choose(p.verdict, f.effect);
-        std::rotate(p.fresh.begin(), p.fresh.begin() + long(i), p.fresh.begin() + long(i) + 1);
-        // The former first is now at index 1; the others keep their order.
-        if (unseen_on_fresh(b, a, n, p.d.rule, luck) != FreshJudgement::kDrop)
-          tied.insert(tied.begin(), chosen.effect);
+        swap_first(p, i, gone);
         break;
-      }
     }
   }
   // Fresh checks of the candidates no longer named leave the list (the chosen one first, then the tied).
   p.fresh.erase(std::remove_if(p.fresh.begin() + 1, p.fresh.end(),
-                               [&](const FreshCheck& f) { return listed(p.unseen_rejected, f.effect); }),
+                               [&](const FreshCheck& f) {
+                                 return listed(p.unseen_rejected, f.effect) || listed(gone, f.effect);
+                               }),
                 p.fresh.end());
 }
 

@@ -187,6 +187,18 @@ FreshJudgement unseen_on_fresh(double chi2_chosen, double chi2_unseen, size_t n,
   return FreshJudgement::kKeep;
 }
 
+FreshJudgement seen_on_fresh(const Candidate& chosen, const Candidate& other, double chi2_chosen,
+                             double chi2_other, size_t n, const VerdictRule& rule, double luck) {
+  const FreshJudgement j = unseen_on_fresh(chi2_chosen, chi2_other, n, rule, luck);
+  if (j == FreshJudgement::kKeep && other.loco < chosen.loco) return FreshJudgement::kSwap;
+  return j;
+}
+
+bool stays_tied(const Candidate& first, const Candidate& c, double chi2_first, double chi2_c, size_t n,
+                const VerdictRule& rule, double luck) {
+  return !clearly_worse(first, c, rule) || fresh_tie(chi2_first, chi2_c, n, rule, luck);
+}
+
 bool fresh_confirms(double chi2_before, double chi2_fresh, const VerdictRule& rule, double luck) {
   return chi2_fresh <= chi2_before - std::max(rule.min_drop, luck);
 }

@@ -147,6 +147,20 @@ enum class FreshJudgement { kDrop, kKeep, kSwap };
 FreshJudgement unseen_on_fresh(double chi2_chosen, double chi2_unseen, size_t n, const VerdictRule& rule,
                                double luck = 0.0);
 
+// An unseen candidate tied held out whose own fresh runs show it against the control (power.h, fresh_shift):
+// the table sees it after all, so it is ranked as any seen candidate is, by its held-out score, with the
+// fresh runs (R seeds each, no probe's noise) as the check. kDrop when its fresh χ² is clearly worse than the
+// chosen one's (unseen_on_fresh, the luck included); kSwap when clearly better there, or better held out;
+// kKeep (tied, second) otherwise.
+FreshJudgement seen_on_fresh(const Candidate& chosen, const Candidate& other, double chi2_chosen,
+                             double chi2_other, size_t n, const VerdictRule& rule, double luck = 0.0);
+
+// When another candidate is named first on fresh runs, a candidate tied with the former first stays tied
+// with the new one unless it is clearly worse both held out (clearly_worse) and on fresh runs (fresh_tie,
+// the luck included): either score alone keeping it close is the tie rule's "not clearly worse".
+bool stays_tied(const Candidate& first, const Candidate& c, double chi2_first, double chi2_c, size_t n,
+                const VerdictRule& rule, double luck = 0.0);
+
 // Whether the fresh-seed runs at the fitted strength reproduce an improvement: χ² over the cells (fresh seeds
 // R+1..2R) at least min_drop below that of the model without the effect on the same fresh seeds (the
 // control: seeds differ in luck, and a comparison with the baseline's seeds 1..R credits an effect with it).
