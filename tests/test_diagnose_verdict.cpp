@@ -46,6 +46,15 @@ Response linear(const std::string& name, const std::vector<double>& strengths,
 const std::vector<double> kPhi = {0.0, 0.025, 0.05, 0.075, 0.10};
 const std::vector<double> kSlope = {0.0, 0.5, 1.0, 2.0, 3.0};
 
+// A fitted candidate with its held-out χ² spread evenly over the flowing table's 48 cells.
+Candidate cand(const std::string& e, double loco) {
+  Candidate c;
+  c.effect = e;
+  c.loco = loco;
+  c.loco_cells.assign(48, loco / 48);
+  return c;
+}
+
 }  // namespace
 
 // Data scattered more than their error bars say: the interval widens by √(χ²_min/(n - 1)) in χ² terms.
@@ -362,13 +371,6 @@ TEST(DiagnoseVerdict, TheLimitNoteFollowsTheReportedFit) {
 // (name_only_seen): the flowing evaporation-strong twin (truth evaporation 0.8) scored evaporation 13.4 held
 // out and absorption 17.1, null 90.0 over a floor of 68.8; evaporation's probes moved no cell past 2.2 σ.
 TEST(DiagnoseVerdict, AnUnseenCandidateIsTiedNeitherDroppedNorNamedFirst) {
-  const auto cand = [](const std::string& e, double loco) {
-    Candidate c;
-    c.effect = e;
-    c.loco = loco;
-    c.loco_cells.assign(48, loco / 48);
-    return c;
-  };
   Verdict base;
   base.kind = "effect";
   base.null_loco = 90.0;
@@ -444,13 +446,6 @@ TEST(DiagnoseVerdict, AnUnseenCandidateIsTiedNeitherDroppedNorNamedFirst) {
 // at R = 4 (docs/validation.md): absorption named first at 28.4 held out (fresh 31.6), evaporation unseen at
 // 14.8 (fresh 34.2, its fresh runs 4.7 σ from the control's), spread tied at 30.2 (fresh 57.2), luck 16.9.
 TEST(DiagnoseVerdict, ACandidateItsFreshRunsShowIsRankedAsASeenOne) {
-  const auto cand = [](const std::string& e, double loco) {
-    Candidate c;
-    c.effect = e;
-    c.loco = loco;
-    c.loco_cells.assign(48, loco / 48);
-    return c;
-  };
   const VerdictRule rule;
   const double luck = 16.9;
   const Candidate abs = cand("absorption", 28.4), evap = cand("evaporation", 14.8),
