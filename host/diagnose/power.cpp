@@ -96,7 +96,8 @@ std::vector<Reach> table_reach(const Procedure& p) {
         if (sh.max_z > r.max_z) r.max_z = sh.max_z, r.at = s, r.cell = sh.cell;
         if (sh.chi2_excess > r.chi2_excess) r.chi2_excess = sh.chi2_excess, r.chi2_at = s;
       }
-    r.visible = r.max_z >= kVisibleZ || r.chi2_excess >= visible_chi2_excess(p.tab.cells.size());
+    r.by_probes = r.max_z >= kVisibleZ || r.chi2_excess >= visible_chi2_excess(p.tab.cells.size());
+    r.visible = r.by_probes;
     Shift f;
     if (r.strongest > 0 && fresh_shift_of(p, e, &f, &r.fresh_at)) {
       r.fresh = true;

@@ -63,8 +63,9 @@ struct Reach {
   size_t cell = 0;           // and its cell
   double chi2_excess = 0.0;  // the largest table χ² excess over the probes (Shift)
   double chi2_at = 0.0;      // the strength it came from
-  // The probes' shift shows (max_z >= kVisibleZ, or chi2_excess >= visible_chi2_excess), or the fresh runs'
-  // does (seen_on_fresh).
+  // The probes' shift shows (max_z >= kVisibleZ, or chi2_excess >= visible_chi2_excess); visible: that, or
+  // the fresh runs' shift does (seen_on_fresh).
+  bool by_probes = false;
   bool visible = false;
   // Not visible: the strongest probe and the baseline (seed 1 each) at conditions beyond the table
   // (propose_conditions around the cell where it comes closest), and where it would move most.

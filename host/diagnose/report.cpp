@@ -214,60 +214,6 @@ std::string second_markdown(const Report& r) {
   return md + "\n\n";
 }
 
-// What the table can see (power.h): every candidate's largest shift over its probe runs.
-// "×2.0 on surface_agglomerate_size, ×1.3 on aor_deg_std": the factors that scale a run's own error up.
-std::string inflation_text(const std::map<std::string, double>& f) {
-  std::string out;
-  for (const auto& [obs, x] : f)
-    if (x > 1.05) out += fmt::format("{}×{:.1f} on {}", out.empty() ? "" : ", ", x, obs);
-  return out.empty() ? "none needed" : out;
-}
-
-std::string reach_markdown(const Report& r) {
-  if (r.reach.empty()) return "";
-  std::string md = fmt::format(
-      "## What this table can see\n\nEach candidate's probe runs against the baseline, in units of each "
-      "cell's noise (z = (probe − baseline) / √(σ² + se²)): the largest |z| in any cell, and the χ² over the "
-      "cells in excess of what the probe runs' own noise gives. A candidate is visible when some cell "
-      "reaches "
-      "{:g} σ or the excess reaches {:.1f} (the 1 % excess of a χ² over {} cells); one that is not, even at "
-      "the "
-      "strongest strength probed, is one this table cannot show, and the verdict says nothing about it. Such "
-      "a "
-      "candidate was also run beside the baseline at conditions beyond the table (one run each, and the "
-      "baseline's other seeds too where that pair differs by 3 σ; noise the "
-      "table's median σ of the observable, each run's own error scaled to the seed spread of the baseline's "
-      "replicates: {}): where it would show. The fresh runs of a fitted candidate (R seeds at its fitted "
-      "strength) are also set against the model without it on the same seeds, z = (fresh − control) / √(σ² "
-      "+ se_f² + se_c²): a candidate they show is seen, whatever its single probe runs showed.\n\n"
-      "| effect | strongest probed | largest shift (σ) | at strength | cell | χ² excess | fresh runs | "
-      "visible | beyond the table |\n|---|---|---|---|---|---|---|---|---|\n",
-      kVisibleZ, visible_chi2_excess(r.cells.size()), r.cells.size(), inflation_text(r.within_inflation));
-  for (const Reach& x : r.reach) {
-    if (x.strongest <= 0) {
-      md += fmt::format("| {} | (no probe could run) | | | | | | no | |\n", x.effect);
-      continue;
-    }
-    std::string beyond;
-    if (!x.beyond_condition.empty())
-      beyond = fmt::format("{:.1f} σ: {} at {} (of {} tried{})", x.beyond_z, x.beyond_observable,
-                           x.beyond_condition, x.beyond_tried.size(),
-                           x.beyond_seeds > 1 ? fmt::format("; {} runs each there", x.beyond_seeds) : "");
-    const std::string fresh =
-        x.fresh ? fmt::format("{:.1f} σ ({} at {}), χ² excess {:.1f}, at {:.3g}", x.fresh_max_z,
-                              r.cells[x.fresh_cell].observable, r.cell_condition[x.fresh_cell],
-                              x.fresh_chi2_excess, x.fresh_at)
-                : std::string();
-    // Visible on the fresh runs alone: say so, the probes' columns show no shift.
-    const bool by_probes = x.max_z >= kVisibleZ || x.chi2_excess >= visible_chi2_excess(r.cells.size());
-    const char* visible = !x.visible ? "**no**" : by_probes ? "yes" : "yes (fresh runs)";
-    md += fmt::format("| {} | {:.3g} | {:.1f} | {:.3g} | {} at {} | {:.1f} | {} | {} | {} |\n", x.effect,
-                      x.strongest, x.max_z, x.at, r.cells[x.cell].observable, r.cell_condition[x.cell],
-                      x.chi2_excess, fresh, visible, beyond);
-  }
-  return md + "\n";
-}
-
 std::string verdict_line(const Verdict& v, const std::string& second) {
   const bool named = v.kind == "effect" || v.kind == "partial";
   if (!named) return v.kind;
@@ -453,31 +399,7 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
         {"effects", {r.next.effect_a, r.next.effect_b}}, {"proposals", props}, {"note", r.next.note}};
   }
   j["second"] = second_json(r);
-  j["reach"] = json::array();
-  for (const Reach& x : r.reach)
-    j["reach"].push_back(
-        {{"effect", x.effect},
-         {"strongest_probed", x.strongest},
-         {"max_abs_z", x.max_z},
-         {"at_strength", x.at},
-         {"cell",
-          x.strongest > 0 ? r.cells[x.cell].observable + " at " + r.cell_condition[x.cell] : std::string()},
-         {"chi2_excess", x.chi2_excess},
-         {"chi2_excess_at_strength", x.chi2_at},
-         {"chi2_excess_visible_from", visible_chi2_excess(r.cells.size())},
-         {"visible", x.visible},
-         {"beyond_tried", x.beyond_tried},
-         {"beyond_condition", x.beyond_condition},
-         {"beyond_observable", x.beyond_observable},
-         {"beyond_max_abs_z", x.beyond_z},
-         {"beyond_seeds", x.beyond_seeds},
-         {"fresh",
-          x.fresh ? json{{"strength", x.fresh_at},
-                         {"max_abs_z", x.fresh_max_z},
-                         {"cell", r.cells[x.fresh_cell].observable + " at " + r.cell_condition[x.fresh_cell]},
-                         {"chi2_excess", x.fresh_chi2_excess},
-                         {"visible", x.seen_on_fresh}}
-                  : json()}});
+  j["reach"] = reach_json(r);
   j["within_inflation"] = r.within_inflation;
   // Unseen: the probes cannot show them apart from noise (power.h); such a candidate is named only as tied
   // on its held-out score and kept on fresh runs, or first where fresh runs favour it (name_only_seen).

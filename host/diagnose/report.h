@@ -87,6 +87,11 @@ std::string refit_phrase(const Report& r, size_t j);
 // interval reaches the strongest strength probed)".
 std::string strength_text(const Candidate& c, const CandidateRuns* runs);
 
+// What the table can see of each candidate (power.h, every candidate's largest shift over its probe runs and
+// its fresh runs): report.md's section and diagnosis.json's "reach" (report_reach.cpp).
+std::string reach_markdown(const Report& r);
+nlohmann::json reach_json(const Report& r);
+
 // The second round as diagnosis.json's "second" (null when it did not run) and its section of report.md.
 nlohmann::json second_json(const Report& r);
 std::string second_markdown(const Report& r);
