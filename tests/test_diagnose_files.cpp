@@ -278,11 +278,13 @@ TEST(DiagnoseFiles, ProbesOutsideThePhysicalRangeAreRefused) {
             std::string::npos);
   EXPECT_NE(err("[shapes]\ncohesion = [1, 2]\n").find("no second parameter"), std::string::npos);
   EXPECT_NE(err("max_cost = 0.5\n").find("max_cost"), std::string::npos);
+  EXPECT_NE(err("[verdict]\ntable_level = 1\n").find("verdict.table_level: in [0, 1)"), std::string::npos);
   const DiagnosisSpec ok = parse_diagnosis_file(d.write(
-      "d.toml",
-      "case = \"" + kMicroStudyCase + "\"\n[shapes]\nabsorption = [1, 10]\n[verdict]\ntie_delta = 3\n"));
+      "d.toml", "case = \"" + kMicroStudyCase +
+                    "\"\n[shapes]\nabsorption = [1, 10]\n[verdict]\ntie_delta = 3\ntable_level = 0\n"));
   EXPECT_EQ(ok.shapes.at("absorption"), (std::vector<double>{1, 10}));
   EXPECT_EQ(ok.rule.tie_delta, 3.0);
+  EXPECT_EQ(ok.rule.table_level, 0.0) << "0 turns the table test off";
   for (const EffectSpec& e : effect_catalogue())
     for (double s : e.probes) EXPECT_TRUE(s >= e.phys_lo && s <= e.phys_hi) << e.name << " " << s;
 }

@@ -246,3 +246,31 @@ TEST(DiagnoseParagraph, AnUnconfirmedSecondEffectIsNotNamed) {
             std::string::npos)
       << l;
 }
+
+// A gap spread over the table (where.h, table_fit): no cell alone is significant, so the paragraph says that
+// the cells together depart, with their χ² and its point, both where the gap is found and where the fresh
+// runs leave it (`partial`); `no_gap` says the cells together stay within it.
+TEST(DiagnoseParagraph, AGapSpreadOverTheTableIsSaidInItsChiSquare) {
+  Report r = chosen_with_fresh_runs("partial");
+  r.cells.resize(48);
+  r.cell_condition.resize(48);
+  r.gaps.assign(48, CellGap{0.5, 1.3, 0.19, false});  // χ² 81.1 over 48 cells: beyond 73.7
+  r.fresh[0].after.resize(48);
+  r.fresh[0].gaps_after = r.gaps;
+  r.fresh[0].strength = 0.02;
+  const std::string part = verdict_paragraph(r);
+  EXPECT_NE(part.find("over the table as a whole: no cell alone is significant, but together they are (χ² "
+                      "81.1 over 48 cells, beyond χ²_48's 1 % point 73.7"),
+            std::string::npos)
+      << part;
+  EXPECT_NE(part.find("but the table as a whole still departs"), std::string::npos) << part;
+  EXPECT_NE(part.find("does not explain: no cell alone, but the cells together (χ² 81.1"), std::string::npos)
+      << part;
+  r.verdict.kind = "no_gap";
+  r.gaps.assign(48, CellGap{0.2, 0.8, 0.42, false});  // χ² 30.7
+  const std::string none = verdict_paragraph(r);
+  EXPECT_NE(none.find("the cells together stay within what their errors allow (χ² 30.7 over 48 cells, "
+                      "within χ²_48's 1 % point 73.7"),
+            std::string::npos)
+      << none;
+}

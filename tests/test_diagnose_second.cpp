@@ -80,9 +80,7 @@ Rounds run_rounds(const std::vector<Cell>& cells) {
   const Candidate& a = r.first.ranking.front();
   const std::vector<Prediction> first_model = shifted(base, a.effect == "cohesion" ? kA : kB, a.fit.strength);
   r.first_after = where(cells, first_model);
-  std::vector<bool> sig;
-  for (const CellGap& g : r.first_after) sig.push_back(g.significant);
-  settle_verdict(r.first, sig);
+  settle_verdict(r.first, r.first_after, VerdictRule{});
   if (r.first.kind != "partial") return r;
   std::vector<Response> on_top;
   std::vector<double> screens;

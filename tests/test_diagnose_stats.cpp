@@ -54,6 +54,41 @@ TEST(DiagnoseStats, WhereFindsAndDescribesAGrowingGap) {
   EXPECT_NE(d[0].find("growing with liquid.content"), std::string::npos) << d[0];
 }
 
+// The table test (where.h, table_fit): P(χ²_n >= x) against closed forms (n = 2: e^{-x/2}; n = 1 at 3.841:
+// the two-sided 5 % of one normal) and the tabulated 1 % point of χ²_48 (73.683); on noise alone it fires at
+// its level, and level 0 turns it off.
+TEST(DiagnoseStats, TheTableTestIsPearsonsChiSquare) {
+  const auto gaps = [](const std::vector<double>& z) {
+    std::vector<CellGap> g;
+    for (double x : z) g.push_back({x, x, std::erfc(std::fabs(x) / std::sqrt(2.0)), false});
+    return g;
+  };
+  EXPECT_NEAR(table_fit(gaps({1.0, 2.0}), 0.01).p, std::exp(-2.5), 1e-12);
+  EXPECT_NEAR(table_fit(gaps({1.959964}), 0.01).p, 0.05, 1e-6);
+  std::vector<double> z48(48, std::sqrt(73.683 / 48));
+  const TableFit at = table_fit(gaps(z48), 0.01);
+  EXPECT_EQ(at.n, 48u);
+  EXPECT_NEAR(at.chi2, 73.683, 1e-9);
+  EXPECT_NEAR(at.p, 0.01, 1e-4);
+  EXPECT_NEAR(at.critical, 73.683, 2e-3);
+  z48.push_back(std::nan(""));  // a cell the model cannot predict counts neither in χ² nor in n
+  EXPECT_EQ(table_fit(gaps(z48), 0.01).n, 48u);
+  const TableFit off = table_fit(gaps(std::vector<double>(48, 2.0)), 0.0);
+  EXPECT_FALSE(off.beyond);
+  EXPECT_TRUE(std::isinf(off.critical));
+  EXPECT_TRUE(table_fit(gaps(std::vector<double>(48, 2.0)), 0.01).beyond);
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  int fired = 0;
+  for (int draw = 0; draw < 400; ++draw) {
+    std::vector<double> z;
+    for (int k = 0; k < 48; ++k) z.push_back(noise(rng));
+    fired += table_fit(gaps(z), 0.01).beyond;
+  }
+  EXPECT_GE(fired, 1) << "about 4 of 400 at a 1 % level";
+  EXPECT_LE(fired, 12) << "about 4 of 400 at a 1 % level";
+}
+
 TEST(DiagnoseStats, ScreenProjectsTheGapOnTheResponse) {
   const std::vector<Cell> cells = aor_cells({30, 30, 30, 34, 40});
   const std::vector<Prediction> base(5, Prediction{30.0, 0.0});

@@ -176,13 +176,15 @@ TEST(DiagnoseVerdict, TieRuleAndPartial) {
   EXPECT_TRUE(clearly_worse(best, other, VerdictRule{}));
   const Verdict alone = decide(cells, base, {a, decoy}, {1.0, 0.1});
   EXPECT_TRUE(alone.tied.empty());
+  std::vector<CellGap> after(5, CellGap{0.1, 0.3, 0.76, false});
+  Verdict q = alone;
+  settle_verdict(q, after, VerdictRule{});
+  EXPECT_EQ(q.kind, "effect");
+  after[2] = {3.0, 10.0, 0.0, true};
   Verdict p = alone;
-  settle_verdict(p, {false, false, true, false, false});
+  settle_verdict(p, after, VerdictRule{});
   EXPECT_EQ(p.kind, "partial");
   EXPECT_EQ(p.effect, alone.effect);
-  Verdict q = alone;
-  settle_verdict(q, std::vector<bool>(5, false));
-  EXPECT_EQ(q.kind, "effect");
   // The fresh runs must reproduce an improvement (fresh_confirms): the flowing null-2 twin's hysteresis fit
   // at its probe edge passed the held-out rule, and its fresh runs gave χ² 91.1 against the model's 59.9.
   EXPECT_TRUE(fresh_confirms(116.1, 6.4, VerdictRule{}));
@@ -331,6 +333,46 @@ TEST(DiagnoseVerdict, TheMarginCountsTheGapNotTheNoise) {
   EXPECT_LE(truth_old, runs / 4) << "it would rarely pass a margin on the whole χ² (1 of 17)";
   EXPECT_EQ(decoy_new, 0);
   EXPECT_LE(noise_new, 1);
+}
+
+// A gap spread thinly over the table (where.h, table_fit): 48 cells, |z| 0.8-1.8 at the baseline, none
+// significant alone (Benjamini-Hochberg), χ² 86.7 against χ²_48's 1 % point 73.7. The table test finds it,
+// the candidate that makes it is chosen over a decoy, and the noise floor is capped at 1 a cell (48): at the
+// quiet cells' own mean z² (here all of them) it would be the null's whole χ² and the margin would ask
+// nothing. Fresh runs that leave it so are `partial`, though no cell is significant.
+TEST(DiagnoseVerdict, AGapSpreadOverTheTableIsFoundByItsChiSquare) {
+  const std::vector<Prediction> base(48, Prediction{30.0, 0.1});
+  const double sd = std::sqrt(0.3 * 0.3 + 0.1 * 0.1);
+  const double z_at[6] = {0.8, 1.0, 1.2, 1.4, 1.6, 1.8};
+  std::vector<double> phi, slope, decoy(48, 0.0), y;
+  const double u = std::log10(0.3) - (std::log10(0.01) - 1.0);  // the truth: 0.3, u above the anchor
+  for (size_t k = 0; k < 48; ++k) {
+    phi.push_back(0.01 * double(k % 6));
+    slope.push_back(z_at[k % 6] * sd / u);
+    y.push_back(30.0 + slope.back() * u);
+  }
+  for (size_t k = 0; k < 48; k += 5) decoy[k] = 1.0;
+  const std::vector<Cell> cells = cells_at(phi, y, 0.3);
+  const std::vector<CellGap> g = where(cells, base);
+  EXPECT_EQ(significant(g), 0u);
+  EXPECT_NEAR(chi2_of(g), 86.72, 0.01);
+  EXPECT_TRUE(has_gap(g, 0.01));
+  EXPECT_FALSE(has_gap(g, 0.0)) << "the table test off: cells alone";
+  const Response r = linear("cohesion", {0.01, 0.1, 1.0}, slope, 30.0);
+  const Response d = linear("viscous", {0.01, 0.1, 1.0}, decoy, 30.0);
+  Verdict v = decide(cells, base, {r, d}, {1.0, 0.5});
+  ASSERT_EQ(v.kind, "effect");
+  EXPECT_EQ(v.effect, "cohesion");
+  EXPECT_DOUBLE_EQ(v.floor, 48.0);
+  EXPECT_TRUE(v.tied.empty()) << "the decoy fails the margin on the gap above 48";
+  VerdictRule off;
+  off.table_level = 0.0;
+  EXPECT_EQ(decide(cells, base, {r, d}, {1.0, 0.5}, off).kind, "no_gap");
+  Verdict left = v;
+  settle_verdict(left, g, VerdictRule{});
+  EXPECT_EQ(left.kind, "partial") << "χ² over the table still beyond its point";
+  settle_verdict(v, where(cells, r.pred[1]), VerdictRule{});
+  EXPECT_EQ(v.kind, "effect");
 }
 
 // The note that a fit "runs into the upper end of the physical range" follows the fit that is reported: set

@@ -44,10 +44,9 @@ void run_to_verdict(Procedure& p, StageClock& clock) {
   want_screen(p);   // the screen's probes run together with the baseline
   run_baseline(p);  // 1. baseline
   clock.done("baseline and screen probes");
-  p.gaps = where(p.tab.cells, p.baselines[0], p.d.rule.q);  // 2. where
-  const bool any_gap =
-      std::any_of(p.gaps.begin(), p.gaps.end(), [](const CellGap& g) { return g.significant; });
-  run_screen(p);  // 3. screen
+  p.gaps = where(p.tab.cells, p.baselines[0], p.d.rule.q);     // 2. where
+  const bool any_gap = has_gap(p.gaps, p.d.rule.table_level);  // a cell, or the table as a whole
+  run_screen(p);                                               // 3. screen
   clock.done("where and screen");
   if (!any_gap) {
     p.verdict.kind = "no_gap";

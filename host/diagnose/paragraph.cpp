@@ -23,6 +23,19 @@ std::string null_refit_sentence(const Report& r) {
       r.cells.size());
 }
 
+// What a model leaves: its significant cells ("aor_deg_std at 5 % (z = +3.4); ..."), or, when none is but
+// the table's χ² is beyond its point (where.h, table_fit), that χ².
+std::string left_text(const Report& r, const std::vector<CellGap>& g) {
+  std::string left;
+  for (size_t k = 0; k < g.size() && k < r.cells.size(); ++k)
+    if (g[k].significant)
+      left += fmt::format("{}{} at {} (z = {:+.1f})", left.empty() ? "" : "; ", r.cells[k].observable,
+                          r.cell_condition[k], g[k].z);
+  if (!left.empty()) return left;
+  return "no cell alone, but the cells together (" +
+         table_text(table_fit(g, r.spec->rule.table_level), r.spec->rule.table_level) + ")";
+}
+
 const Candidate* candidate(const Report& r, const std::string& e) {
   for (const Candidate& c : r.verdict.ranking)
     if (c.effect == e) return &c;
@@ -233,11 +246,11 @@ std::string verdict_core(const Report& r) {
   if (r.verdict.kind == "no_gap")
     return fmt::format(
         "**No gap.** The calibrated model agrees with the observations within their uncertainties: none of "
-        "the "
-        "{} measured cells differs significantly (false-discovery rate {:.0f} %). No effect needs to be "
-        "added; "
-        "a new measurement (another liquid content or speed) is what would test the model further.",
-        n, 100 * r.spec->rule.q);
+        "the {} measured cells differs significantly (false-discovery rate {:.0f} %), and the cells together "
+        "stay within what their errors allow ({}). No effect needs to be added; a new measurement (another "
+        "liquid content or speed) is what would test the model further.",
+        n, 100 * r.spec->rule.q,
+        table_text(table_fit(r.gaps, r.spec->rule.table_level), r.spec->rule.table_level));
   std::string where;
   for (const std::string& w : r.where) where += (where.empty() ? "" : "; ") + w;
   if (r.verdict.kind == "effect" || r.verdict.kind == "partial") {
@@ -253,23 +266,22 @@ std::string verdict_core(const Report& r) {
         ok ? fmt::format("fresh runs at {} = {:.3g} bring χ² from {:.1f} to {:.1f} over the {} cells{}",
                          e.strength, f->strength, chi2_of(r.gaps), chi2_of(f->gaps_after), n, control)
            : std::string("its fresh-seed runs could not be made");
+    const std::string departs =
+        ns ? fmt::format("at {} of {} cells ({})", ns, n, where)
+           : fmt::format(
+                 "over the table as a whole: no cell alone is significant, but together they are "
+                 "({})",
+                 table_text(table_fit(r.gaps, r.spec->rule.table_level), r.spec->rule.table_level));
     const std::string head = fmt::format(
-        "The model departs from the observations at {} of {} cells ({}). Of the candidates, `{}` ({}) "
-        "explains "
-        "it best: with {} = {}{} it predicts the conditions it was not fitted to {:.0f} % better than the "
-        "model "
-        "without it (held-out shrink), and {}",
-        ns, n, where, c.effect, e.fingerprint, e.strength, strength_text(c, r.runs_of(c.effect)),
+        "The model departs from the observations {}. Of the candidates, `{}` ({}) explains it best: with {} "
+        "= {}{} it predicts the conditions it was not fitted to {:.0f} % better than the model without it "
+        "(held-out shrink), and {}",
+        departs, c.effect, e.fingerprint, e.strength, strength_text(c, r.runs_of(c.effect)),
         has_refit(r) ? " and " + refit_phrase(r, c.refit) : "", 100 * r.verdict.held_out_shrink, fresh);
     if (const Candidate* b = r.second_named()) {
       const FreshCheck* f2 = r.second_fresh();
       const EffectSpec& eb = effect_spec(b->effect);
-      std::string left2;
-      if (f2)
-        for (size_t k = 0; k < n; ++k)
-          if (f2->gaps_after[k].significant)
-            left2 += fmt::format("{}{} at {} (z = {:+.1f})", left2.empty() ? "" : "; ", r.cells[k].observable,
-                                 r.cell_condition[k], f2->gaps_after[k].z);
+      const std::string left2 = f2 ? left_text(r, f2->gaps_after) : std::string();
       const std::string pair = fmt::format(
           "`{}` alone left cells significant, so the other candidates were fitted on top of it: `{}` ({}) "
           "with "
@@ -310,20 +322,17 @@ std::string verdict_core(const Report& r) {
                          tie ? ": the data do not single one out." : ".", head, limit_sentence(r, c.effect),
                          null_refit_sentence(r), tie_sentence(r), advice);
     }
-    std::string left;
-    size_t n_left = 0;
-    if (ok)
-      for (size_t k = 0; k < n; ++k)
-        if (f->gaps_after[k].significant)
-          left += fmt::format("{}{} at {} (z = {:+.1f})", left.empty() ? "" : "; ", r.cells[k].observable,
-                              r.cell_condition[k], f->gaps_after[k].z),
-              ++n_left;
+    const size_t n_left = ok ? significant(f->gaps_after) : 0;
+    const std::string left = ok ? left_text(r, f->gaps_after) : std::string();
     return fmt::format(
         "**Gap explained in part by `{}`.** {}{}.{} What `{}` does not explain: {}. These cells need another "
         "cause (a second effect, a parameter to re-calibrate, or a measurement bias); treat the fitted "
         "strength "
         "as provisional until they are understood.{}{}{}",
-        c.effect, head, ok ? fmt::format(", but {} cell(s) stay significant", n_left) : std::string(""),
+        c.effect, head,
+        !ok      ? std::string("")
+        : n_left ? fmt::format(", but {} cell(s) stay significant", n_left)
+                 : std::string(", but the table as a whole still departs"),
         limit_sentence(r, c.effect), c.effect, ok ? left : std::string("unknown (no fresh runs)"),
         null_refit_sentence(r), tie_sentence(r),
         r.second.outcome == "none"

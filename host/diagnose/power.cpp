@@ -8,14 +8,13 @@
 
 #include "diagnose/next_experiment.h"
 #include "diagnose/procedure.h"
+#include "diagnose/where.h"
 
 namespace wetdem::diagnose {
 
 double visible_chi2_excess(size_t cells) {
-  // Wilson-Hilferty: the p-quantile of a χ² with n degrees of freedom is n (1 - 2/(9n) + z_p √(2/(9n)))³,
-  // within 1 % for n >= 3; z = 2.326 for the upper 1 %.
-  const double n = double(std::max<size_t>(1, cells)), a = 2.0 / (9.0 * n);
-  return n * std::pow(1.0 - a + 2.326 * std::sqrt(a), 3) - n;
+  const size_t n = std::max<size_t>(1, cells);
+  return chi2_upper_point(n, 0.01) - double(n);
 }
 
 namespace {

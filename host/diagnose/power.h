@@ -24,7 +24,7 @@ constexpr double kVisibleZ = 3.0;
 // A shift can also be visible through the whole table without any one cell at kVisibleZ (many cells moved by
 // 1-2 sigma in the direction of a gap): its χ² over the n cells in excess of what the probe runs' own noise
 // gives, sum(z²) - sum(se²/(σ² + se²)), at least the upper 1 % point of a χ²_n less its mean n
-// (Wilson-Hilferty). For the flowing table's 48 cells that is 25.7; for 3 cells, 8.3.
+// (chi2_upper_point, where.h). For the flowing table's 48 cells that is 25.7; for 3 cells, 8.3.
 double visible_chi2_excess(size_t cells);
 
 // A probe's shift over the baseline in units of each cell's noise, z_k = (probe - baseline) / sqrt(σ² +

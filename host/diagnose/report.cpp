@@ -26,6 +26,11 @@ nlohmann::json num(double x) {
   return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
 }
 
+// The whole table's χ² test (where.h); critical is null when the test is off.
+nlohmann::json table_json(const TableFit& t) {
+  return {{"chi2", t.chi2}, {"cells", t.n}, {"p", t.p}, {"critical", num(t.critical)}, {"beyond", t.beyond}};
+}
+
 }  // namespace
 
 const CandidateRuns* Report::runs_of(const std::string& effect) const {
@@ -256,10 +261,12 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
                                                   {"verdict", r.escalation.verdict},
                                                   {"runs_computed", r.escalation.runs_computed}};
   j["rule"] = {{"fdr", r.spec->rule.q},
+               {"table_level", r.spec->rule.table_level},
                {"ratio", r.spec->rule.ratio},
                {"min_drop", r.spec->rule.min_drop},
                {"tie_delta", r.spec->rule.tie_delta}};
   j["where_summary"] = r.where;
+  j["table"] = table_json(table_fit(r.gaps, r.spec->rule.table_level));
   for (size_t k = 0; k < r.cells.size(); ++k) {
     json c = {{"condition", r.cell_condition[k]},
               {"observable", r.cells[k].observable},
@@ -365,6 +372,7 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
     if (!f.after.empty()) {
       x["chi2_after"] = chi2_of(f.gaps_after);
       x["significant_cells"] = significant(f.gaps_after);
+      x["table_after"] = table_json(table_fit(f.gaps_after, r.spec->rule.table_level));
     }
     j["fresh"].push_back(x);
   }
@@ -440,6 +448,13 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
   std::string md = "# Sim-to-real diagnosis: " + r.spec->name + "\n\n" + verdict_paragraph(r) + "\n\n";
   md += "## Where\n\n";
   for (const std::string& w : r.where) md += "- " + w + "\n";
+  {
+    const TableFit t = table_fit(r.gaps, r.spec->rule.table_level);
+    md += "- the table as a whole: " + table_text(t, r.spec->rule.table_level) +
+          (t.beyond && significant(r.gaps) == 0 ? ": a gap spread over the cells, none significant alone"
+                                                : "") +
+          "\n";
+  }
   md += "\n| condition | observable | observed | model (baseline) | z | significant |";
   md += after ? fmt::format(" with `{}` | z after |\n|---|---|---|---|---|---|---|---|\n", chosen->effect)
               : "\n|---|---|---|---|---|---|\n";
@@ -496,16 +511,19 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
   md += fmt::format(
       "\n\nRule: `effect` when the best held-out χ² ≤ floor + {} × (the null's − floor) and lower than the "
       "null's by ≥ {} (the null's {:.1f}, its noise floor {:.1f}: the mean z² of the cells not significant, "
-      "times the cells), and the fresh-seed runs at its fitted strength leave no cell significant (else "
-      "`partial`); a runner-up that also passes is *tied* unless its held-out χ² exceeds the best's by ≥ {} "
+      "times the cells, at most 1 a cell), and the fresh-seed runs at its fitted strength leave no gap (no "
+      "cell "
+      "significant, χ² over the table within its {:.3g} % point; else `partial`); a runner-up that also "
+      "passes is *tied* unless its held-out χ² exceeds the best's by ≥ {} "
       "× "
       "max(1, χ²_best/n); the fresh runs must lower χ² below the model's on the same fresh seeds by ≥ {} or "
       "the model's own seed luck ({:.1f}), whichever is more; a candidate the probes cannot show is never "
       "named first on its held-out score; cells significant by Benjamini-Hochberg at {}. Intervals: Δχ² = "
       "max(1, χ²_min/(n − "
       "1)), widened to the fit ± the jackknife over conditions' standard error when that is wider.\n\n",
-      r.spec->rule.ratio, r.spec->rule.min_drop, r.verdict.null_loco, r.verdict.floor, r.spec->rule.tie_delta,
-      r.spec->rule.min_drop, r.verdict.seed_luck, r.spec->rule.q);
+      r.spec->rule.ratio, r.spec->rule.min_drop, r.verdict.null_loco, r.verdict.floor,
+      100 * r.spec->rule.table_level, r.spec->rule.tie_delta, r.spec->rule.min_drop, r.verdict.seed_luck,
+      r.spec->rule.q);
   if (!r.next.proposals.empty()) {
     md += fmt::format("## Next experiment: `{}` or `{}`?\n\n", r.next.effect_a, r.next.effect_b);
     md += fmt::format(

@@ -15,12 +15,11 @@
 
 namespace wetdem::diagnose {
 
-std::string second_outcome(const Verdict& second, const std::vector<CellGap>& pair_after) {
+std::string second_outcome(const Verdict& second, const std::vector<CellGap>& pair_after,
+                           const VerdictRule& rule) {
   if (second.kind == "no_gap") return "noise";
   if (second.kind != "effect") return "none";
-  const bool left =
-      std::any_of(pair_after.begin(), pair_after.end(), [](const CellGap& g) { return g.significant; });
-  return pair_after.empty() || left ? "part" : "closes";
+  return pair_after.empty() || has_gap(pair_after, rule.table_level) ? "part" : "closes";
 }
 
 std::string confirm_second(const std::string& outcome, double chi2_first_fresh, double chi2_pair_fresh,
@@ -226,7 +225,7 @@ void run_second_effect(Procedure& p) {
       sr.notes.push_back("second effect: the pair's fresh runs failed: " + sr.fresh.failure);
     }
   }
-  sr.outcome = second_outcome(sr.verdict, sr.fresh.gaps_after);
+  sr.outcome = second_outcome(sr.verdict, sr.fresh.gaps_after, p.d.rule);
   // 6. Named only if the pair's fresh runs beat the first effect's own fresh runs (same seeds) by the luck.
   if (!sr.fresh.gaps_after.empty()) {
     const double before = chi2_of(a.gaps_after), after = chi2_of(sr.fresh.gaps_after);

@@ -22,7 +22,8 @@ namespace wetdem::diagnose {
 //  "noise"   the first effect's own seeds 1..R leave no cell significant (only its fresh seeds did): nothing
 //            left for a second effect to explain, `partial` as it was;
 //  "none"    no candidate passes the rule: `partial` as it was.
-std::string second_outcome(const Verdict& second, const std::vector<CellGap>& pair_after);
+std::string second_outcome(const Verdict& second, const std::vector<CellGap>& pair_after,
+                           const VerdictRule& rule = {});
 
 // "closes" and "part" become "unconfirmed" unless the pair's fresh runs (seeds R+1..2R) give a χ² over the
 // cells at least max(min_drop, luck) below that of the first effect alone on the same fresh seeds (its own

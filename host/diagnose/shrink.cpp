@@ -66,9 +66,8 @@ void collect_fresh(Procedure& p, FreshCheck& f) {
   f.gaps_after = where(p.tab.cells, f.after, p.d.rule.q);
 }
 
-bool leaves_gap(const FreshCheck& f) {
-  return std::any_of(f.gaps_after.begin(), f.gaps_after.end(),
-                     [](const CellGap& g) { return g.significant; });
+bool leaves_gap(const FreshCheck& f, const VerdictRule& rule) {
+  return has_gap(f.gaps_after, rule.table_level);
 }
 
 // The fresh runs are the model at the fitted strength with R seeds and no common-random-number offset: the
@@ -321,7 +320,7 @@ void run_shrink(Procedure& p) {
   // particles a poor mixing wets), the fit is redone, and a strength that moved is run fresh again.
   for (int round = 0; round < p.d.confirm; ++round) {
     const FreshCheck& chosen = p.fresh.front();
-    if (!chosen.failure.empty() || !leaves_gap(chosen)) break;
+    if (!chosen.failure.empty() || !leaves_gap(chosen, p.d.rule)) break;
     const Candidate* c = ranked(p, chosen.effect);
     if (!c) break;
     add_fresh_knot(p, chosen, *c);
@@ -354,9 +353,7 @@ void run_shrink(Procedure& p) {
     p.verdict.kind = "partial";
     return;
   }
-  std::vector<bool> sig;
-  for (const CellGap& g : chosen.gaps_after) sig.push_back(g.significant);
-  settle_verdict(p.verdict, sig);
+  settle_verdict(p.verdict, chosen.gaps_after, p.d.rule);
   // Against the model without the effect on the same fresh seeds (the calibrated model's own seeds when those
   // runs failed).
   const bool control = !p.null_fresh.after.empty();

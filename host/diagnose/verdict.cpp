@@ -21,7 +21,7 @@ double noise_floor(const std::vector<double>& null_cells, const std::vector<Cell
     sum += null_cells[k];
     ++quiet;
   }
-  return quiet ? sum / double(quiet) * double(finite) : 0.0;
+  return quiet ? std::min(sum / double(quiet), 1.0) * double(finite) : 0.0;
 }
 
 bool passes_margin(double loco, const Verdict& v, const VerdictRule& rule) {
@@ -77,7 +77,7 @@ Verdict decide(const std::vector<Cell>& cells, const std::vector<std::vector<Pre
   std::stable_sort(v.ranking.begin(), v.ranking.end(),
                    [](const Candidate& a, const Candidate& b) { return a.loco < b.loco; });
   const std::vector<CellGap> g = where(cells, baselines.front(), rule.q);
-  const bool any = std::any_of(g.begin(), g.end(), [](const CellGap& x) { return x.significant; });
+  const bool any = has_gap(g, rule.table_level);
   v.floor = noise_floor(v.null_loco_cells, g);
   if (!v.ranking.empty()) choose(v, v.ranking.front().effect);
   v.effect.clear();  // chosen only once the rule below says so
@@ -85,8 +85,7 @@ Verdict decide(const std::vector<Cell>& cells, const std::vector<std::vector<Pre
   // needs no effect: the analogue of no_gap for the re-fitted model.
   const auto closed = [&] {
     if (baselines.size() < 2 || v.null_refit == 0) return false;
-    const std::vector<CellGap> r = where(cells, baselines[v.null_refit], rule.q);
-    return std::none_of(r.begin(), r.end(), [](const CellGap& x) { return x.significant; });
+    return !has_gap(where(cells, baselines[v.null_refit], rule.q), rule.table_level);
   };
   const auto passes = [&](const Candidate& c) { return passes_margin(c.loco, v, rule); };
   if (!any) {
@@ -203,10 +202,9 @@ bool fresh_confirms(double chi2_before, double chi2_fresh, const VerdictRule& ru
   return chi2_fresh <= chi2_before - std::max(rule.min_drop, luck);
 }
 
-void settle_verdict(Verdict& v, const std::vector<bool>& significant_after) {
+void settle_verdict(Verdict& v, const std::vector<CellGap>& after, const VerdictRule& rule) {
   if (v.kind != "effect") return;
-  if (std::any_of(significant_after.begin(), significant_after.end(), [](bool b) { return b; }))
-    v.kind = "partial";
+  if (has_gap(after, rule.table_level)) v.kind = "partial";
 }
 
 void hold_by_luck(Verdict& v, const std::string& effect) {

@@ -14,15 +14,16 @@
 namespace wetdem::diagnose {
 
 // The verdict rule (docs/diagnosis.md, "Verdict"):
-//  no_gap      no cell significant at FDR q (Benjamini-Hochberg);
+//  no_gap      no cell significant at FDR q (Benjamini-Hochberg), and χ² over the table within χ²_n's
+//              (1 - table_level) point (table_fit, where.h: a gap spread over many cells);
 //  refit       (with refit only) else, when the null at its re-fitted setting leaves no cell significant at
 //              FDR q: re-fitting closes the gap, no effect is chosen;
 //  effect      else, the candidate with the lowest held-out (LOCO) score when it beats the null by a clear
 //              margin (passes_margin: it removes `ratio` of the null's held-out χ² above the noise floor, and
 //              LOCO_null - LOCO_best >= min_drop), and (after the fresh-seed runs at its fitted strength) no
-//              cell is left significant;
-//  partial     as effect, but cells stay significant after the fresh-seed runs: the effect explains part of
-//              the gap, the report names the cells it leaves;
+//              gap is left (no cell significant, χ² over the table within its point);
+//  partial     as effect, but a gap is left after the fresh-seed runs: the effect explains part of it, the
+//              report names the cells it leaves (or the table's χ² when no cell alone is significant);
 //  unexplained otherwise (the ranking is still reported).
 // Runner-up not clearly worse ("tied"): it also passes the effect margin against the null, and its held-out
 // χ² exceeds the best's by less than tie_delta x max(1, LOCO_best / n) over n cells. With Gaussian errors a
@@ -33,6 +34,7 @@ namespace wetdem::diagnose {
 // measurement that would separate them (next_experiment.h).
 struct VerdictRule {
   double q = 0.05;
+  double table_level = 0.01;  // the whole table's test (table_fit); 0: off
   double ratio = 0.5;
   double min_drop = 4.0;
   double tie_delta = 4.0;
@@ -58,8 +60,10 @@ struct Candidate {
 // The noise floor of the held-out χ²: what a model that explained the whole gap would still score, from the
 // cells the baseline does not call significant (their mean z² times the cells with a finite z). The table's
 // σ need not be exact (a twin's is conservative: a right model scores ~0.5 per cell on the flowing drum), and
-// with 48 cells and a one-cell gap, halving the whole χ² is impossible even for the truth. 0 when every cell
-// is significant. null_cells: the null's held-out z² per cell; gaps: the baseline's where().
+// with 48 cells and a one-cell gap, halving the whole χ² is impossible even for the truth. At most 1 per
+// cell, χ²'s expectation when the σ are right: quiet cells that score more carry the gap themselves (a gap
+// spread over the table, table_fit), and a floor at their own χ² would ask nothing of an effect. 0 when every
+// cell is significant. null_cells: the null's held-out z² per cell; gaps: the baseline's where().
 double noise_floor(const std::vector<double>& null_cells, const std::vector<CellGap>& gaps);
 
 struct Verdict {
@@ -114,8 +118,8 @@ bool near_tie(const Candidate& a, const Candidate& b, const VerdictRule& rule);
 // candidates are two seed sets, and on the flowing drum those alone move χ² by 9-100).
 bool fresh_tie(double chi2_a, double chi2_b, size_t n, const VerdictRule& rule, double luck = 0.0);
 
-// The fresh-seed check: an `effect` whose runs leave significant cells becomes `partial`.
-void settle_verdict(Verdict& v, const std::vector<bool>& significant_after);
+// The fresh-seed check: an `effect` whose runs leave a gap (has_gap at table_level) becomes `partial`.
+void settle_verdict(Verdict& v, const std::vector<CellGap>& after, const VerdictRule& rule);
 
 // Makes `effect` the chosen one: it moves to the front of the ranking (the others keep their order), and the
 // held-out shrinks follow it. Used by decide(), name_only_seen and the fresh-run swap (shrink.cpp). By value:

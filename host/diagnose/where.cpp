@@ -4,10 +4,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <set>
 #include <stdexcept>
+
+#include <unsupported/Eigen/SpecialFunctions>
 
 namespace wetdem::diagnose {
 
@@ -124,6 +127,49 @@ size_t significant(const std::vector<CellGap>& g) {
   size_t n = 0;
   for (const CellGap& x : g) n += x.significant;
   return n;
+}
+
+namespace {
+// P(χ²_n >= x) = Q(n/2, x/2) (Abramowitz & Stegun 26.4.19).
+double chi2_upper(size_t n, double x) {
+  return Eigen::numext::igammac(0.5 * double(n), 0.5 * std::max(0.0, x));
+}
+}  // namespace
+
+double chi2_upper_point(size_t n, double level) {
+  if (n == 0 || !(level > 0 && level < 1)) return std::numeric_limits<double>::infinity();
+  // Bisection on the monotone upper tail, from 0 to a bound past the point.
+  double lo = 0.0, hi = double(n) + 10.0 * std::sqrt(2.0 * double(n)) + 50.0;
+  while (chi2_upper(n, hi) > level) hi *= 2.0;
+  for (int i = 0; i < 100; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (chi2_upper(n, mid) > level ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+TableFit table_fit(const std::vector<CellGap>& g, double level) {
+  TableFit t;
+  for (const CellGap& x : g)
+    if (std::isfinite(x.z)) t.chi2 += x.z * x.z, ++t.n;
+  t.critical = std::numeric_limits<double>::infinity();
+  if (t.n == 0) return t;
+  t.p = chi2_upper(t.n, t.chi2);
+  if (!(level > 0 && level < 1)) return t;
+  t.beyond = t.p < level;
+  t.critical = chi2_upper_point(t.n, level);
+  return t;
+}
+
+std::string table_text(const TableFit& t, double level) {
+  if (!(level > 0 && level < 1) || t.n == 0)
+    return fmt::format("χ² {:.1f} over {} cells (the table test is off)", t.chi2, t.n);
+  return fmt::format("χ² {:.1f} over {} cells, {} χ²_{}'s {:.3g} % point {:.1f} (p = {:.2g})", t.chi2, t.n,
+                     t.beyond ? "beyond" : "within", t.n, 100 * level, t.critical, t.p);
+}
+
+bool has_gap(const std::vector<CellGap>& g, double level) {
+  return significant(g) > 0 || table_fit(g, level).beyond;
 }
 
 }  // namespace wetdem::diagnose
