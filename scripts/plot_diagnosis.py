@@ -27,8 +27,17 @@ def main(d):
     # A second effect fitted on top of the first (diagnosis.md, "A second effect"): the pair's fresh runs.
     second = (j.get("second") or {}).get("effect") if all("after_second" in c for c in cells) else None
 
-    # Gap map.
-    panels = [("baseline", lambda c: c["z"])] + ([("with " + str(j["effect"]), lambda c: c["after"]["z"])] if after else [])
+    # The fresh runs drawn are the chosen effect's; when the verdict named none (its fresh runs did not confirm
+    # it), they are still the best candidate's, and the label says so.
+    fresh = j.get("fresh") or [{}]
+    name = j["effect"] or f"{fresh[0].get('effect')}, not confirmed"
+
+    # Gap map. Each panel's title carries the table's χ² against its 1 % point (diagnosis.md, "A gap spread
+    # over the table"): a gap with no dark cell can still be one.
+    def table(t):
+        return f" (χ² {t['chi2']:.1f} over {t['cells']}, p = {t['p']:.2g})" if t else ""
+    panels = [("baseline" + table(j.get("table")), lambda c: c["z"])] + (
+        [(f"with {name}, fresh seeds" + table(fresh[0].get("table_after")), lambda c: c["after"]["z"])] if after else [])
     if second:
         panels.append((f"with {j['effect']} + {second}", lambda c: c["after_second"]["z"]))
     # The panels share the condition axis (labels on the first only); a cell without an observation is grey
@@ -101,7 +110,7 @@ def main(d):
                                 label=f"no effect, {j['null_refit']['label']} (±2 SE)" if first else None)
                 ax.plot(x, mr, color="tab:green", ls=ls)
             # Fresh-seed bands of the chosen effect and of the pair (a second effect on top), ±2 SE.
-            for key, on, colour, alpha, name in (("after", after, "tab:orange", 0.35, j["effect"]),
+            for key, on, colour, alpha, label in (("after", after, "tab:orange", 0.35, name),
                                                  ("after_second", second, "tab:purple", 0.3,
                                                   f"{j['effect']} + {second}")):
                 if not on:
@@ -110,7 +119,7 @@ def main(d):
                 sa = [2 * c[key]["model_se"] for c in cs]
                 ax.fill_between(x, [a - b for a, b in zip(ma, sa)], [a + b for a, b in zip(ma, sa)],
                                 color=colour, alpha=alpha,
-                                label=f"with {name}, fresh seeds (±2 SE)" if first else None)
+                                label=f"with {label}, fresh seeds (±2 SE)" if first else None)
                 ax.plot(x, ma, color=colour, ls=ls)
             ax.errorbar(x, [c["y"] for c in cs], yerr=[c["sigma"] for c in cs], fmt=mk, color="k", capsize=3,
                         label="observed (±σ)" + sfx)

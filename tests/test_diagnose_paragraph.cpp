@@ -266,6 +266,12 @@ TEST(DiagnoseParagraph, AGapSpreadOverTheTableIsSaidInItsChiSquare) {
   EXPECT_NE(part.find("but the table as a whole still departs"), std::string::npos) << part;
   EXPECT_NE(part.find("does not explain: no cell alone, but the cells together (χ² 81.1"), std::string::npos)
       << part;
+  r.verdict.kind = "unexplained";
+  const std::string lead = verdict_paragraph(r);
+  EXPECT_NE(lead.find("a lead: `cohesion`).** The model departs from the observations over the table as a "
+                      "whole: no cell alone"),
+            std::string::npos)
+      << lead;
   r.verdict.kind = "no_gap";
   r.gaps.assign(48, CellGap{0.2, 0.8, 0.42, false});  // χ² 30.7
   const std::string none = verdict_paragraph(r);

@@ -253,6 +253,11 @@ std::string verdict_core(const Report& r) {
         table_text(table_fit(r.gaps, r.spec->rule.table_level), r.spec->rule.table_level));
   std::string where;
   for (const std::string& w : r.where) where += (where.empty() ? "" : "; ") + w;
+  // Where the model departs: its significant cells, or the table as a whole (where.h, table_fit).
+  const std::string departs =
+      ns ? fmt::format("at {} of {} cells ({})", ns, n, where)
+         : fmt::format("over the table as a whole: no cell alone is significant, but together they are ({})",
+                       table_text(table_fit(r.gaps, r.spec->rule.table_level), r.spec->rule.table_level));
   if (r.verdict.kind == "effect" || r.verdict.kind == "partial") {
     const Candidate& c = r.verdict.ranking.front();
     const EffectSpec& e = effect_spec(c.effect);
@@ -266,12 +271,6 @@ std::string verdict_core(const Report& r) {
         ok ? fmt::format("fresh runs at {} = {:.3g} bring χ² from {:.1f} to {:.1f} over the {} cells{}",
                          e.strength, f->strength, chi2_of(r.gaps), chi2_of(f->gaps_after), n, control)
            : std::string("its fresh-seed runs could not be made");
-    const std::string departs =
-        ns ? fmt::format("at {} of {} cells ({})", ns, n, where)
-           : fmt::format(
-                 "over the table as a whole: no cell alone is significant, but together they are "
-                 "({})",
-                 table_text(table_fit(r.gaps, r.spec->rule.table_level), r.spec->rule.table_level));
     const std::string head = fmt::format(
         "The model departs from the observations {}. Of the candidates, `{}` ({}) explains it best: with {} "
         "= {}{} it predicts the conditions it was not fitted to {:.0f} % better than the model without it "
@@ -360,9 +359,8 @@ std::string verdict_core(const Report& r) {
                   r.verdict.ranking.front().effect, r.verdict.ranking.front().loco);
     return fmt::format(
         "**Gap closed by re-fitting, no effect needed.** The model as calibrated departs from the "
-        "observations at "
-        "{} of {} cells ({}).{}{} Re-calibrate the model with these values rather than add an effect.",
-        ns, n, where, null_refit_sentence(r), best);
+        "observations {}.{}{} Re-calibrate the model with these values rather than add an effect.",
+        departs, null_refit_sentence(r), best);
   }
   // Unexplained because the chosen effect's fresh runs did not reproduce its improvement (verdict.h,
   // fresh_confirms).
@@ -370,7 +368,7 @@ std::string verdict_core(const Report& r) {
     const Candidate& c = r.verdict.ranking.front();
     const FreshCheck& f = *r.chosen();
     return fmt::format(
-        "**Gap not explained.** The model departs from the observations at {} of {} cells ({}). The best "
+        "**Gap not explained.** The model departs from the observations {}. The best "
         "candidate, `{}` ({}), passed the held-out rule at {} = {:.3g} (held-out χ² {:.1f} against the "
         "model's {:.1f}), but fresh runs at that strength do not reproduce it: χ² {:.1f} over the {} cells "
         "against {:.1f} for the model without it{}, not lower by {:.3g} (min_drop, or how far χ² moves "
@@ -379,7 +377,7 @@ std::string verdict_core(const Report& r) {
         "runs, not the data, so no effect is named. The cause may lie outside the candidates, or the "
         "gap "
         "may be noise; repeating the measurements at the cells above would tell.{}",
-        ns, n, where, c.effect, effect_spec(c.effect).fingerprint, effect_spec(c.effect).strength, f.strength,
+        departs, c.effect, effect_spec(c.effect).fingerprint, effect_spec(c.effect).strength, f.strength,
         c.loco, r.verdict.null_loco, chi2_of(f.gaps_after), n,
         r.null_fresh.after.empty() ? chi2_of(r.gaps) : chi2_of(r.null_fresh.gaps_after),
         r.null_fresh.after.empty() ? "" : " on the same fresh seeds",
@@ -391,27 +389,26 @@ std::string verdict_core(const Report& r) {
   if (!r.verdict.ranking.empty() && r.verdict.held_out_gap_shrink >= 0.5 * (1.0 - ratio)) {
     const Candidate& c = r.verdict.ranking.front();
     return fmt::format(
-        "**Gap not explained (a lead: `{}`).** The model departs from the observations at {} of {} cells "
-        "({}). The best candidate, `{}` ({}), removes {:.0f} % of the gap in the held-out predictions (at {} "
+        "**Gap not explained (a lead: `{}`).** The model departs from the observations {}. The best "
+        "candidate, `{}` ({}), removes {:.0f} % of the gap in the held-out predictions (at {} "
         "= {:.3g}; held-out χ² {:.1f} against the model's {:.1f}, noise floor {:.1f}), short of the rule: "
         "{:.0f} % of the gap and a drop of {:g}. The data point to it but do not single it out. To decide, "
         "measure more conditions where its fingerprint is strongest, or repeat the measurements to shrink "
         "their error bars.{}",
-        c.effect, ns, n, where, c.effect, effect_spec(c.effect).fingerprint,
-        100 * r.verdict.held_out_gap_shrink, effect_spec(c.effect).strength, c.fit.strength, c.loco,
-        r.verdict.null_loco, r.verdict.floor, 100 * (1.0 - ratio), r.spec->rule.min_drop,
-        null_refit_sentence(r));
+        c.effect, departs, c.effect, effect_spec(c.effect).fingerprint, 100 * r.verdict.held_out_gap_shrink,
+        effect_spec(c.effect).strength, c.fit.strength, c.loco, r.verdict.null_loco, r.verdict.floor,
+        100 * (1.0 - ratio), r.spec->rule.min_drop, null_refit_sentence(r));
   }
   std::string best = r.verdict.ranking.empty()
                          ? "none was fitted"
                          : fmt::format("the best, `{}`, removes only {:.0f} % of the gap held out",
                                        r.verdict.ranking.front().effect, 100 * r.verdict.held_out_gap_shrink);
   return fmt::format(
-      "**Gap not explained.** The model departs from the observations at {} of {} cells ({}), but none of "
+      "**Gap not explained.** The model departs from the observations {}, but none of "
       "the "
       "candidate effects explains it by the rule's margin ({}). The cause is likely outside the candidates "
       "(another mechanism, a measurement bias, or a model parameter to re-calibrate).{}",
-      ns, n, where, best, null_refit_sentence(r));
+      departs, best, null_refit_sentence(r));
 }
 
 }  // namespace
