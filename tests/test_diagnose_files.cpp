@@ -279,6 +279,9 @@ TEST(DiagnoseFiles, ProbesOutsideThePhysicalRangeAreRefused) {
   EXPECT_NE(err("[shapes]\ncohesion = [1, 2]\n").find("no second parameter"), std::string::npos);
   EXPECT_NE(err("max_cost = 0.5\n").find("max_cost"), std::string::npos);
   EXPECT_NE(err("[verdict]\ntable_level = 1\n").find("verdict.table_level: in [0, 1)"), std::string::npos);
+  EXPECT_NE(err("[verdict]\nheld_out = \"aic\"\n")
+                .find("verdict.held_out: \"chi2\" or \"log_density\", not \"aic\""),
+            std::string::npos);
   const DiagnosisSpec ok = parse_diagnosis_file(d.write(
       "d.toml", "case = \"" + kMicroStudyCase +
                     "\"\n[shapes]\nabsorption = [1, 10]\n[verdict]\ntie_delta = 3\ntable_level = 0\n"));

@@ -375,6 +375,40 @@ TEST(DiagnoseVerdict, AGapSpreadOverTheTableIsFoundByItsChiSquare) {
   EXPECT_EQ(v.kind, "effect");
 }
 
+// A candidate that changes nothing but is predicted with a probe knot's wider se (s √(2 + 1/R) against the
+// null's s/√R) scores a lower held-out χ² than the null in every cell, and passes the margin on that alone
+// (docs/diagnosis.md, "Known limit"). The held-out log density (VerdictRule::log_density) charges
+// ln(v/v_null) per cell and it does not pass; a candidate that explains the gap still does.
+TEST(DiagnoseVerdict, TheLogDensityDoesNotRewardAWidePrediction) {
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> noise(0.0, std::sqrt(0.3 * 0.3 + 0.2 * 0.2));
+  const std::vector<Prediction> base(48, Prediction{30.0, 0.2});
+  std::vector<double> phi, slope(48, 0.0), none(48, 0.0), y;
+  for (size_t k = 0; k < 48; ++k) phi.push_back(0.01 * double(k % 6));
+  // The truth at 0.3 moves one cell per condition by 1.6 (4.4 σ), so each fold learns it from the others.
+  for (size_t k : {1, 8, 15, 22, 29, 36}) slope[k] = 1.6 / 2.477;
+  for (size_t k = 0; k < 48; ++k) y.push_back(30.0 + slope[k] * 2.477 + noise(rng));
+  const std::vector<Cell> cells = cells_at(phi, y, 0.3);
+  const double s = 0.2 * std::sqrt(2.0);  // the run-to-run spread behind the null's se at R = 2 (s ~ σ)
+  const Response wide = linear("spread", {0.01, 0.1, 1.0}, none, 30.0, s * std::sqrt(2.5));
+  const Response truth = linear("cohesion", {0.01, 0.1, 1.0}, slope, 30.0, s * std::sqrt(2.5));
+  VerdictRule chi2, logd;
+  logd.held_out = HeldOut::kLogDensity;
+  const Verdict a = decide(cells, base, {wide}, {1.0}, chi2);
+  ASSERT_NE(a.kind, "no_gap");
+  EXPECT_LT(a.ranking.front().loco, 0.6 * a.null_loco) << "the wide prediction's z² are smaller everywhere";
+  EXPECT_TRUE(passes_margin(a.ranking.front().loco, a, chi2)) << "the flaw: it passes on its width alone";
+  const Verdict b = decide(cells, base, {wide}, {1.0}, logd);
+  EXPECT_NEAR(b.ranking.front().loco - a.ranking.front().loco, 48 * std::log((0.09 + 0.2) / (0.09 + 0.04)),
+              1e-9)
+      << "ln(v/v_null) in each of the 48 cells";
+  EXPECT_FALSE(passes_margin(b.ranking.front().loco, b, logd));
+  const Verdict c = decide(cells, base, {truth, wide}, {1.0, 0.5}, logd);
+  EXPECT_EQ(c.kind, "effect");
+  EXPECT_EQ(c.effect, "cohesion");
+  EXPECT_TRUE(c.tied.empty()) << "the wide no-op is not tied with the truth";
+}
+
 // The note that a fit "runs into the upper end of the physical range" follows the fit that is reported: set
 // while the fit sat at the limit, it goes when a later knot (the confirmation's fresh runs) moves the fit
 // inside, and comes back if the fit returns to the limit (spread-strong in the flowing matrix kept it stale).

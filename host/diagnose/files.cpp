@@ -227,7 +227,8 @@ DiagnosisSpec parse_diagnosis_file(const std::string& path_in) {
     if (!d.shapes.count(e) && !effect_spec(e).shapes.empty()) d.shapes[e] = effect_spec(e).shapes;
   }
   if (const auto* t = root["verdict"].as_table()) {
-    reject_unknown(*t, path + ": [verdict]", {"fdr", "table_level", "ratio", "min_drop", "tie_delta"});
+    reject_unknown(*t, path + ": [verdict]",
+                   {"fdr", "table_level", "held_out", "ratio", "min_drop", "tie_delta"});
     d.rule.tie_delta = (*t)["tie_delta"].value_or(d.rule.tie_delta);
     if (!(d.rule.tie_delta >= 0))
       throw DiagnoseError(fmt::format("{}: verdict.tie_delta: a number >= 0", path));
@@ -235,6 +236,11 @@ DiagnosisSpec parse_diagnosis_file(const std::string& path_in) {
     d.rule.ratio = (*t)["ratio"].value_or(d.rule.ratio);
     d.rule.min_drop = (*t)["min_drop"].value_or(d.rule.min_drop);
     if (!(d.rule.q > 0 && d.rule.q < 1)) throw DiagnoseError(fmt::format("{}: verdict.fdr: in (0, 1)", path));
+    const std::string held_out = (*t)["held_out"].value_or(std::string("chi2"));
+    if (held_out != "chi2" && held_out != "log_density")
+      throw DiagnoseError(
+          fmt::format("{}: verdict.held_out: \"chi2\" or \"log_density\", not \"{}\"", path, held_out));
+    d.rule.held_out = held_out == "log_density" ? HeldOut::kLogDensity : HeldOut::kChi2;
     d.rule.table_level = (*t)["table_level"].value_or(d.rule.table_level);
     if (!(d.rule.table_level >= 0 && d.rule.table_level < 1))
       throw DiagnoseError(

@@ -191,7 +191,7 @@ std::vector<double> loco_strengths(const std::vector<Cell>& cells, const std::ve
 }
 
 std::vector<double> loco_cells(const std::vector<Cell>& cells, const std::vector<Emulator>& ems,
-                               std::vector<double>* fold_strengths) {
+                               std::vector<double>* fold_strengths, const std::vector<double>* null_se) {
   std::vector<double> out(cells.size(), 0.0);
   if (fold_strengths) fold_strengths->clear();
   for (const auto& [train, test] : loco_folds(cells, "loco_score")) {
@@ -199,8 +199,12 @@ std::vector<double> loco_cells(const std::vector<Cell>& cells, const std::vector
     if (fold_strengths) fold_strengths->push_back(f.fit.strength);
     const double u = std::log10(f.fit.strength);
     for (size_t k : test) {
-      const double z = z_score(cells[k], ems[f.member].at(k, u));
+      const Prediction p = ems[f.member].at(k, u);
+      const double z = z_score(cells[k], p);
       out[k] = z * z;
+      if (!null_se || !std::isfinite(z) || k >= null_se->size() || !std::isfinite((*null_se)[k])) continue;
+      const double s2 = cells[k].sigma * cells[k].sigma;
+      out[k] += std::log((s2 + p.se * p.se) / (s2 + (*null_se)[k] * (*null_se)[k]));
     }
   }
   return out;

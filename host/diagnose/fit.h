@@ -58,8 +58,14 @@ size_t fit_null_refit(const std::vector<Cell>& cells, const std::vector<std::vec
 // predict c's cells; the held-out z² of every cell. Throws std::invalid_argument with fewer than two
 // conditions. loco_score is their sum. `fold_strengths`, when given, receives each fold's fitted strength
 // (for the jackknife below, without fitting the folds twice).
+// A probe knot's se is s √(2 + 1/R), the null's s/√R, so z² alone is smaller for a candidate in every cell
+// before it explains anything. With `null_se` (one per cell: the model without the effect), a cell scores
+// z² + ln(v / v0) instead, v = σ² + se² of the held-out prediction and v0 = σ² + null_se²: the held-out log
+// predictive density (-2 log, relative to the null's), whose differences are 2 log of likelihood ratios
+// whatever the widths (VerdictRule::held_out).
 std::vector<double> loco_cells(const std::vector<Cell>& cells, const std::vector<Emulator>& ems,
-                               std::vector<double>* fold_strengths = nullptr);
+                               std::vector<double>* fold_strengths = nullptr,
+                               const std::vector<double>* null_se = nullptr);
 double loco_score(const std::vector<Cell>& cells, const std::vector<Emulator>& ems);
 double loco_score(const std::vector<Cell>& cells, const Emulator& em);
 // The strengths fitted in the leave-one-condition-out folds (one per condition, in condition order).

@@ -262,6 +262,7 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
                                                   {"runs_computed", r.escalation.runs_computed}};
   j["rule"] = {{"fdr", r.spec->rule.q},
                {"table_level", r.spec->rule.table_level},
+               {"held_out", r.spec->rule.held_out == HeldOut::kLogDensity ? "log_density" : "chi2"},
                {"ratio", r.spec->rule.ratio},
                {"min_drop", r.spec->rule.min_drop},
                {"tie_delta", r.spec->rule.tie_delta}};

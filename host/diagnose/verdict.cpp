@@ -52,6 +52,9 @@ Verdict decide(const std::vector<Cell>& cells, const std::vector<std::vector<Pre
   v.null_loco_cells = loco_null_cells(cells, baselines);
   for (double x : v.null_loco_cells) v.null_loco += x;
   v.null_refit = fit_null_refit(cells, baselines);
+  std::vector<double> null_se;  // of the model as calibrated, for the held-out scores that use it
+  for (size_t k = 0; k < cells.size(); ++k)
+    null_se.push_back(k < baselines.front().size() ? baselines.front()[k].se : std::nan(""));
   for (const Family& fam : families) {
     if (fam.ems.empty() || fam.refit_of.size() != fam.ems.size() || fam.shape_of.size() != fam.ems.size())
       throw std::invalid_argument("decide: candidate '" + fam.effect +
@@ -60,7 +63,8 @@ Verdict decide(const std::vector<Cell>& cells, const std::vector<std::vector<Pre
     c.effect = fam.effect;
     c.screen = fam.screen;
     std::vector<double> fold_strengths;
-    c.loco_cells = loco_cells(cells, fam.ems, &fold_strengths);
+    c.loco_cells = loco_cells(cells, fam.ems, &fold_strengths,
+                              rule.held_out == HeldOut::kLogDensity ? &null_se : nullptr);
     for (double x : c.loco_cells) c.loco += x;
     const ProfileFit f = fit_profile(cells, fam.ems);
     c.fit = f.fit;

@@ -13,6 +13,9 @@
 
 namespace wetdem::diagnose {
 
+// The candidates' held-out score (VerdictRule::held_out).
+enum class HeldOut { kChi2, kLogDensity };
+
 // The verdict rule (docs/diagnosis.md, "Verdict"):
 //  no_gap      no cell significant at FDR q (Benjamini-Hochberg), and χ² over the table within χ²_n's
 //              (1 - table_level) point (table_fit, where.h: a gap spread over many cells);
@@ -35,6 +38,11 @@ namespace wetdem::diagnose {
 struct VerdictRule {
   double q = 0.05;
   double table_level = 0.01;  // the whole table's test (table_fit); 0: off
+  // The candidates' held-out score (loco_cells, fit.h; docs/diagnosis.md, "Known limit"): kChi2, Σ z² with
+  // each prediction's own se (the default; it rewards a wide prediction); kLogDensity, Σ [z² + ln(v/v_null)],
+  // the held-out log predictive density. Opt-in: with the probe knots' conservative se it names almost
+  // nothing on the flowing twins, and the matrix must be re-run with an honest knot se first.
+  HeldOut held_out = HeldOut::kChi2;
   double ratio = 0.5;
   double min_drop = 4.0;
   double tie_delta = 4.0;
