@@ -23,6 +23,11 @@ std::string null_refit_sentence(const Report& r) {
       r.cells.size());
 }
 
+// The table's χ² test on a gap set, in words (where.h, table_fit).
+std::string table_words(const Report& r, const std::vector<CellGap>& g) {
+  return table_text(table_fit(g, r.spec->rule.table_level));
+}
+
 // What a model leaves: its significant cells ("aor_deg_std at 5 % (z = +3.4); ..."), or, when none is but
 // the table's χ² is beyond its point (where.h, table_fit), that χ².
 std::string left_text(const Report& r, const std::vector<CellGap>& g) {
@@ -32,8 +37,7 @@ std::string left_text(const Report& r, const std::vector<CellGap>& g) {
       left += fmt::format("{}{} at {} (z = {:+.1f})", left.empty() ? "" : "; ", r.cells[k].observable,
                           r.cell_condition[k], g[k].z);
   if (!left.empty()) return left;
-  return "no cell alone, but the cells together (" +
-         table_text(table_fit(g, r.spec->rule.table_level), r.spec->rule.table_level) + ")";
+  return "no cell alone, but the cells together (" + table_words(r, g) + ")";
 }
 
 const Candidate* candidate(const Report& r, const std::string& e) {
@@ -249,15 +253,14 @@ std::string verdict_core(const Report& r) {
         "the {} measured cells differs significantly (false-discovery rate {:.0f} %), and the cells together "
         "stay within what their errors allow ({}). No effect needs to be added; a new measurement (another "
         "liquid content or speed) is what would test the model further.",
-        n, 100 * r.spec->rule.q,
-        table_text(table_fit(r.gaps, r.spec->rule.table_level), r.spec->rule.table_level));
+        n, 100 * r.spec->rule.q, table_words(r, r.gaps));
   std::string where;
   for (const std::string& w : r.where) where += (where.empty() ? "" : "; ") + w;
   // Where the model departs: its significant cells, or the table as a whole (where.h, table_fit).
   const std::string departs =
       ns ? fmt::format("at {} of {} cells ({})", ns, n, where)
          : fmt::format("over the table as a whole: no cell alone is significant, but together they are ({})",
-                       table_text(table_fit(r.gaps, r.spec->rule.table_level), r.spec->rule.table_level));
+                       table_words(r, r.gaps));
   if (r.verdict.kind == "effect" || r.verdict.kind == "partial") {
     const Candidate& c = r.verdict.ranking.front();
     const EffectSpec& e = effect_spec(c.effect);

@@ -451,7 +451,7 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
   for (const std::string& w : r.where) md += "- " + w + "\n";
   {
     const TableFit t = table_fit(r.gaps, r.spec->rule.table_level);
-    md += "- the table as a whole: " + table_text(t, r.spec->rule.table_level) +
+    md += "- the table as a whole: " + table_text(t) +
           (t.beyond && significant(r.gaps) == 0 ? ": a gap spread over the cells, none significant alone"
                                                 : "") +
           "\n";
@@ -513,11 +513,9 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
       "\n\nRule: `effect` when the best held-out χ² ≤ floor + {} × (the null's − floor) and lower than the "
       "null's by ≥ {} (the null's {:.1f}, its noise floor {:.1f}: the mean z² of the cells not significant, "
       "times the cells, at most 1 a cell), and the fresh-seed runs at its fitted strength leave no gap (no "
-      "cell "
-      "significant, χ² over the table within its {:.3g} % point; else `partial`); a runner-up that also "
-      "passes is *tied* unless its held-out χ² exceeds the best's by ≥ {} "
-      "× "
-      "max(1, χ²_best/n); the fresh runs must lower χ² below the model's on the same fresh seeds by ≥ {} or "
+      "cell significant, χ² over the table within its {:.3g} % point; else `partial`); a runner-up that also "
+      "passes is *tied* unless its held-out χ² exceeds the best's by ≥ {} × max(1, χ²_best/n); the fresh "
+      "runs must lower χ² below the model's on the same fresh seeds by ≥ {} or "
       "the model's own seed luck ({:.1f}), whichever is more; a candidate the probes cannot show is never "
       "named first on its held-out score; cells significant by Benjamini-Hochberg at {}. Intervals: Δχ² = "
       "max(1, χ²_min/(n − "

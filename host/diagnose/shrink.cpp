@@ -66,10 +66,6 @@ void collect_fresh(Procedure& p, FreshCheck& f) {
   f.gaps_after = where(p.tab.cells, f.after, p.d.rule.q);
 }
 
-bool leaves_gap(const FreshCheck& f, const VerdictRule& rule) {
-  return has_gap(f.gaps_after, rule.table_level);
-}
-
 // The fresh runs are the model at the fitted strength with R seeds and no common-random-number offset: the
 // best knot there is. Merged with a knot already at that strength by inverse-variance weighting.
 void add_fresh_knot(Procedure& p, const FreshCheck& f, const Candidate& c) {
@@ -320,7 +316,7 @@ void run_shrink(Procedure& p) {
   // particles a poor mixing wets), the fit is redone, and a strength that moved is run fresh again.
   for (int round = 0; round < p.d.confirm; ++round) {
     const FreshCheck& chosen = p.fresh.front();
-    if (!chosen.failure.empty() || !leaves_gap(chosen, p.d.rule)) break;
+    if (!chosen.failure.empty() || !has_gap(chosen.gaps_after, p.d.rule.table_level)) break;
     const Candidate* c = ranked(p, chosen.effect);
     if (!c) break;
     add_fresh_knot(p, chosen, *c);

@@ -19,8 +19,8 @@ enum class HeldOut { kChi2, kLogDensity };
 // The verdict rule (docs/diagnosis.md, "Verdict"):
 //  no_gap      no cell significant at FDR q (Benjamini-Hochberg), and χ² over the table within χ²_n's
 //              (1 - table_level) point (table_fit, where.h: a gap spread over many cells);
-//  refit       (with refit only) else, when the null at its re-fitted setting leaves no cell significant at
-//              FDR q: re-fitting closes the gap, no effect is chosen;
+//  refit       (with refit only) else, when the null at its re-fitted setting leaves no gap by the same
+//              two tests: re-fitting closes the gap, no effect is chosen;
 //  effect      else, the candidate with the lowest held-out (LOCO) score when it beats the null by a clear
 //              margin (passes_margin: it removes `ratio` of the null's held-out χ² above the noise floor, and
 //              LOCO_null - LOCO_best >= min_drop), and (after the fresh-seed runs at its fitted strength) no

@@ -150,22 +150,23 @@ double chi2_upper_point(size_t n, double level) {
 
 TableFit table_fit(const std::vector<CellGap>& g, double level) {
   TableFit t;
+  t.level = level > 0 && level < 1 ? level : 0.0;
   for (const CellGap& x : g)
     if (std::isfinite(x.z)) t.chi2 += x.z * x.z, ++t.n;
   t.critical = std::numeric_limits<double>::infinity();
   if (t.n == 0) return t;
   t.p = chi2_upper(t.n, t.chi2);
-  if (!(level > 0 && level < 1)) return t;
+  if (t.level == 0.0) return t;
   t.beyond = t.p < level;
   t.critical = chi2_upper_point(t.n, level);
   return t;
 }
 
-std::string table_text(const TableFit& t, double level) {
-  if (!(level > 0 && level < 1) || t.n == 0)
+std::string table_text(const TableFit& t) {
+  if (t.level == 0.0 || t.n == 0)
     return fmt::format("χ² {:.1f} over {} cells (the table test is off)", t.chi2, t.n);
   return fmt::format("χ² {:.1f} over {} cells, {} χ²_{}'s {:.3g} % point {:.1f} (p = {:.2g})", t.chi2, t.n,
-                     t.beyond ? "beyond" : "within", t.n, 100 * level, t.critical, t.p);
+                     t.beyond ? "beyond" : "within", t.n, 100 * t.level, t.critical, t.p);
 }
 
 bool has_gap(const std::vector<CellGap>& g, double level) {

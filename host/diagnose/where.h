@@ -48,13 +48,14 @@ struct TableFit {
   size_t n = 0;           // cells with a finite z
   double p = 1.0;         // P(χ²_n >= chi2), the regularized upper incomplete gamma Q(n/2, chi2/2)
   double critical = 0.0;  // χ²_n's (1 - level) point (infinite when the test is off)
+  double level = 0.0;     // the level it was tested at (0: off)
   bool beyond = false;    // p < level
 };
 TableFit table_fit(const std::vector<CellGap>& g, double level);
 
 // "χ² 86.7 over 48 cells, beyond χ²_48's 1 % point 73.7 (p = 0.0012)" ("within" when not beyond); the
 // report's and the paragraph's words for table_fit.
-std::string table_text(const TableFit& t, double level);
+std::string table_text(const TableFit& t);
 
 // The model departs from the table: a significant cell, or the table's χ² beyond its level (table_fit).
 bool has_gap(const std::vector<CellGap>& g, double level);
