@@ -142,6 +142,62 @@ TEST(DiagnoseVerdict, ASecondParameterIsFittedAsAProfile) {
   EXPECT_LT(loco_score(cells, both), 0.2 * loco_score(cells, std::vector<Emulator>{both[0]}));
 }
 
+// The profile compares each shape at its own best strength. A shape probed at one strength only (as the fit
+// stage adds the other rates, at the capacity fitted at the middle one) sits at an edge of its knots and
+// loses to the default shape there, though at its own best it fits exactly: next_member_edge extends it (a
+// step of 3x), and then the profile keeps it at the truth's strength.
+TEST(DiagnoseVerdict, AShapeProbedAtOneStrengthIsFittedAtItsOwnBest) {
+  const std::vector<double> fast = {0.0, 0.3, 1.0, 2.0, 3.0}, slow = {0.0, 0.0, 0.5, 1.5, 3.0};
+  const std::vector<Prediction> base(5, Prediction{30.0, 0.1});
+  const double u0 = std::log10(0.01) - 1.0;  // both members' anchor: a decade below the weakest probe
+  const auto slow_at = [&](double s) {
+    std::vector<Prediction> p;
+    for (double k : slow) p.push_back({30.0 + k * (std::log10(s) - u0), 0.1});
+    return p;
+  };
+  std::vector<double> y;
+  for (const Prediction& p : slow_at(0.2)) y.push_back(p.mean);
+  const std::vector<Cell> cells = cells_at(kPhi, y, 0.3);
+  std::vector<Response> rs = {linear("absorption", {0.01, 0.05, 0.2}, fast, 30.0),
+                              Response{"absorption", {}, {}}};
+  add_knot(rs[1], 0.01, slow_at(0.01));  // the slow rate at the capacity the fast one fits first (~0.01)
+  const auto ems = [&] { return std::vector<Emulator>{Emulator(base, rs[0]), Emulator(base, rs[1])}; };
+  const ProfileFit before = fit_profile(cells, ems());
+  ASSERT_EQ(before.member, 0u) << "at its one knot the slow rate loses to the fast one";
+  EXPECT_TRUE(fit_strength(cells, ems()[1]).at_hi);
+  // The stage's order (fit_stage.cpp): the best member's own edge first, then another member's.
+  const auto fast_at = [&](double s) {
+    std::vector<Prediction> p;
+    for (double k : fast) p.push_back({30.0 + k * (std::log10(s) - u0), 0.1});
+    return p;
+  };
+  std::vector<std::pair<size_t, double>> asked;  // (member, strength), from next_member_edge
+  for (int round = 0; round < 8; ++round) {
+    const std::vector<Emulator> e = ems();
+    const ProfileFit pf = fit_profile(cells, e);
+    if (const double up = next_edge_knot(pf.fit, rs[pf.member], 1e-3, 0.3); up > 0) {
+      add_knot(rs[pf.member], up, pf.member == 0 ? fast_at(up) : slow_at(up));
+      continue;
+    }
+    const MemberEdge m = next_member_edge(cells, e, {&rs[0], &rs[1]}, pf.member, 1e-3, 0.3);
+    if (m.member == MemberEdge::npos) break;
+    asked.push_back({m.member, m.strength});
+    add_knot(rs[m.member], m.strength, m.member == 0 ? fast_at(m.strength) : slow_at(m.strength));
+  }
+  ASSERT_FALSE(asked.empty());
+  EXPECT_EQ(asked[0].first, 1u);
+  EXPECT_NEAR(asked[0].second, 0.03, 1e-12) << "a step of 3x past its one knot";
+  const ProfileFit after = fit_profile(cells, ems());
+  EXPECT_EQ(after.member, 1u) << "the slow rate, at its own best";
+  EXPECT_NEAR(std::log10(after.fit.strength), std::log10(0.2), 0.02);
+  EXPECT_LT(after.fit.chi2, 0.1 * before.fit.chi2);
+  // The physical range bounds it: with the upper end at 0.05 the slow rate stops there.
+  Response capped{"absorption", {}, {}};
+  add_knot(capped, 0.05, slow_at(0.05));
+  const std::vector<Emulator> ec = {Emulator(base, rs[0]), Emulator(base, capped)};
+  EXPECT_EQ(next_member_edge(cells, ec, {&rs[0], &capped}, 0, 1e-3, 0.05).member, MemberEdge::npos);
+}
+
 // Two candidates that fit equally well are tied; a clearly worse one is not; the fresh-seed check turns an
 // effect that leaves cells significant into `partial`.
 TEST(DiagnoseVerdict, TieRuleAndPartial) {

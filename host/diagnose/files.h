@@ -30,7 +30,9 @@ struct DiagnosisSpec {
   // Per effect with a second parameter (absorption: its rate k, 1/s): the values the fit profiles over
   // (default: the catalogue's), inside its physical range.
   std::map<std::string, std::vector<double>> shapes;
-  int extend = 3;              // per fitted candidate: runs that extend the probed range past an edge (0-6)
+  // Per fitted candidate: runs that extend the probed range past an edge of the best shape's fit (0-6), and
+  // as many again for its other shapes' own fits (fit_stage.h).
+  int extend = 3;
   int confirm = 1;             // re-fits of the chosen effect with its fresh runs as a knot (0-3, shrink.h)
   double max_cost = 10;        // a run needing more than this many times a baseline run's steps is not run
   size_t next_conditions = 6;  // conditions the next-experiment stage may propose and run (0: none)

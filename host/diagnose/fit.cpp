@@ -280,4 +280,19 @@ double next_edge_knot(const StrengthFit& f, const Response& r, double phys_lo, d
   return 0.0;
 }
 
+MemberEdge next_member_edge(const std::vector<Cell>& cells, const std::vector<Emulator>& ems,
+                            const std::vector<const Response*>& responses, size_t best, double phys_lo,
+                            double phys_hi) {
+  if (responses.size() != ems.size())
+    throw std::invalid_argument("next_member_edge: one response per emulator");
+  MemberEdge e;
+  for (size_t i = 0; i < ems.size(); ++i) {
+    if (i == best || !responses[i]) continue;
+    const StrengthFit f = fit_strength(cells, ems[i]);
+    const double s = next_edge_knot(f, *responses[i], phys_lo, phys_hi);
+    if (s > 0 && (e.member == MemberEdge::npos || f.chi2 < e.chi2)) e = {i, s, f.chi2};
+  }
+  return e;
+}
+
 }  // namespace wetdem::diagnose

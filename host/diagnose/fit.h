@@ -115,4 +115,20 @@ double next_knot(const std::vector<Cell>& cells, const std::vector<Prediction>& 
 double next_edge_knot(const StrengthFit& f, const Response& r, double phys_lo, double phys_hi,
                       int* at_limit = nullptr);
 
+// The profile (fit_profile) compares the members at their own best strengths. A member probed at one strength
+// only (a shape added at the strength fitted at the default shape) has its best beyond its knots when its
+// shape needs another strength to show the same pattern (a slow rate needs a larger capacity), and compared
+// at that edge it loses whatever its optimum. The member to extend next: of the members other than `best`
+// whose own fit runs into an edge of their knots (next_edge_knot within [phys_lo, phys_hi]), the one of least
+// χ², with the strength to probe; `member` is npos when none. `responses[i]` is the response behind `ems[i]`.
+struct MemberEdge {
+  static constexpr size_t npos = static_cast<size_t>(-1);
+  size_t member = npos;
+  double strength = 0.0;
+  double chi2 = 0.0;  // the member's own fit at its edge: a bound on its best
+};
+MemberEdge next_member_edge(const std::vector<Cell>& cells, const std::vector<Emulator>& ems,
+                            const std::vector<const Response*>& responses, size_t best, double phys_lo,
+                            double phys_hi);
+
 }  // namespace wetdem::diagnose

@@ -31,7 +31,7 @@ struct Stage {
   Procedure& p;
   std::vector<CandidateRuns>& cands;
   std::vector<Knot> pending;
-  std::vector<int> refined, extended;  // per candidate: rounds spent
+  std::vector<int> refined, extended, members_extended;  // per candidate: rounds spent
 
   Variant variant_of(const Knot& k) const {
     const CandidateRuns& c = cands[k.c];
@@ -120,7 +120,20 @@ struct Stage {
         return true;
       }
     }
-    // 3. Refinement: a knot at the fitted strength.
+    // 3. Another member whose own fit runs into an edge of its knots (a shape probed at one strength): extend
+    // it, so that the profile compares every shape at its own best strength, not at the strength that suited
+    // the default shape (fit.h, next_member_edge).
+    if (members_extended[ci] < p.d.extend) {
+      std::vector<const Response*> rs;
+      for (size_t i = 0; i < fam.ems.size(); ++i) rs.push_back(&c.member(fam.refit_of[i], fam.shape_of[i]));
+      const MemberEdge e = next_member_edge(p.tab.cells, fam.ems, rs, pf.member, spec.phys_lo, hi);
+      if (e.member != MemberEdge::npos) {
+        ++members_extended[ci];
+        want({ci, fam.refit_of[e.member], fam.shape_of[e.member], e.strength, "extend"});
+        return true;
+      }
+    }
+    // 4. Refinement: a knot at the fitted strength.
     if (refined[ci] < p.d.refine) {
       if (const double s = next_knot(p.tab.cells, p.baselines[j], r); s > 0) {
         ++refined[ci];
@@ -174,7 +187,12 @@ void run_fit(Procedure& p) {
   for (size_t j = 1; j < p.settings.size(); ++j)
     if (const std::string why = p.want(p.variant("", 0, j), p.base_seeds); !why.empty())
       throw std::runtime_error("refit setting " + p.settings[j].label + ": " + why);
-  Stage st{p, cands, {}, std::vector<int>(cands.size(), 0), std::vector<int>(cands.size(), 0)};
+  Stage st{p,
+           cands,
+           {},
+           std::vector<int>(cands.size(), 0),
+           std::vector<int>(cands.size(), 0),
+           std::vector<int>(cands.size(), 0)};
   for (size_t ci = 0; ci < cands.size(); ++ci) {
     const size_t m0 = cands[ci].shapes.size() / 2;
     for (double s : p.d.probes.at(cands[ci].effect))
@@ -204,7 +222,7 @@ void run_fit(Procedure& p) {
   // Rounds: each candidate in contention asks for at most one run per round; the rounds' runs go together.
   // In contention: the best by held-out score, and every candidate that passes the effect margin against the
   // null or is not clearly worse than the best (verdict.h): the runs go where they can change the verdict.
-  const int rounds = p.d.refine + p.d.extend + 2;
+  const int rounds = p.d.refine + 2 * p.d.extend + 2;
   for (int round = 0; round < rounds; ++round) {
     std::vector<Family> fams;
     std::vector<size_t> of;

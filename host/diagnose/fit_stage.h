@@ -1,7 +1,9 @@
 // Step 4 of the diagnosis (diagnosis.md §4), the runs: the top candidates of the screen at every probe
 // strength (seed 1), at every refit setting; for an effect with a second parameter, at its other shapes; then
 // rounds that refine the fit (a run at the fitted strength), extend the probed range past an edge the fit
-// runs into (within the physical range), and extend the shapes past an end. The statistics are fit.h.
+// runs into (within the physical range), extend the shapes past an end, and extend another shape whose own
+// fit runs into an edge of its knots (each shape compared at its own best strength). The statistics are
+// fit.h.
 #pragma once
 
 #include "diagnose/procedure.h"
