@@ -143,9 +143,13 @@ def main(d):
     null = "none (null)" + (f"\n{j['null_refit']['label']}" if "null_refit" in j else "")
     # What the verdict made of each candidate, on its bar: the one named, those tied with it, and those whose
     # probes the table cannot see (never named first on their held-out score alone: a lower bar can come second).
+    # The one first held out whose fresh runs did not confirm it, when another's did (passed_over): why the
+    # named bar is not the shortest.
     unseen = set(j.get("unseen") or [])
+    passed = (j.get("passed_over") or {}).get("effect")
     def role(e):
         r = "named" if e == j.get("effect") else "tied" if e in (j.get("tied") or []) else ""
+        r = "not confirmed fresh" if e == passed else r
         return r + (", " if r else "") + "probes not seen" if e in unseen else r
     names = [null] + [r["effect"] + (f" ({role(r['effect'])})" if role(r["effect"]) else "") + refit(r) for r in rk]
     vals = [j["null_loco_chi2"]] + [r["loco_chi2"] for r in rk]

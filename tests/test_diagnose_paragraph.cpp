@@ -280,3 +280,20 @@ TEST(DiagnoseParagraph, AGapSpreadOverTheTableIsSaidInItsChiSquare) {
             std::string::npos)
       << none;
 }
+
+// The candidate first held out whose fresh runs did not confirm it (shrink.cpp, promote_confirmed): the
+// paragraph says why the one named is not the best held out, with the numbers that decided it.
+TEST(DiagnoseParagraph, ACandidatePassedOverOnItsFreshRunsIsSaid) {
+  Report r = chosen_with_fresh_runs("effect");
+  r.verdict.ranking.front().loco = 21.33;
+  EXPECT_EQ(verdict_paragraph(r).find("came first held out"), std::string::npos);
+  r.verdict.passed_over = {"scale", 0.2, 21.27, 70.2, 71.47};
+  const std::string p = verdict_paragraph(r);
+  EXPECT_NE(p.find("**Gap explained by `cohesion`.**"), std::string::npos) << p;
+  EXPECT_NE(
+      p.find("`scale` came first held out (21.3 against 21.3 for `cohesion`), but its fresh runs at 0.2 "
+             "did not reproduce it (χ² 70.2 against 71.5 for the model without it on the same fresh "
+             "seeds), so it is not named."),
+      std::string::npos)
+      << p;
+}

@@ -198,6 +198,27 @@ TEST(DiagnoseVerdict, AShapeProbedAtOneStrengthIsFittedAtItsOwnBest) {
   EXPECT_EQ(next_member_edge(cells, ec, {&rs[0], &capped}, 0, 1e-3, 0.05).member, MemberEdge::npos);
 }
 
+// The chosen effect's fresh runs do not confirm it; a candidate the held-out score did not separate from it,
+// whose fresh runs do, is named instead (absorption-strong's numbers: control 71.5, luck 8.3, scale 70.2,
+// absorption 47.4). Not an unseen one, not one whose drop is within the luck, not a failed one; of several,
+// the least χ².
+TEST(DiagnoseVerdict, ATieWhoseFreshRunsConfirmItIsNamedWhenTheFirstsDoNot) {
+  const VerdictRule rule;
+  const double control = 71.5, luck = 8.3;
+  EXPECT_FALSE(fresh_confirms(control, 70.2, rule, luck));
+  EXPECT_EQ(confirmed_instead(control, {70.2, 47.4}, {false, true}, rule, luck), 1u);
+  EXPECT_EQ(confirmed_instead(control, {70.2, 47.4}, {false, false}, rule, luck), kNone) << "unseen";
+  EXPECT_EQ(confirmed_instead(control, {70.2, 65.0}, {false, true}, rule, luck), kNone)
+      << "lower by 6.5: within the seed luck";
+  EXPECT_EQ(confirmed_instead(control, {70.2, 65.0}, {false, true}, rule, 0.0), 1u) << "beyond min_drop";
+  EXPECT_EQ(
+      confirmed_instead(control, {70.2, std::nan(""), 50.0, 40.0}, {false, true, true, true}, rule, luck),
+      3u);
+  EXPECT_EQ(confirmed_instead(control, {30.0, 47.4}, {true, true}, rule, luck), 1u)
+      << "index 0 is the chosen one: never its own replacement";
+  EXPECT_THROW(confirmed_instead(control, {70.2}, {false, true}, rule, luck), std::invalid_argument);
+}
+
 // Two candidates that fit equally well are tied; a clearly worse one is not; the fresh-seed check turns an
 // effect that leaves cells significant into `partial`.
 TEST(DiagnoseVerdict, TieRuleAndPartial) {

@@ -237,10 +237,25 @@ std::string seen_sentence(const Report& r) {
   return s;
 }
 
+// The candidate the held-out score put first whose fresh runs did not confirm it (promote_confirmed): why the
+// named one is not the best held out.
+std::string passed_over_sentence(const Report& r) {
+  const auto& po = r.verdict.passed_over;
+  if (po.effect.empty() || r.verdict.ranking.empty()) return {};
+  return fmt::format(
+      " `{}` came first held out ({:.1f} against {:.1f} for `{}`), but its fresh runs at {:.3g} did not "
+      "reproduce it (χ² {:.1f} against {:.1f} for the model without it on the same fresh seeds), so it is "
+      "not "
+      "named.",
+      po.effect, po.loco, r.verdict.ranking.front().loco, r.verdict.ranking.front().effect, po.strength,
+      po.fresh_chi2, po.control_chi2);
+}
+
 }  // namespace
 
 std::string verdict_paragraph(const Report& r) {
-  return verdict_core(r) + seen_sentence(r) + escalation_sentence(r) + luck_sentence(r) + blind_sentence(r);
+  return verdict_core(r) + passed_over_sentence(r) + seen_sentence(r) + escalation_sentence(r) +
+         luck_sentence(r) + blind_sentence(r);
 }
 
 namespace {

@@ -250,7 +250,13 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
   if (named && r.second_named()) j["effects"].push_back(r.second_named()->effect);
   j["tied"] = r.verdict.tied;
   j["tied_on_fresh"] = r.verdict.tied_on_fresh;  // near ties held out that tie on fresh runs
-  j["held_by_luck"] = r.verdict.held_by_luck;    // fresh comparisons the seed luck decided (verdict.h)
+  if (const auto& po = r.verdict.passed_over; !po.effect.empty())  // first held out, unconfirmed fresh
+    j["passed_over"] = {{"effect", po.effect},
+                        {"strength", po.strength},
+                        {"held_out_chi2", po.loco},
+                        {"fresh_chi2", po.fresh_chi2},
+                        {"control_chi2", po.control_chi2}};
+  j["held_by_luck"] = r.verdict.held_by_luck;  // fresh comparisons the seed luck decided (verdict.h)
   // The first pass at fewer seeds, when its verdict was not decided and the diagnosis ran again.
   j["escalation"] = r.escalation.from == 0 ? json(nullptr)
                                            : json{{"from_replicates", r.escalation.from},

@@ -206,6 +206,19 @@ bool fresh_confirms(double chi2_before, double chi2_fresh, const VerdictRule& ru
   return chi2_fresh <= chi2_before - std::max(rule.min_drop, luck);
 }
 
+size_t confirmed_instead(double chi2_before, const std::vector<double>& fresh_chi2,
+                         const std::vector<bool>& eligible, const VerdictRule& rule, double luck) {
+  if (eligible.size() != fresh_chi2.size())
+    throw std::invalid_argument("confirmed_instead: one flag per fresh check");
+  size_t best = kNone;
+  for (size_t i = 1; i < fresh_chi2.size(); ++i) {
+    const double x = fresh_chi2[i];
+    if (!eligible[i] || !std::isfinite(x) || !fresh_confirms(chi2_before, x, rule, luck)) continue;
+    if (best == kNone || x < fresh_chi2[best]) best = i;
+  }
+  return best;
+}
+
 void settle_verdict(Verdict& v, const std::vector<CellGap>& after, const VerdictRule& rule) {
   if (v.kind != "effect") return;
   if (has_gap(after, rule.table_level)) v.kind = "partial";

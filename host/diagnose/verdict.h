@@ -99,6 +99,12 @@ struct Verdict {
   // unconfirmed, whose fresh χ² differ by more than the tie margin (or min_drop) but not by more than the
   // luck. More replicates would lower the luck and could decide them; the paragraph says so (luck_sentence).
   std::vector<std::string> held_by_luck;
+  // The candidate first held out whose fresh runs did not confirm it, passed over for one the held-out score
+  // did not separate from it and whose fresh runs did (shrink.cpp, promote_confirmed); effect empty if none.
+  struct PassedOver {
+    std::string effect;
+    double strength = 0.0, loco = 0.0, fresh_chi2 = 0.0, control_chi2 = 0.0;
+  } passed_over;
 };
 
 // The effect margin against the null: LOCO <= floor + ratio x (LOCO_null - floor), i.e. the candidate removes
@@ -184,6 +190,16 @@ bool stays_tied(const Candidate& first, const Candidate& c, double chi2_first, d
 // tails, no effect) cohesion's fresh runs gave 117.3 against the control's 129.7, lower by 12.4 > min_drop,
 // with a luck of 69.8: not confirmed.
 bool fresh_confirms(double chi2_before, double chi2_fresh, const VerdictRule& rule, double luck = 0.0);
+
+// The chosen effect's fresh runs did not confirm it. The fresh χ² of every fresh check (index 0 the chosen
+// one; NaN where the runs failed) and whether each may be named in its place (a candidate the table can see,
+// which the held-out score did not separate from it: tied or a near tie): the index of the least χ² that
+// fresh_confirms against the control's `chi2_before`, or npos. The fresh runs carry no probe's seed noise and
+// no emulator, so among candidates the held-out score cannot order they are the better evidence
+// (shrink.cpp, promote_confirmed).
+inline constexpr size_t kNone = static_cast<size_t>(-1);
+size_t confirmed_instead(double chi2_before, const std::vector<double>& fresh_chi2,
+                         const std::vector<bool>& eligible, const VerdictRule& rule, double luck);
 
 // Lists `effect` in v.held_by_luck once: the first round and the second may both find its comparison decided
 // by the luck (a tie kept, then the same candidate unconfirmed on top).
