@@ -303,22 +303,20 @@ void promote_confirmed(Procedure& p, double before) {
     const FreshCheck& f = p.fresh[i];
     const bool ran = f.failure.empty() && !f.after.empty();
     x.push_back(ran ? chi2_of(f.gaps_after) : std::nan(""));
-    eligible.push_back(i > 0 && ran && !listed(p.unseen, f.effect) && ranked(p, f.effect));
+    eligible.push_back(i > 0 && ran && !listed(p.unseen, f.effect) && ranked(p, f.effect) != nullptr);
   }
   const size_t best = confirmed_instead(before, x, eligible, p.d.rule, luck);
   if (best == kNone) return;
   const FreshCheck old = p.fresh.front(), f = p.fresh[best];
   std::vector<std::string>& tied = p.verdict.tied;
   if (!listed(tied, f.effect)) tied.push_back(f.effect);  // a near tie held out
-  p.notes.push_back(
-      fmt::format("shrink: the fresh runs of {} at {:.3g} give χ² {:.1f} against {:.1f} for the model "
-                  "without it (the same "
-                  "fresh seeds), not lower by min_drop = {:g} or the model's own seed luck {:.1f}; those of "
-                  "{} at {:.3g}, "
-                  "which the held-out score did not separate from it, give {:.1f}: {} is named first, and {} "
-                  "is not named",
-                  old.effect, old.strength, chi2_of(old.gaps_after), before, p.d.rule.min_drop, luck,
-                  f.effect, f.strength, chi2_of(f.gaps_after), f.effect, old.effect));
+  p.notes.push_back(fmt::format(
+      "shrink: the fresh runs of {} at {:.3g} give χ² {:.1f} against {:.1f} for the model without it (the "
+      "same fresh seeds), not lower by min_drop = {:g} or the model's own seed luck {:.1f}; those of {} at "
+      "{:.3g}, which the held-out score did not separate from it, give {:.1f}: {} is named first, and {} is "
+      "not named",
+      old.effect, old.strength, chi2_of(old.gaps_after), before, p.d.rule.min_drop, luck, f.effect,
+      f.strength, chi2_of(f.gaps_after), f.effect, old.effect));
   if (const Candidate* c = ranked(p, old.effect))
     p.verdict.passed_over = {old.effect, old.strength, c->loco, chi2_of(old.gaps_after), before};
   std::vector<std::string> gone = {old.effect};
