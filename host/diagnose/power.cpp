@@ -131,6 +131,10 @@ Verdict decide_seen(Procedure& p) {
   return v;
 }
 
+double reach_screen_z(size_t replicates) {
+  return kVisibleZ / std::sqrt(double(std::max<size_t>(1, replicates)));
+}
+
 namespace {
 
 // Where a candidate the table cannot see would show (run_reach, second part).
@@ -196,16 +200,19 @@ void run_beyond(Procedure& p) {
   const auto largest = [](std::vector<Tried>& ts) {
     return std::max_element(ts.begin(), ts.end(), [](const Tried& a, const Tried& b) { return a.z < b.z; });
   };
-  // One run each side is a screen, not a claim: where the largest shift reaches 3 σ, the baseline's other
-  // seeds run there too (both sides) and the shift is taken over all of them, their spread included; then the
-  // next largest, until the largest is confirmed or under 3 σ. The wet bed's avalanches decorrelate runs more
-  // than one window's error shows, so a single pair can differ by "4 σ" by chance.
+  // One run each side is a screen, not a claim: where the largest shift reaches the screen threshold
+  // (reach_screen_z: 3 σ / √R), the baseline's other seeds run there too (both sides) and the shift is taken
+  // over all of them, their spread included; then the next largest, until the largest is confirmed or under
+  // the threshold. The claim needs 3 σ over all the seeds: the wet bed's avalanches decorrelate runs more
+  // than one window's error shows, so a single pair can differ by "4 σ" by chance, and as easily hide a real
+  // shift.
+  const double screen = reach_screen_z(p.base_seeds.size());
   while (p.base_seeds.size() >= 2) {
     std::vector<std::pair<size_t, Tried*>> confirm;
     for (size_t i = 0; i < p.reach.size(); ++i) {
       if (tried[i].empty()) continue;
       Tried& t = *largest(tried[i]);
-      if (t.seeds != 1 || t.z < kVisibleZ) continue;  // confirmed, unconfirmable, or under 3 σ
+      if (t.seeds != 1 || t.z < screen) continue;  // confirmed, unconfirmable, or under the screen
       const Variant v = p.variant(p.reach[i].effect, p.reach[i].strongest);
       try {
         p.book.want(*t.c, none, p.base_seeds);
