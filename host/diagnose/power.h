@@ -24,9 +24,10 @@ constexpr double kVisibleZ = 3.0;
 // The screen threshold of one run pair beyond the table (run_reach) when the claim is made over R seeds each:
 // kVisibleZ / sqrt(R). A shift that reaches kVisibleZ over R seeds each shows in one pair at about that much
 // where the seeds' spread dominates the noise (one pair's standard error is sqrt(R) times the R seeds'), so a
-// pair screened at kVisibleZ itself misses half of the shifts the R seeds would confirm. Measured on the
-// flowing drum (29 Nov 2026): lubrication at 0.1 Pa s slows the surface at 90 rpm, 10 % by 4.4 sigma over
-// four seeds each, while the one pair of the diagnosis (seed 1) showed 2.4 sigma.
+// pair screened at kVisibleZ itself misses most of the shifts the R seeds would confirm (70 % of those at
+// 3.5 sigma when R = 2: tests/test_diagnose_power.cpp). Measured on the flowing drum (29 Nov 2026):
+// lubrication at 0.1 Pa s slows the surface at 90 rpm, 10 % by 4.4 sigma over four seeds each, while the one
+// pair of the diagnosis (seed 1) showed 2.4 sigma.
 double reach_screen_z(size_t replicates);
 
 // A shift can also be visible through the whole table without any one cell at kVisibleZ (many cells moved by
