@@ -99,6 +99,12 @@ TEST(DiagnoseFiles, BadDiagnosisFilesNameTheKey) {
             std::string::npos);
   EXPECT_NE(err("escalate_replicates = -1\n").find("escalate_replicates: an integer in [0, 100]"),
             std::string::npos);
+  // The probes share the baseline's first seeds: no more of them than the replicates.
+  EXPECT_NE(err("replicates = 2\nprobe_seeds = 3\n").find("probe_seeds: an integer in [1, replicates = 2]"),
+            std::string::npos);
+  EXPECT_NE(err("probe_seeds = 0\n").find("probe_seeds"), std::string::npos);
+  EXPECT_EQ(parse_diagnosis_file(d.write("p.toml", head + "replicates = 3\nprobe_seeds = 2\n")).probe_seeds,
+            2);
   EXPECT_NE(err("second_effect = 1\n").find("second_effect: true or false"), std::string::npos);
   EXPECT_NE(err("reach_conditions = -1\n").find("reach_conditions: an integer in [0, 20]"),
             std::string::npos);

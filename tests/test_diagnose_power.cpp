@@ -123,6 +123,10 @@ TEST(DiagnosePower, ThePairScreenCatchesWhatTheSeedsWouldConfirm) {
   EXPECT_DOUBLE_EQ(reach_screen_z(1), kVisibleZ);
   EXPECT_NEAR(reach_screen_z(2), 2.1213, 1e-4);
   EXPECT_DOUBLE_EQ(reach_screen_z(4), 1.5);
+  // P probe seeds each side: 3 sqrt(P / R); with every replicate already run there is nothing to confirm.
+  EXPECT_NEAR(reach_screen_z(4, 2), 2.1213, 1e-4);
+  EXPECT_DOUBLE_EQ(reach_screen_z(2, 2), kVisibleZ);
+  EXPECT_DOUBLE_EQ(reach_screen_z(2, 3), kVisibleZ);
   const size_t R = 2, trials = 20000;
   const double delta = 3.5 * std::sqrt(2.0 / double(R));  // 3.5 sigma over R seeds each side
   std::mt19937_64 rng(7);

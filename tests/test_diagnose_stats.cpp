@@ -8,6 +8,7 @@
 
 #include "diagnose/emulator.h"
 #include "diagnose/fit.h"
+#include "diagnose/procedure.h"
 #include "diagnose/screen.h"
 #include "diagnose/verdict.h"
 #include "diagnose/where.h"
@@ -481,4 +482,47 @@ TEST(DiagnoseStats, OneRefitSettingIsThePlainDiagnosis) {
   EXPECT_EQ(f.member, 0u);
   EXPECT_EQ(f.fit.strength, g.strength);
   EXPECT_EQ(f.fit.chi2, g.chi2);
+}
+
+// A probe knot's SE (procedure.h, knot_se) on simulated seeds: a baseline of R runs (sd 1), a probe of P runs
+// whose effect widens the run-to-run scatter to sd w, the knot = baseline mean + (probe mean - the baseline's
+// same P seeds), every sd estimated from the runs themselves as the diagnosis does. With P = 1 the probe's
+// own scatter is invisible (one run has no sd), so when w = 2 the knot's error exceeds 2 SE in a third of
+// the draws (the lubrication probes on the flowing drum); P = 2 sees it. The formula leaves out the common
+// random numbers' correlation, so it is conservative when w = 1 (coverage above 95 %).
+TEST(DiagnoseStats, ProbeKnotSeCoversTheScatterItsSeedsShow) {
+  EXPECT_NEAR(knot_se(1.0, 0.2, 1, 2), std::sqrt(2.5), 1e-12);  // s sqrt(2 + 1/R): the single-seed knot
+  EXPECT_NEAR(knot_se(1.0, 0.2, 2, 2), std::sqrt(1.5), 1e-12);  // s sqrt(2/P + 1/R)
+  EXPECT_NEAR(knot_se(1.0, 1.0, 2, 4), std::sqrt(2.0 * 1.25), 1e-12);  // the probe's sd, 1 x sqrt(2), wins
+  EXPECT_NEAR(knot_se(1.0, std::nan(""), 1, 2), std::sqrt(2.5), 1e-12);
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> n01;
+  const auto sd = [](const std::vector<double>& x, size_t n) {
+    if (n < 2) return 0.0;
+    double m = 0, ss = 0;
+    for (size_t i = 0; i < n; ++i) m += x[i] / double(n);
+    for (size_t i = 0; i < n; ++i) ss += (x[i] - m) * (x[i] - m);
+    return std::sqrt(ss / double(n - 1));
+  };
+  const auto coverage = [&](size_t P, size_t R, double w) {
+    const size_t trials = 40000;
+    size_t in = 0;
+    for (size_t t = 0; t < trials; ++t) {
+      std::vector<double> b(R), p(P);
+      for (double& x : b) x = n01(rng);
+      for (double& x : p) x = w * n01(rng);
+      double mb = 0, mbp = 0, mp = 0;
+      for (size_t i = 0; i < R; ++i) mb += b[i] / double(R);
+      for (size_t i = 0; i < P; ++i) mbp += b[i] / double(P), mp += p[i] / double(P);
+      const double spread = std::max(sd(b, R), sd(b, P));
+      const double se = knot_se(spread, sd(p, P) / std::sqrt(double(P)), P, R);
+      in += std::fabs(mb + mp - mbp) <= 2.0 * se;
+    }
+    return double(in) / double(trials);
+  };
+  EXPECT_GT(coverage(2, 2, 1.0), 0.93);  // 0.95
+  const double one = coverage(1, 2, 2.0), two = coverage(2, 2, 2.0);
+  EXPECT_LT(one, 0.70);                  // 0.63
+  EXPECT_GT(two, 0.88);                  // 0.91
+  EXPECT_GT(coverage(2, 4, 2.0), 0.88);  // 0.93
 }

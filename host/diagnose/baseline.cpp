@@ -39,11 +39,12 @@ void run_baseline(Procedure& p) {
       throw std::runtime_error("fewer than two conditions have cells the model reports: nothing to diagnose");
     p.baselines = {p.predict(base, p.base_seeds)};
   }
-  p.seed1 = {p.predict(base, p.probe_seed)};
-  const double r = double(p.base_seeds.size());
+  p.seed1 = {p.predict(base, p.probe_seeds)};
+  // A run's sd: the SE of each mean times the square root of its seeds.
+  const double r = double(p.base_seeds.size()), np = double(p.probe_seeds.size());
   p.spread.clear();
   for (size_t k = 0; k < p.tab.cells.size(); ++k)
-    p.spread.push_back(std::max(p.baselines[0][k].se * std::sqrt(r), p.seed1[0][k].se));
+    p.spread.push_back(std::max(p.baselines[0][k].se * std::sqrt(r), p.seed1[0][k].se * std::sqrt(np)));
   std::vector<std::vector<Prediction>> per_seed;
   for (uint64_t s : p.base_seeds) per_seed.push_back(p.predict(base, {s}));
   p.within_inflation = within_inflation(p.tab.cells, per_seed);

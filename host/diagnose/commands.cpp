@@ -37,6 +37,11 @@ class Impl : public study::Commands {
                      "when the seed luck decides the verdict, run again at this many seeds per condition "
                      "(instead of the file's `escalate_replicates`; 0: never)")
         ->check(CLI::Range(0, 100));
+    diag_
+        ->add_option("--probe-seeds", probe_seeds_,
+                     "seeds per probe knot instead of the file's `probe_seeds` (1..R, the baseline's first "
+                     "seeds): more for effects that widen the run-to-run scatter")
+        ->check(CLI::Range(1, 100));
     add_common(diag_);
     twin_ =
         cli.add_subcommand("twin", "synthetic observations from a model with a withheld effect (validation)");
@@ -66,6 +71,18 @@ class Impl : public study::Commands {
         } else if (d.escalate_replicates <= d.replicates) {
           d.escalate_replicates =
               0;  // --replicates at or past the file's escalation: that many from the start
+        }
+        if (probe_seeds_ > 0) {
+          if (probe_seeds_ > d.replicates)
+            throw DiagnoseError(fmt::format(
+                "--probe-seeds: {} is more than the replicates ({}): the probes share the baseline's seeds",
+                probe_seeds_, d.replicates));
+          d.probe_seeds = probe_seeds_;
+        } else if (d.probe_seeds > d.replicates) {
+          throw DiagnoseError(fmt::format(
+              "{}: probe_seeds: {} is more than the replicates ({}, from --replicates): the probes share the "
+              "baseline's seeds",
+              d.path, d.probe_seeds, d.replicates));
         }
         choose_batch();
         const nlohmann::json j = run_diagnosis(d, o_);
@@ -128,9 +145,10 @@ class Impl : public study::Commands {
   }
   CLI::App *diag_ = nullptr, *twin_ = nullptr;
   std::string file_, observations_;
-  int replicates_ = 0;  // 0: the file's
-  int escalate_ = -1;   // -1: the file's
-  size_t batch_ = 0;    // 0: auto (auto_batch.h)
+  int replicates_ = 0;   // 0: the file's
+  int escalate_ = -1;    // -1: the file's
+  int probe_seeds_ = 0;  // 0: the file's
+  size_t batch_ = 0;     // 0: auto (auto_batch.h)
   DiagnoseOptions o_;
 };
 

@@ -77,26 +77,28 @@ std::string toml_text_of_written(const std::string& w) {
 DiagnosisSpec parse_diagnosis_file(const std::string& path_in) {
   const std::string path = fs::absolute(path_in).lexically_normal().string();
   const toml::table root = load(path);
-  reject_unknown(root, path, {"name",
-                              "case",
-                              "observations",
-                              "effects",
-                              "replicates",
-                              "escalate_replicates",
-                              "screen_top",
-                              "refine",
-                              "extend",
-                              "confirm",
-                              "max_cost",
-                              "next_conditions",
-                              "reach_conditions",
-                              "second_effect",
-                              "set",
-                              "probes",
-                              "shapes",
-                              "verdict",
-                              "refit",
-                              "refit_values"});
+  reject_unknown(root, path,
+                 {"name",
+                  "case",
+                  "observations",
+                  "effects",
+                  "replicates",
+                  "escalate_replicates",
+                  "probe_seeds",
+                  "screen_top",
+                  "refine",
+                  "extend",
+                  "confirm",
+                  "max_cost",
+                  "next_conditions",
+                  "reach_conditions",
+                  "second_effect",
+                  "set",
+                  "probes",
+                  "shapes",
+                  "verdict",
+                  "refit",
+                  "refit_values"});
   DiagnosisSpec d;
   d.path = path;
   d.name = root["name"].value_or(fs::path(path).stem().string());
@@ -139,6 +141,15 @@ DiagnosisSpec parse_diagnosis_file(const std::string& path_in) {
                       "it off",
                       path, *r, d.replicates));
     d.escalate_replicates = int(*r);
+  }
+  if (root.contains("probe_seeds")) {
+    const auto r = root["probe_seeds"].value<int64_t>();
+    if (!r || *r < 1 || *r > d.replicates)
+      throw DiagnoseError(
+          fmt::format("{}: probe_seeds: an integer in [1, replicates = {}] (the probes share the "
+                      "baseline's first seeds)",
+                      path, d.replicates));
+    d.probe_seeds = int(*r);
   }
   if (root.contains("screen_top")) {
     const auto r = root["screen_top"].value<int64_t>();

@@ -39,6 +39,11 @@ struct DiagnosisSpec {
   size_t reach_conditions =
       3;               // conditions beyond the table where a candidate it cannot see is run (power.h)
   int replicates = 2;  // baseline and shrink seeds
+  // Seeds per probe knot (1..replicates): the baseline's first seeds, as common random numbers. One seed is
+  // enough where an effect shifts a mean; an effect that widens the run-to-run scatter (lubrication on the
+  // flowing drum: sd 0.036 m/s against the model's 0.017) can land its one seed anywhere in it, so the knot
+  // says little (docs/validation.md, "Lubrication on a faster drum").
+  int probe_seeds = 1;
   // When the verdict at `replicates` seeds is not decided (a tie, or a comparison the seed luck decided), the
   // diagnosis runs again at this many, reusing every run of the first pass the second needs (driver.cpp).
   // 0: never.

@@ -53,9 +53,9 @@ struct Stage {
     for (double s : c.member(k.j, k.m).strengths)
       if (std::fabs(std::log(s / k.s)) < 1e-9) return;  // already a knot
     const Variant v = variant_of(k);
-    if (const std::string why = p.failure(v, p.probe_seed); !why.empty())
+    if (const std::string why = p.failure(v, p.probe_seeds); !why.empty())
       return cut(c, k.s, "run failed: " + why);
-    if (const std::string why = p.want(v, p.probe_seed); !why.empty()) return cut(c, k.s, why);
+    if (const std::string why = p.want(v, p.probe_seeds); !why.empty()) return cut(c, k.s, why);
     pending.push_back(k);
   }
 
@@ -66,7 +66,7 @@ struct Stage {
     for (const Knot& k : pending) {
       CandidateRuns& c = cands[k.c];
       const Variant v = variant_of(k);
-      if (const std::string why = p.failure(v, p.probe_seed); !why.empty()) {
+      if (const std::string why = p.failure(v, p.probe_seeds); !why.empty()) {
         cut(c, k.s, "run failed: " + why);
         continue;
       }
@@ -204,7 +204,7 @@ void run_fit(Procedure& p) {
     if (const std::string why = p.failure(b, p.base_seeds); !why.empty())
       throw std::runtime_error("the model at refit setting " + p.settings[j].label + " failed: " + why);
     p.baselines.push_back(p.predict(b, p.base_seeds));
-    p.seed1.push_back(p.predict(b, p.probe_seed));
+    p.seed1.push_back(p.predict(b, p.probe_seeds));
   }
   st.collect();
   // The other shapes at the strength fitted at the default shape (a profile over the second parameter).

@@ -88,7 +88,7 @@ std::vector<Reach> table_reach(const Procedure& p) {
     for (const double s : strengths)
       for (const double shape : shapes) {
         const Variant v = p.variant(e, s, 0, shape);
-        if (!p.book.has_summaries(p.tab.conditions, v, p.probe_seed) || !p.failure(v, p.probe_seed).empty())
+        if (!p.book.has_summaries(p.tab.conditions, v, p.probe_seeds) || !p.failure(v, p.probe_seeds).empty())
           continue;
         const Shift sh = shift_of(p.tab.cells, p.baselines[0], p.probe(v, 0));
         r.strongest = std::max(r.strongest, s);
@@ -131,8 +131,9 @@ Verdict decide_seen(Procedure& p) {
   return v;
 }
 
-double reach_screen_z(size_t replicates) {
-  return kVisibleZ / std::sqrt(double(std::max<size_t>(1, replicates)));
+double reach_screen_z(size_t replicates, size_t probe_seeds) {
+  const size_t np = std::max<size_t>(1, probe_seeds);
+  return kVisibleZ * std::sqrt(double(np) / double(std::max(np, replicates)));
 }
 
 namespace {
@@ -149,8 +150,8 @@ void run_beyond(Procedure& p) {
     for (Condition& c : propose_conditions(p.tab.conditions, p.tab.conditions[p.tab.cell_condition[r.cell]],
                                            p.models[0].rpm, p.models[0].duration_s, p.d.reach_conditions)) {
       try {
-        p.book.want(c, none, p.probe_seed);
-        p.book.want(c, v, p.probe_seed);
+        p.book.want(c, none, p.probe_seeds);
+        p.book.want(c, v, p.probe_seeds);
         conds[i].push_back(c);
       } catch (const study::StudyError& e) {
         p.notes.push_back(fmt::format("reach: {} at {} cannot be run: {}", r.effect, c.label, e.what()));
@@ -186,33 +187,35 @@ void run_beyond(Procedure& p) {
     Reach& r = p.reach[i];
     const Variant v = p.variant(r.effect, r.strongest);
     for (Condition& c : conds[i]) {
-      const std::string why = p.book.failure({c}, none, p.probe_seed) + p.book.failure({c}, v, p.probe_seed);
+      const std::string why =
+          p.book.failure({c}, none, p.probe_seeds) + p.book.failure({c}, v, p.probe_seeds);
       if (!why.empty()) {
         p.notes.push_back(fmt::format("reach: {} at {}: {}", r.effect, c.label, why));
         continue;
       }
       r.beyond_tried.push_back(c.label);
-      Tried t{&c, 0.0, "", 1};
-      t.z = shift_at(r, c, p.probe_seed, &t.observable);
+      Tried t{&c, 0.0, "", p.probe_seeds.size()};
+      t.z = shift_at(r, c, p.probe_seeds, &t.observable);
       tried[i].push_back(t);
     }
   }
   const auto largest = [](std::vector<Tried>& ts) {
     return std::max_element(ts.begin(), ts.end(), [](const Tried& a, const Tried& b) { return a.z < b.z; });
   };
-  // One run each side is a screen, not a claim: where the largest shift reaches the screen threshold
-  // (reach_screen_z: 3 σ / √R), the baseline's other seeds run there too (both sides) and the shift is taken
-  // over all of them, their spread included; then the next largest, until the largest is confirmed or under
-  // the threshold. The claim needs 3 σ over all the seeds: the wet bed's avalanches decorrelate runs more
-  // than one window's error shows, so a single pair can differ by "4 σ" by chance, and as easily hide a real
-  // shift.
-  const double screen = reach_screen_z(p.base_seeds.size());
-  while (p.base_seeds.size() >= 2) {
+  // The probe seeds each side are a screen, not a claim: where the largest shift reaches the screen threshold
+  // (reach_screen_z: 3 σ √(P/R)), the baseline's other seeds run there too (both sides) and the shift is
+  // taken over all of them, their spread included; then the next largest, until the largest is confirmed or
+  // under the threshold. The claim needs 3 σ over all the seeds: the wet bed's avalanches decorrelate runs
+  // more than one window's error shows, so a single pair can differ by "4 σ" by chance, and as easily hide a
+  // real shift.
+  const double screen = reach_screen_z(p.base_seeds.size(), p.probe_seeds.size());
+  while (p.base_seeds.size() > p.probe_seeds.size()) {
     std::vector<std::pair<size_t, Tried*>> confirm;
     for (size_t i = 0; i < p.reach.size(); ++i) {
       if (tried[i].empty()) continue;
       Tried& t = *largest(tried[i]);
-      if (t.seeds != 1 || t.z < screen) continue;  // confirmed, unconfirmable, or under the screen
+      // Confirmed, unconfirmable, or under the screen.
+      if (t.seeds == 0 || t.seeds >= p.base_seeds.size() || t.z < screen) continue;
       const Variant v = p.variant(p.reach[i].effect, p.reach[i].strongest);
       try {
         p.book.want(*t.c, none, p.base_seeds);
@@ -244,7 +247,7 @@ void run_beyond(Procedure& p) {
     const Tried& t = *largest(tried[i]);
     Reach& r = p.reach[i];
     r.beyond_z = t.z, r.beyond_condition = t.c->label, r.beyond_observable = t.observable;
-    r.beyond_seeds = std::max<size_t>(1, t.seeds);
+    r.beyond_seeds = t.seeds == 0 ? p.probe_seeds.size() : t.seeds;
   }
 }
 
@@ -263,8 +266,8 @@ void run_reach(Procedure& p) {
     for (const double s : probes) {
       if (s <= r.strongest) break;
       const Variant v = p.variant(r.effect, s);
-      if (!p.failure(v, p.probe_seed).empty()) continue;
-      if (const std::string why = p.want(v, p.probe_seed); !why.empty()) {
+      if (!p.failure(v, p.probe_seeds).empty()) continue;
+      if (const std::string why = p.want(v, p.probe_seeds); !why.empty()) {
         p.notes.push_back(fmt::format("reach: {} {}", v.label(), why));
         continue;
       }
@@ -275,7 +278,7 @@ void run_reach(Procedure& p) {
   if (!asked.empty()) {
     p.run();
     for (const Variant& v : asked)
-      if (const std::string why = p.failure(v, p.probe_seed); !why.empty())
+      if (const std::string why = p.failure(v, p.probe_seeds); !why.empty())
         p.notes.push_back(
             fmt::format("reach: {} failed ({}); the reach is that of a weaker probe", v.label(), why));
     p.reach = table_reach(p);

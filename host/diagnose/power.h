@@ -21,14 +21,15 @@ class Procedure;
 // detectable" strength is the one that reaches it at one condition.
 constexpr double kVisibleZ = 3.0;
 
-// The screen threshold of one run pair beyond the table (run_reach) when the claim is made over R seeds each:
-// kVisibleZ / sqrt(R). A shift that reaches kVisibleZ over R seeds each shows in one pair at about that much
-// where the seeds' spread dominates the noise (one pair's standard error is sqrt(R) times the R seeds'), so a
-// pair screened at kVisibleZ itself misses most of the shifts the R seeds would confirm (70 % of those at
-// 3.5 sigma when R = 2: tests/test_diagnose_power.cpp). Measured on the flowing drum (29 Nov 2026):
-// lubrication at 0.1 Pa s slows the surface at 90 rpm, 10 % by 4.4 sigma over four seeds each, while the one
-// pair of the diagnosis (seed 1) showed 2.4 sigma.
-double reach_screen_z(size_t replicates);
+// The screen threshold of the probe seeds' runs beyond the table (run_reach: P = probe_seeds each side) when
+// the claim is made over R seeds each: kVisibleZ sqrt(P / R). A shift that reaches kVisibleZ over R seeds
+// each shows over P seeds at about that much where the seeds' spread dominates the noise (the standard error
+// of P runs' mean is sqrt(R / P) times the R seeds'), so a pair screened at kVisibleZ itself misses most of
+// the shifts the R seeds would confirm (70 % of those at 3.5 sigma when R = 2, P = 1:
+// tests/test_diagnose_power.cpp). Measured on the flowing drum (29 Nov 2026): lubrication at 0.1 Pa s slows
+// the surface at 90 rpm, 10 % by 4.4 sigma over four seeds each, while the one pair of the diagnosis (seed 1)
+// showed 2.4 sigma. P >= R: kVisibleZ (nothing left to confirm with).
+double reach_screen_z(size_t replicates, size_t probe_seeds = 1);
 
 // A shift can also be visible through the whole table without any one cell at kVisibleZ (many cells moved by
 // 1-2 sigma in the direction of a gap): its χ² over the n cells in excess of what the probe runs' own noise

@@ -86,7 +86,10 @@ Procedure::Procedure(const DiagnosisSpec& d_, const DiagnoseOptions& o_)
       store(store_of(o_)) {
   base_seeds = seed_range(1, d.replicates);
   fresh_seeds = seed_range(uint64_t(d.replicates) + 1, d.replicates);
-  probe_seed = {1};  // common random numbers with baseline replicate 1
+  if (d.probe_seeds < 1 || d.probe_seeds > d.replicates)
+    throw DiagnoseError(fmt::format("{}: probe_seeds: {} is not in [1, replicates = {}]", d.path,
+                                    d.probe_seeds, d.replicates));
+  probe_seeds = seed_range(1, d.probe_seeds);  // common random numbers with the baseline's first seeds
   settings = refit_settings(d.refit);
   for (const RefitSetting& r : settings) models.push_back(model_facts(d, r));
   const ModelFacts& model = models.front();
@@ -177,19 +180,24 @@ std::vector<Family> Procedure::families() const {
   return fams;
 }
 
+double knot_se(double spread, double probe_se, size_t probe_seeds, size_t replicates) {
+  const double np = double(std::max<size_t>(1, probe_seeds)), r = double(std::max<size_t>(1, replicates));
+  const double s = std::max(spread, std::isfinite(probe_se) ? probe_se * std::sqrt(np) : 0.0);
+  return s * std::sqrt(2.0 / np + 1.0 / r);
+}
+
 std::vector<Prediction> Procedure::probe(const Variant& v, size_t j) const {
-  std::vector<Prediction> p = predict(v, probe_seed);
-  const double r = double(base_seeds.size());
+  std::vector<Prediction> p = predict(v, probe_seeds);
   for (size_t k = 0; k < p.size(); ++k) {
-    const double s = std::max(spread[k], std::isfinite(p[k].se) ? p[k].se : 0.0);
+    const double se = knot_se(spread[k], p[k].se, probe_seeds.size(), base_seeds.size());
     if (std::isnan(p[k].mean) || std::isnan(seed1[j][k].mean)) {
-      // The probe (or baseline seed 1) does not report this cell: no measured change, and a knot that carries
-      // almost no weight there.
-      p[k] = {baselines[j][k].mean, 3.0 * s * std::sqrt(2.0 + 1.0 / r)};
+      // The probe (or the baseline's probe seeds) does not report this cell: no measured change, and a knot
+      // that carries almost no weight there.
+      p[k] = {baselines[j][k].mean, 3.0 * se};
       continue;
     }
     p[k].mean = baselines[j][k].mean + (p[k].mean - seed1[j][k].mean);
-    p[k].se = s * std::sqrt(2.0 + 1.0 / r);
+    p[k].se = se;
   }
   return p;
 }

@@ -112,7 +112,7 @@ class Procedure {
   std::vector<RefitSetting> settings;  // refit settings (setting 0: as calibrated)
   std::vector<ModelFacts> models;      // per setting
   std::vector<std::string> effects;    // the candidates that can act in the model
-  std::vector<uint64_t> base_seeds, fresh_seeds, probe_seed;
+  std::vector<uint64_t> base_seeds, fresh_seeds, probe_seeds;
   double base_steps = 0.0;  // steps of one baseline run (the cost unit of max_cost)
 
   // Filled by the stages, in order.
@@ -154,10 +154,16 @@ class Procedure {
   }
   // Mean and SE over the seeds, per cell; NaN where no run of v reports the cell's observable.
   std::vector<Prediction> predict(const Variant& v, const std::vector<uint64_t>& seeds) const;
-  // A single-seed probe at refit setting j as a knot of the emulator: common random numbers against seed 1
-  // of the baseline at j, on top of that setting's replicate mean; its SE counts the run-to-run spread of the
-  // probe and of baseline seed 1 and the error of the replicate mean: s √(2 + 1/R).
+  // A probe at refit setting j (its P = probe_seeds seeds) as a knot of the emulator: common random numbers
+  // against the same seeds of the baseline at j, on top of that setting's replicate mean (knot_se).
   std::vector<Prediction> probe(const Variant& v, size_t j) const;
 };
+
+// The SE of a probe knot over P seeds against the same P seeds of the baseline, on top of the mean over R:
+// s √(2/P + 1/R), s the larger of the baseline's run-to-run sd (spread) and the probe's own (probe_se, the SE
+// of its P-seed mean, times √P). It counts the spread of the probe's mean and of the baseline's P seeds and
+// the error of the R-seed mean, and leaves out the common random numbers' correlation (conservative). With
+// P = 1 it is s √(2 + 1/R).
+double knot_se(double spread, double probe_se, size_t probe_seeds, size_t replicates);
 
 }  // namespace wetdem::diagnose

@@ -239,6 +239,7 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
   j["observations"] = r.spec->observations;
   // Seeds per condition (the file's `replicates`, or --replicates): baseline 1..R, fresh R+1..2R.
   j["replicates"] = r.spec->replicates;
+  j["probe_seeds"] = r.spec->probe_seeds;  // seeds per probe knot: 1..P of the baseline's
   j["verdict"] = r.verdict.kind;
   j["fresh_rejected"] = r.verdict.fresh_rejected;  // the chosen fit did not reproduce on fresh seeds
   j["seed_luck_chi2"] = r.verdict.seed_luck;       // mean |Δχ²| between seed sets of the model (verdict.h)

@@ -31,15 +31,18 @@ std::string reach_markdown(const Report& r) {
       "the "
       "strongest strength probed, is one this table cannot show, and the verdict says nothing about it. Such "
       "a "
-      "candidate was also run beside the baseline at conditions beyond the table (one run each, and the "
-      "baseline's other seeds too where that pair differs by 3 σ; noise the "
+      "candidate was also run beside the baseline at conditions beyond the table ({} each, and the "
+      "baseline's other seeds too where they differ by {:.2f} σ, {:g} σ √(P/R); noise the "
       "table's median σ of the observable, each run's own error scaled to the seed spread of the baseline's "
       "replicates: {}): where it would show. The fresh runs of a fitted candidate (R seeds at its fitted "
       "strength) are also set against the model without it on the same seeds, z = (fresh − control) / √(σ² "
       "+ se_f² + se_c²): a candidate they show is seen, whatever its single probe runs showed.\n\n"
       "| effect | strongest probed | largest shift (σ) | at strength | cell | χ² excess | fresh runs | "
       "visible | beyond the table |\n|---|---|---|---|---|---|---|---|---|\n",
-      kVisibleZ, visible_chi2_excess(r.cells.size()), r.cells.size(), inflation_text(r.within_inflation));
+      kVisibleZ, visible_chi2_excess(r.cells.size()), r.cells.size(),
+      r.spec->probe_seeds == 1 ? std::string("one run") : fmt::format("{} runs", r.spec->probe_seeds),
+      reach_screen_z(size_t(r.spec->replicates), size_t(r.spec->probe_seeds)), kVisibleZ,
+      inflation_text(r.within_inflation));
   for (const Reach& x : r.reach) {
     if (x.strongest <= 0) {
       md += fmt::format("| {} | (no probe could run) | | | | | | no | |\n", x.effect);

@@ -36,13 +36,13 @@ int screen_probe(Procedure& p, const std::string& e, bool want, bool* ask, std::
   const std::vector<double>& probes = p.d.probes.at(e);
   for (int i = int(probes.size() / 2); i >= 0; --i) {
     const Variant v = p.variant(e, probes[size_t(i)]);
-    if (const std::string why = p.failure(v, p.probe_seed); !why.empty()) {
+    if (const std::string why = p.failure(v, p.probe_seeds); !why.empty()) {
       if (notes)
         notes->push_back(fmt::format("screen: {} failed ({}); a weaker probe is used", v.label(), why));
       continue;
     }
     if (want) {
-      if (const std::string why = p.want(v, p.probe_seed); !why.empty()) {
+      if (const std::string why = p.want(v, p.probe_seeds); !why.empty()) {
         if (notes) notes->push_back(fmt::format("screen: {} {}", v.label(), why));
         continue;
       }
@@ -79,12 +79,12 @@ void run_screen(Procedure& p) {
       }
       const double s = p.d.probes.at(e)[size_t(i)];
       const Variant v = p.variant(e, s);
-      if (!p.book.has_summaries(p.tab.conditions, v, p.probe_seed)) {
+      if (!p.book.has_summaries(p.tab.conditions, v, p.probe_seeds)) {
         again.push_back(e);  // wanted just now: run, then score
         continue;
       }
       for (const std::string& n : notes) p.notes.push_back(n);
-      std::vector<Prediction> probe = p.predict(v, p.probe_seed);
+      std::vector<Prediction> probe = p.predict(v, p.probe_seeds);
       for (size_t k = 0; k < probe.size(); ++k)
         probe[k].mean = p.baselines[0][k].mean + (probe[k].mean - p.seed1[0][k].mean);
       p.screened.push_back({screen_score(p.tab.cells, p.baselines[0], probe), e, s});

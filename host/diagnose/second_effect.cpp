@@ -56,19 +56,18 @@ Variant on_top(const Procedure& p, const Variant& first, const std::string& effe
   return v;
 }
 
-// A single-seed run on top of the first effect as a knot: common random numbers against the first effect's
-// seed 1, on top of its replicate mean; SE as Procedure::probe (s √(2 + 1/R)).
+// A run on top of the first effect (the probe seeds) as a knot: common random numbers against the first
+// effect's same seeds, on top of its replicate mean; SE as Procedure::probe (knot_se).
 std::vector<Prediction> knot_on_top(const Procedure& p, const Variant& v,
                                     const std::vector<Prediction>& seed1) {
-  std::vector<Prediction> k = p.predict(v, p.probe_seed);
-  const double r = double(p.base_seeds.size());
+  std::vector<Prediction> k = p.predict(v, p.probe_seeds);
   for (size_t i = 0; i < k.size(); ++i) {
-    const double s = std::max(p.spread[i], std::isfinite(k[i].se) ? k[i].se : 0.0);
+    const double se = knot_se(p.spread[i], k[i].se, p.probe_seeds.size(), p.base_seeds.size());
     if (std::isnan(k[i].mean) || std::isnan(seed1[i].mean)) {
-      k[i] = {p.second.base[i].mean, 3.0 * s * std::sqrt(2.0 + 1.0 / r)};
+      k[i] = {p.second.base[i].mean, 3.0 * se};
       continue;
     }
-    k[i] = {p.second.base[i].mean + (k[i].mean - seed1[i].mean), s * std::sqrt(2.0 + 1.0 / r)};
+    k[i] = {p.second.base[i].mean + (k[i].mean - seed1[i].mean), se};
   }
   return k;
 }
@@ -115,14 +114,14 @@ void run_second_effect(Procedure& p) {
     return;
   }
   sr.base = p.predict(first, p.base_seeds);
-  const std::vector<Prediction> seed1 = p.predict(first, p.probe_seed);
+  const std::vector<Prediction> seed1 = p.predict(first, p.probe_seeds);
   sr.base_gaps = where(p.tab.cells, sr.base, p.d.rule.q);
   // 2. The screen against what the first effect leaves: each other candidate's screen probe (its response
   // on the calibrated model, no new run) projected on the z-vector of the first effect's model.
   for (const Screened& s : p.screened) {
     if (s.effect == a.effect || s.strength <= 0) continue;
     if (on_top(p, first, s.effect, s.strength, std::nan("")).effect.empty()) continue;  // same key
-    std::vector<Prediction> probe = p.predict(p.variant(s.effect, s.strength), p.probe_seed);
+    std::vector<Prediction> probe = p.predict(p.variant(s.effect, s.strength), p.probe_seeds);
     for (size_t k = 0; k < probe.size(); ++k)
       probe[k].mean = sr.base[k].mean + (probe[k].mean - p.seed1[0][k].mean);
     sr.screened.push_back({screen_score(p.tab.cells, sr.base, probe), s.effect, s.strength});
@@ -162,7 +161,7 @@ void run_second_effect(Procedure& p) {
   };
   const auto want_knot = [&](const Knot& k) {
     const Variant v = variant_of(k);
-    if (const std::string why = p.want(v, p.probe_seed); !why.empty())
+    if (const std::string why = p.want(v, p.probe_seeds); !why.empty())
       sr.fitted[k.c].notes.push_back(fmt::format("{} {}", v.label(), why));
     else
       pending.push_back(k);
@@ -171,7 +170,7 @@ void run_second_effect(Procedure& p) {
     p.run();
     for (const Knot& k : pending) {
       const Variant v = variant_of(k);
-      if (const std::string why = p.failure(v, p.probe_seed); !why.empty())
+      if (const std::string why = p.failure(v, p.probe_seeds); !why.empty())
         sr.fitted[k.c].notes.push_back("run failed: " + why);
       else
         add_knot(sr.fitted[k.c].member(0, k.m), k.s, knot_on_top(p, v, seed1));
