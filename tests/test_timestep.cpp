@@ -76,6 +76,11 @@ TEST(TimeStep, ViscousLimitByHandAndWarning) {
   const double lim = viscous_dt_limit(0.5 * s.p.mass[0], 0.5e-3, 0.1, 1e-5, 1e-12);
   prm.dt = 0.9 * lim;
   EXPECT_FALSE(viscous_timestep_warning(prm, s).has_value());
+  // At the limit (where a default dt is lowered to) is fine; just past it is not.
+  prm.dt = lim;
+  EXPECT_FALSE(viscous_timestep_warning(prm, s).has_value());
+  prm.dt = lim * (1.0 + 1e-6);
+  EXPECT_TRUE(viscous_timestep_warning(prm, s).has_value());
   prm.dt = 1.1 * lim;
   auto w = viscous_timestep_warning(prm, s);
   ASSERT_TRUE(w.has_value());

@@ -33,14 +33,15 @@ std::optional<std::string> capillary_timestep_warning_present(const SimParams& p
 
 // Candidate effect `viscous`: the damping coefficient c = dF_v/dv_n of the Pitois lubrication force at
 // S = S_min, 6 pi eta R*^2 / S_min (1 - 1/sqrt(1 + V/(pi R* S_min^2)))^2, and the explicit stability limit of
-// that damper, dt < 2 m*/(Z c) with Z = 12: one damper on m* needs c dt/m* < 2 (v <- v (1 - c dt/m*) must not
-// flip beyond -v); a particle in a packing is damped by up to 12 bridged neighbours at once.
+// that damper, dt <= 2 m*/(Z c) with Z = 4: one damper on m* needs c dt/m* < 2 (v <- v (1 - c dt/m*) must not
+// flip beyond -v); a particle in a packing is damped by up to 12 bridged neighbours at once, but only those
+// squeezed to S_min damp that hard, and the micro drum ran stably at 8x the Z = 12 step (timestep.cpp).
 double viscous_damping_coefficient(double eta, double s_min, double R_star, double volume_m3);
 double viscous_dt_limit(double m_star, double R_star, double eta, double s_min, double volume_m3);
 
-// Warning text when dt >= 2 m*/(12 c) for the stiffest lubricated contact the parameters allow: the smallest
-// particle, a bridge of V_max, against its twin (m* = m/2, R* = r/2) or a wall with bridges (m* = m, R* = r).
-// Empty when viscosity is off or dt is fine.
+// Warning text when dt exceeds viscous_dt_limit for the stiffest lubricated contact the parameters allow: the
+// smallest particle, a bridge of V_max, against its twin (m* = m/2, R* = r/2) or a wall with bridges (m* = m,
+// R* = r). Empty when viscosity is off or dt is fine.
 std::optional<std::string> viscous_timestep_warning(const SimParams& prm, const SystemState& s);
 
 }  // namespace wetdem
