@@ -350,6 +350,9 @@ def main():
     ap.add_argument("--replicates", type=int,
                     help="seeds per condition for every diagnosis instead of the diagnosis file's (wetdem diagnose "
                          "--replicates)")
+    ap.add_argument("--probe-seeds", type=int,
+                    help="seeds per probe knot for every diagnosis instead of the diagnosis file's (wetdem diagnose "
+                         "--probe-seeds)")
     ap.add_argument("--store", help="run store (default OUT/store); share one across matrices to reuse runs")
     ap.add_argument("--script", metavar="FILE",
                     help="write the twin files and a bash script of the calls to FILE instead of running them")
@@ -401,6 +404,7 @@ def main():
         twin_cmd = [a.wetdem, "twin", tf, "--out", os.path.join(d, "twin")] + common
         # The diagnosis sees the observations only (truth.json stays in the twin folder).
         rep = ["--replicates", str(a.replicates)] if a.replicates else []
+        rep += ["--probe-seeds", str(a.probe_seeds)] if a.probe_seeds else []
         diag_cmd = [a.wetdem, "diagnose", diagnosis, "--observations", os.path.join(d, "twin", "observations.csv"),
                     "--out", os.path.join(d, "diagnosis")] + rep + common
         if a.script:
