@@ -103,8 +103,20 @@ TEST(DiagnoseFiles, BadDiagnosisFilesNameTheKey) {
   EXPECT_NE(err("replicates = 2\nprobe_seeds = 3\n").find("probe_seeds: an integer in [1, replicates = 2]"),
             std::string::npos);
   EXPECT_NE(err("probe_seeds = 0\n").find("probe_seeds"), std::string::npos);
-  EXPECT_EQ(parse_diagnosis_file(d.write("p.toml", head + "replicates = 3\nprobe_seeds = 2\n")).probe_seeds,
-            2);
+  d.write("obs2.csv",
+          "liquid.content,observable,value,sigma\n\"0 %\",aor_deg_mean,30,1\n\"5 %\",aor_deg_mean,31,1\n");
+  DiagnosisSpec ps =
+      parse_diagnosis_file(d.write("p.toml", "case = \"" + kMicroStudyCase +
+                                                 "\"\nobservations = \"obs2.csv\"\nreplicates = 3\n"
+                                                 "probe_seeds = 2\n"));
+  EXPECT_EQ(ps.probe_seeds, 2);
+  // A --replicates below the file's probe_seeds (commands.cpp sets d.replicates): refused before any output.
+  ps.replicates = 1;
+  DiagnoseOptions po;
+  po.out = (fs::temp_directory_path() / ("wetdem-diag-probe-seeds-" + std::to_string(::getpid()))).string();
+  const std::string pe = expect_error([&] { run_diagnosis(ps, po); });
+  EXPECT_NE(pe.find("probe_seeds: 2 is not in [1, replicates = 1]"), std::string::npos) << pe;
+  EXPECT_FALSE(fs::exists(po.out));
   EXPECT_NE(err("second_effect = 1\n").find("second_effect: true or false"), std::string::npos);
   EXPECT_NE(err("reach_conditions = -1\n").find("reach_conditions: an integer in [0, 20]"),
             std::string::npos);

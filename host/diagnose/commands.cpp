@@ -78,12 +78,7 @@ class Impl : public study::Commands {
                 "--probe-seeds: {} is more than the replicates ({}): the probes share the baseline's seeds",
                 probe_seeds_, d.replicates));
           d.probe_seeds = probe_seeds_;
-        } else if (d.probe_seeds > d.replicates) {
-          throw DiagnoseError(fmt::format(
-              "{}: probe_seeds: {} is more than the replicates ({}, from --replicates): the probes share the "
-              "baseline's seeds",
-              d.path, d.probe_seeds, d.replicates));
-        }
+        }  // the file's probe_seeds against a lower --replicates: Procedure's check
         choose_batch();
         const nlohmann::json j = run_diagnosis(d, o_);
         std::string named;  // "spread" or "spread + absorption" (a second effect on top of the first)

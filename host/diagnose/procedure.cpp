@@ -87,8 +87,10 @@ Procedure::Procedure(const DiagnosisSpec& d_, const DiagnoseOptions& o_)
   base_seeds = seed_range(1, d.replicates);
   fresh_seeds = seed_range(uint64_t(d.replicates) + 1, d.replicates);
   if (d.probe_seeds < 1 || d.probe_seeds > d.replicates)
-    throw DiagnoseError(fmt::format("{}: probe_seeds: {} is not in [1, replicates = {}]", d.path,
-                                    d.probe_seeds, d.replicates));
+    throw DiagnoseError(
+        fmt::format("{}: probe_seeds: {} is not in [1, replicates = {}] (the probes share the "
+                    "baseline's first seeds; --probe-seeds or --replicates)",
+                    d.path, d.probe_seeds, d.replicates));
   probe_seeds = seed_range(1, d.probe_seeds);  // common random numbers with the baseline's first seeds
   settings = refit_settings(d.refit);
   for (const RefitSetting& r : settings) models.push_back(model_facts(d, r));
