@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <vector>
 
 #include "diagnose/shrink.h"
 #include "diagnose/verdict.h"
@@ -43,6 +44,47 @@ TEST(DiagnoseFresh, ATieWhoseFreshRunsConfirmItIsNamedWhenTheFirstsDoNot) {
   EXPECT_EQ(confirmed_instead(control, {30.0, 47.4}, {true, true}, rule, luck), 1u)
       << "index 0 is the chosen one: never its own replacement";
   EXPECT_THROW(confirmed_instead(control, {70.2}, {false, true}, rule, luck), std::invalid_argument);
+}
+
+// A confirmation round's re-fit is dropped for the strength it left only when its fresh runs are worse by
+// more than the margin (the seed luck): viscous-strong with 120 rpm rows, R = 4, P = 2 (0.1 gave 99.3, the
+// re-fit to 0.03 115.2, luck 23.4) keeps the re-fit; null-2 (cohesion 0.001 gave 72.4, the re-fit's 0.003
+// 117.3, luck 56.9) keeps it too, where the better of the two draws would have made a null `partial`. The
+// least of several rounds; a round that failed (NaN) never wins, and any round that ran beats a failed
+// re-fit.
+TEST(DiagnoseFresh, AReFitIsDroppedOnlyWhenItsFreshRunsAreWorseByMoreThanTheLuck) {
+  EXPECT_EQ(best_fresh_round({99.3}, 115.2, 23.4), kNone) << "within the luck";
+  EXPECT_EQ(best_fresh_round({72.4}, 117.3, 56.9), kNone) << "null-2: within the luck";
+  EXPECT_EQ(best_fresh_round({99.3}, 115.2, 4.0), 0u) << "beyond the margin";
+  EXPECT_EQ(best_fresh_round({115.2}, 99.3, 0.0), kNone) << "the re-fit is better";
+  EXPECT_EQ(best_fresh_round({99.3}, 99.3, 0.0), kNone) << "a tie keeps the re-fit";
+  EXPECT_EQ(best_fresh_round({120.0, 80.0, 90.0}, 105.0, 20.0), 1u);
+  EXPECT_EQ(best_fresh_round({120.0, 101.0}, std::nan(""), 50.0), 1u) << "the re-fit's runs failed";
+  EXPECT_EQ(best_fresh_round({std::nan("")}, 140.0, 0.0), kNone) << "a round that failed never wins";
+  EXPECT_EQ(best_fresh_round({}, 140.0, 0.0), kNone) << "no round ran";
+}
+
+// The strengths the fresh runs cannot tell from the kept one stay in its interval: viscous-strong with 120
+// rpm rows, R = 4, P = 2 kept 0.03 [0.017, 0.054] (χ² 115.2); 0.1 gave 99.3, luck 23.4, so the interval
+// reaches the truth. A strength worse by more than the margin, one already inside, and a failed one change
+// nothing.
+TEST(DiagnoseFresh, StrengthsTheFreshRunsCannotTellApartStayInTheInterval) {
+  double lo = 0.017, hi = 0.054;
+  EXPECT_EQ(widen_to_fresh_ties(lo, hi, 115.2, {{0.1, 99.3}}, 23.4), std::vector<double>{0.1});
+  EXPECT_DOUBLE_EQ(lo, 0.017);
+  EXPECT_DOUBLE_EQ(hi, 0.1);
+  lo = 0.002, hi = 0.004;
+  EXPECT_TRUE(widen_to_fresh_ties(lo, hi, 72.4, {{0.001, 117.3}}, 40.0).empty())
+      << "worse by more than the luck";
+  EXPECT_DOUBLE_EQ(lo, 0.002);
+  EXPECT_EQ(widen_to_fresh_ties(lo, hi, 72.4, {{0.001, 117.3}}, 56.9), std::vector<double>{0.001});
+  EXPECT_DOUBLE_EQ(lo, 0.001);
+  EXPECT_DOUBLE_EQ(hi, 0.004);
+  EXPECT_TRUE(widen_to_fresh_ties(lo, hi, 72.4, {{0.003, 70.0}, {0.01, std::nan("")}}, 10.0).empty())
+      << "inside already; failed";
+  EXPECT_TRUE(widen_to_fresh_ties(lo, hi, std::nan(""), {{0.01, 70.0}}, 10.0).empty())
+      << "the kept one failed";
+  EXPECT_DOUBLE_EQ(hi, 0.004);
 }
 
 // Only what the table can see is named first, and an unseen candidate that scores best is tied, never dropped

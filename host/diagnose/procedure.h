@@ -125,6 +125,7 @@ class Procedure {
   Verdict verdict;
   std::vector<FreshCheck> fresh;  // the chosen effect first, then any tied one
   FreshCheck null_fresh;          // the model without an effect at the fresh seeds (the shrink's control)
+  std::vector<FreshCheck> confirmations;  // the chosen one's fresh check at every strength the rounds ran
   NextExperiment next;
   SecondRound second;
   std::vector<Reach> reach;                  // what the table can see of every candidate (power.h)

@@ -70,6 +70,7 @@ Report make_report(const Procedure& p, double wall_s, std::vector<StageCost> sta
   }
   r.fresh = p.fresh;
   r.null_fresh = p.null_fresh;
+  r.confirmations = p.confirmations;
   r.next = p.next;
   r.second = p.second;
   r.reach = p.reach;
@@ -384,6 +385,13 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
     }
     j["fresh"].push_back(x);
   }
+  j["confirmations"] = json::array();
+  for (const FreshCheck& f : r.confirmations)
+    j["confirmations"].push_back({{"effect", f.effect},
+                                  {"strength", f.strength},
+                                  {"shape", num(f.shape)},
+                                  {"chi2_after", chi2_of(f.gaps_after)},
+                                  {"significant_cells", significant(f.gaps_after)}});
   if (after) {
     j["chosen_strength"] = chosen->strength;
     j["chosen_shape"] = num(chosen->shape);

@@ -34,6 +34,8 @@ struct Report {
   Verdict verdict;
   std::vector<FreshCheck> fresh;  // the chosen effect's fresh-seed runs first, then any tied one's
   FreshCheck null_fresh;          // the model without an effect at the fresh seeds (the shrink's control)
+  std::vector<FreshCheck>
+      confirmations;  // the chosen one's fresh checks the confirmation rounds re-fitted from
   NextExperiment next;
   SecondRound second;                              // a second effect on top of the first (second_effect.h)
   std::vector<Reach> reach;                        // what the table can see of each candidate (power.h)

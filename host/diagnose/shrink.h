@@ -12,7 +12,10 @@
 
 namespace wetdem::diagnose {
 
-// Fills Procedure::fresh (the chosen effect first, then the tied ones) and settles the verdict.
+// Fills Procedure::fresh (the chosen effect first, then the tied ones) and settles the verdict. When cells
+// stay significant, up to `confirm` rounds re-fit with the fresh runs as a knot and run the new strength
+// fresh; a re-fit whose fresh runs are worse than the strength it left by more than the seed luck is undone
+// (Procedure::confirmations lists what each round started from).
 void run_shrink(Procedure& p);
 
 // The strength a fitted candidate is run at: 3 significant digits.

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <utility>
 
@@ -217,6 +218,28 @@ size_t confirmed_instead(double chi2_before, const std::vector<double>& fresh_ch
     if (best == kNone || x < fresh_chi2[best]) best = i;
   }
   return best;
+}
+
+size_t best_fresh_round(const std::vector<double>& round_chi2, double last_chi2, double margin) {
+  size_t pick = kNone;
+  for (size_t i = 0; i < round_chi2.size(); ++i)
+    if (std::isfinite(round_chi2[i]) && (pick == kNone || round_chi2[i] < round_chi2[pick])) pick = i;
+  if (pick == kNone || !std::isfinite(last_chi2)) return pick;
+  return round_chi2[pick] < last_chi2 - std::max(0.0, margin) ? pick : kNone;
+}
+
+std::vector<double> widen_to_fresh_ties(double& lo, double& hi, double kept_chi2,
+                                        const std::vector<std::pair<double, double>>& others, double margin) {
+  std::vector<double> reached;
+  if (!std::isfinite(kept_chi2)) return reached;
+  for (const auto& [strength, chi2] : others) {
+    if (!std::isfinite(chi2) || chi2 > kept_chi2 + std::max(0.0, margin)) continue;
+    if (strength >= lo && strength <= hi) continue;
+    lo = std::min(lo, strength);
+    hi = std::max(hi, strength);
+    reached.push_back(strength);
+  }
+  return reached;
 }
 
 void settle_verdict(Verdict& v, const std::vector<CellGap>& after, const VerdictRule& rule) {

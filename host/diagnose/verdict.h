@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "diagnose/cells.h"
@@ -200,6 +201,20 @@ bool fresh_confirms(double chi2_before, double chi2_fresh, const VerdictRule& ru
 inline constexpr size_t kNone = static_cast<size_t>(-1);
 size_t confirmed_instead(double chi2_before, const std::vector<double>& fresh_chi2,
                          const std::vector<bool>& eligible, const VerdictRule& rule, double luck);
+
+// The confirmation rounds (shrink.cpp): the fresh χ² of the check each re-fit started from, oldest first, and
+// of the last one run (NaN where the runs failed). All were run on the same fresh seeds, but in a flowing
+// drum any change of the model decorrelates the runs from the control's (the seeds fix the start, not the
+// avalanches), so two strengths' fresh χ² differ by the seed luck as well. The round whose check is the least
+// and beats the last by more than `margin` (min_drop or the luck, the larger); else npos: the last re-fit is
+// kept. A round that ran beats a last one that failed.
+size_t best_fresh_round(const std::vector<double>& round_chi2, double last_chi2, double margin);
+
+// After best_fresh_round: the other strengths the rounds ran for the kept effect, with their fresh χ² (NaN:
+// failed), that the fresh runs cannot tell from the kept one (χ² not above kept_chi2 + margin). The interval
+// [lo, hi] is widened to reach each; returns those that widened it, in the order given.
+std::vector<double> widen_to_fresh_ties(double& lo, double& hi, double kept_chi2,
+                                        const std::vector<std::pair<double, double>>& others, double margin);
 
 // Lists `effect` in v.held_by_luck once: the first round and the second may both find its comparison decided
 // by the luck (a tie kept, then the same candidate unconfirmed on top).
