@@ -125,10 +125,10 @@ void settle_rounds(Procedure& p, std::vector<Round>& rounds) {
     const FreshCheck& l = checks.back();
     p.notes.push_back(fmt::format(
         "confirmation: {} at {:.3g} gives χ² {} on the fresh seeds against {:.1f} for {} at {:.3g} on the "
-        "same seeds, worse by more than min_drop = {:g} or the model's own seed luck, so the re-fit is not "
-        "kept and the fit stays at {} {:.3g}",
+        "same seeds, worse by more than min_drop = {:g} or the model's own seed luck ({:.1f}), so the "
+        "re-fit is not kept and the fit stays at {} {:.3g}",
         l.effect, l.strength, std::isfinite(last) ? fmt::format("{:.1f}", last) : "none (failed)", x[pick],
-        checks[pick].effect, checks[pick].strength, p.d.rule.min_drop, checks[pick].effect,
+        checks[pick].effect, checks[pick].strength, p.d.rule.min_drop, margin, checks[pick].effect,
         checks[pick].strength));
     Round& r = rounds[pick];
     p.verdict = std::move(r.verdict);
@@ -150,9 +150,9 @@ void settle_rounds(Procedure& p, std::vector<Round>& rounds) {
       if (strength == s)
         p.notes.push_back(
             fmt::format("confirmation: the fresh runs cannot tell {} at {:.3g} (χ² {:.1f}) from {:.3g} (χ² "
-                        "{:.1f}) apart by "
-                        "more than the model's own seed luck, so the interval reaches {:.3g}",
-                        kept.effect, kept.strength, here, s, chi2, s));
+                        "{:.1f}) apart by more than min_drop or the model's own seed luck ({:.1f}), so the "
+                        "interval reaches {:.3g}",
+                        kept.effect, kept.strength, here, s, chi2, margin, s));
 }
 
 Verdict redecide(Procedure& p) {
