@@ -353,6 +353,9 @@ def main():
     ap.add_argument("--probe-seeds", type=int,
                     help="seeds per probe knot for every diagnosis instead of the diagnosis file's (wetdem diagnose "
                          "--probe-seeds)")
+    ap.add_argument("--twin-base", metavar="FILE",
+                    help="base twin for every twin instead of the matrix's twin_base: another table of conditions "
+                         "and noise (assets/diagnosis/flowing/twin_null_fast.toml adds 120 rpm rows)")
     ap.add_argument("--store", help="run store (default OUT/store); share one across matrices to reuse runs")
     ap.add_argument("--script", metavar="FILE",
                     help="write the twin files and a bash script of the calls to FILE instead of running them")
@@ -365,7 +368,9 @@ def main():
         if k not in spec:
             sys.exit(f"{a.matrix}: {k}: required")
     diagnosis = os.path.join(mdir, spec["diagnosis"])
-    base_path = os.path.join(mdir, spec["twin_base"])
+    base_path = os.path.abspath(a.twin_base) if a.twin_base else os.path.join(mdir, spec["twin_base"])
+    if not os.path.isfile(base_path):
+        sys.exit(f"{a.twin_base or a.matrix}: twin_base: no such file {base_path}")
     base, base_dir = open(base_path).read(), os.path.dirname(base_path)
     names = [t["name"] for t in spec["twin"]]
     if len(set(names)) != len(names):

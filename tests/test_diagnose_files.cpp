@@ -68,6 +68,22 @@ TEST(DiagnoseFiles, ShippedFilesParse) {
   EXPECT_EQ(t.truth, (std::vector<std::string>{"cohesion.surface_energy=\"0.08 J/m2\""}));
   EXPECT_EQ(t.condition_toml.at(0).size(), 3u);
   EXPECT_DOUBLE_EQ(t.noise.at("aor_deg_mean"), 0.5);
+  // The flowing table, and the same with two 120 rpm rows (twin_null_fast.toml, scripts/twin_matrix.py
+  // --twin-base): the first six rows and the noise are twin_null.toml's.
+  const std::string flowing = std::string(WETDEM_SOURCE_DIR) + "/assets/diagnosis/flowing/";
+  const TwinSpec slow = parse_twin_file(flowing + "twin_null.toml");
+  const TwinSpec fast = parse_twin_file(flowing + "twin_null_fast.toml");
+  ASSERT_EQ(slow.points.size(), 6u);
+  ASSERT_EQ(fast.points.size(), 8u);
+  for (size_t i = 0; i < slow.points.size(); ++i) EXPECT_EQ(fast.points[i], slow.points[i]) << i;
+  for (size_t i = 6; i < 8; ++i)
+    EXPECT_NE(std::find(fast.points[i].begin(), fast.points[i].end(),
+                        std::make_pair(std::string("drum.rpm"), std::string("120"))),
+              fast.points[i].end())
+        << i;
+  EXPECT_EQ(fast.noise, slow.noise);
+  EXPECT_EQ(fast.case_path, slow.case_path);
+  EXPECT_TRUE(fast.truth.empty());
   // The full-size example: its table comes with --observations (made on a GPU).
   const std::string full = std::string(WETDEM_SOURCE_DIR) + "/assets/diagnosis/pp2_l5/";
   const DiagnosisSpec f = parse_diagnosis_file(full + "diagnose.toml");

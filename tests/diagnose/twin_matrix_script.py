@@ -105,5 +105,20 @@ sh(matrix + ["--out", os.path.join(root, "out"), "--summarize"])
 m = json.load(open(os.path.join(root, "out", "matrix.json")))
 if m.get("top1") != 1 or m.get("confident_wrong") != 1:
     fail(f"matrix.json from the script's folders: {m}")
+
+# --twin-base: another table for every twin (its conditions, its case relative to it), the truth still applied.
+os.makedirs(os.path.join(root, "fast"))
+open(os.path.join(root, "fast", "base.toml"), "w").write(
+    'case = "../m/model.toml"\nseeds = [1, 2]\nnoise_seed = 7\n[[points]]\n"drum.rpm" = 120\n')
+sh(matrix + ["--out", os.path.join(root, "out2"), "--script", "run2.sh", "--twin-base", "fast/base.toml"])
+twin_file = open(os.path.join(root, "out2", "cohesion-strong", "twin.toml")).read()
+case = re.search(r'^case = "([^"]+)"', twin_file, re.M)
+if '"drum.rpm" = 120' not in twin_file or '"effects.cohesion.energy" = "0.02 J/m^2"' not in twin_file or not case or \
+        os.path.normpath(os.path.join(root, "out2", "cohesion-strong", case.group(1))) != \
+        os.path.join(root, "m", "model.toml"):
+    fail(f"twin.toml from --twin-base: its rows, the truth and its case expected:\n{twin_file}")
+r = sh(matrix + ["--out", os.path.join(root, "out3"), "--script", "run3.sh", "--twin-base", "nope.toml"], ok=False)
+if r.returncode == 0 or "nope.toml" not in r.stderr:
+    fail(f"a missing --twin-base: exit {r.returncode}, {r.stderr!r}")
 shutil.rmtree(root)
 print("twin matrix script: OK")
