@@ -116,6 +116,7 @@ void settle_rounds(Procedure& p, std::vector<Round>& rounds) {
   const double margin = std::max(p.d.rule.min_drop, seed_luck(p));
   std::vector<FreshCheck> checks;
   for (const Round& r : rounds) checks.push_back(r.fresh.front());
+  p.confirmations = checks;
   checks.push_back(p.fresh.front());
   std::vector<double> x;
   for (const FreshCheck& f : checks) x.push_back(fresh_chi2(f));
@@ -368,9 +369,9 @@ void promote_confirmed(Procedure& p, double before) {
   std::vector<bool> eligible;
   for (size_t i = 0; i < p.fresh.size(); ++i) {
     const FreshCheck& f = p.fresh[i];
-    const bool ran = f.failure.empty() && !f.after.empty();
-    x.push_back(ran ? chi2_of(f.gaps_after) : std::nan(""));
-    eligible.push_back(i > 0 && ran && !listed(p.unseen, f.effect) && ranked(p, f.effect) != nullptr);
+    x.push_back(fresh_chi2(f));
+    eligible.push_back(i > 0 && std::isfinite(x.back()) && !listed(p.unseen, f.effect) &&
+                       ranked(p, f.effect) != nullptr);
   }
   const size_t best = confirmed_instead(before, x, eligible, p.d.rule, luck);
   if (best == kNone) return;
@@ -429,7 +430,6 @@ void run_shrink(Procedure& p) {
     if (!chosen.failure.empty() || !has_gap(chosen.gaps_after, p.d.rule.table_level)) break;
     const Candidate* c = ranked(p, chosen.effect);
     if (!c) break;
-    p.confirmations.push_back(chosen);
     rounds.push_back({p.verdict, p.fresh, p.null_fresh, p.fitted});
     add_fresh_knot(p, chosen, *c);
     const std::string before = chosen.effect;
