@@ -316,11 +316,17 @@ TEST(DiagnoseFiles, ProbesOutsideThePhysicalRangeAreRefused) {
   EXPECT_NE(err("[verdict]\nheld_out = \"aic\"\n")
                 .find("verdict.held_out: \"chi2\" or \"log_density\", not \"aic\""),
             std::string::npos);
+  EXPECT_NE(err("[verdict]\ntie_noise = -1\n").find("verdict.tie_noise: a number >= 0"), std::string::npos);
+  EXPECT_NE(err("[verdict]\ntie_draws = 1\n").find("verdict.tie_draws: an integer in 2-1000, not 1"),
+            std::string::npos);
   const DiagnosisSpec ok = parse_diagnosis_file(d.write(
-      "d.toml", "case = \"" + kMicroStudyCase +
-                    "\"\n[shapes]\nabsorption = [1, 10]\n[verdict]\ntie_delta = 3\ntable_level = 0\n"));
+      "d.toml",
+      "case = \"" + kMicroStudyCase +
+          "\"\n[shapes]\nabsorption = [1, 10]\n[verdict]\ntie_delta = 3\ntable_level = 0\ntie_noise = 0\n"));
   EXPECT_EQ(ok.shapes.at("absorption"), (std::vector<double>{1, 10}));
   EXPECT_EQ(ok.rule.tie_delta, 3.0);
+  EXPECT_EQ(ok.rule.tie_noise, 0.0) << "0 turns the held-out noise margin off";
+  EXPECT_EQ(ok.rule.tie_draws, VerdictRule{}.tie_draws);
   EXPECT_EQ(ok.rule.table_level, 0.0) << "0 turns the table test off";
   for (const EffectSpec& e : effect_catalogue())
     for (double s : e.probes) EXPECT_TRUE(s >= e.phys_lo && s <= e.phys_hi) << e.name << " " << s;

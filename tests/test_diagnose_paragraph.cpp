@@ -140,6 +140,29 @@ TEST(DiagnoseParagraph, ATieNamesBothAndAddsNeither) {
   EXPECT_NE(three.find("Do not add any of them"), std::string::npos) << three;
 }
 
+// A tie that only the probes' noise made (VerdictRule::tie_noise) says so, with the numbers: the fast-table
+// absorption-weak twin, absorption 34.3 held out against evaporation's 23.9 over 64 cells.
+TEST(DiagnoseParagraph, ATieMadeByTheProbesNoiseSaysSo) {
+  Report r = chosen_with_fresh_runs("effect");
+  r.verdict.ranking[0].loco = 23.9;
+  r.verdict.ranking[0].loco_cells.assign(64, 23.9 / 64);
+  r.verdict.ranking[0].loco_draws = {30, 30, 30, 30};
+  Candidate a;
+  a.effect = "absorption";
+  a.loco = 34.3;
+  a.loco_draws = {40, 24, 40, 24};  // differences 10, -6, 10, -6: sd 9.2
+  r.verdict.ranking.push_back(a);
+  r.verdict.tied = {"absorption"};
+  const std::string noise = verdict_paragraph(r);
+  EXPECT_NE(noise.find("a difference of 10.4 within 1.5 standard deviations (9.2) of what the noise of the two "
+                       "candidates' probe runs alone moves it"),
+            std::string::npos)
+      << noise;
+  r.verdict.ranking[1].loco = 26.0;  // within tie_delta: the fixed rule's words
+  const std::string fixed = verdict_paragraph(r);
+  EXPECT_NE(fixed.find("not clearly worse by the tie rule"), std::string::npos) << fixed;
+}
+
 // A fresh comparison that the model's own seed luck decided (shrink.cpp fills Verdict::held_by_luck) is said
 // as such, with the remedy: more replicates. cohesion-weak (27 Nov 2026): viscous 151.5 on fresh runs against
 // cohesion's 100.3, worse by more than the tie margin but within the luck 70.6, so kept tied.

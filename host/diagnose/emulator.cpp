@@ -54,6 +54,15 @@ Emulator Emulator::redrawn(std::mt19937_64& rng) const {
   return e;
 }
 
+Emulator Emulator::redrawn(std::mt19937_64& rng, const std::vector<double>& anchor_z) const {
+  std::normal_distribution<double> n01(0.0, 1.0);
+  Emulator e = *this;
+  for (size_t k = 0; k < e.mean_.size(); ++k)
+    for (size_t i = 0; i < e.mean_[k].size(); ++i)
+      e.mean_[k][i] += se_[k][i] * (i == 0 && k < anchor_z.size() ? anchor_z[k] : n01(rng));
+  return e;
+}
+
 std::vector<Prediction> Emulator::at(double u) const {
   std::vector<Prediction> p;
   for (size_t k = 0; k < mean_.size(); ++k) p.push_back(at(k, u));

@@ -238,11 +238,21 @@ DiagnosisSpec parse_diagnosis_file(const std::string& path_in) {
     if (!d.shapes.count(e) && !effect_spec(e).shapes.empty()) d.shapes[e] = effect_spec(e).shapes;
   }
   if (const auto* t = root["verdict"].as_table()) {
-    reject_unknown(*t, path + ": [verdict]",
-                   {"fdr", "table_level", "held_out", "ratio", "min_drop", "tie_delta"});
+    reject_unknown(
+        *t, path + ": [verdict]",
+        {"fdr", "table_level", "held_out", "ratio", "min_drop", "tie_delta", "tie_noise", "tie_draws"});
     d.rule.tie_delta = (*t)["tie_delta"].value_or(d.rule.tie_delta);
     if (!(d.rule.tie_delta >= 0))
       throw DiagnoseError(fmt::format("{}: verdict.tie_delta: a number >= 0", path));
+    d.rule.tie_noise = (*t)["tie_noise"].value_or(d.rule.tie_noise);
+    if (!(d.rule.tie_noise >= 0))
+      throw DiagnoseError(fmt::format(
+          "{}: verdict.tie_noise: a number >= 0 (standard deviations of the held-out difference; 0: off)",
+          path));
+    const int64_t draws = (*t)["tie_draws"].value_or(int64_t(d.rule.tie_draws));
+    if (draws < 2 || draws > 1000)
+      throw DiagnoseError(fmt::format("{}: verdict.tie_draws: an integer in 2-1000, not {}", path, draws));
+    d.rule.tie_draws = int(draws);
     d.rule.q = (*t)["fdr"].value_or(d.rule.q);
     d.rule.ratio = (*t)["ratio"].value_or(d.rule.ratio);
     d.rule.min_drop = (*t)["min_drop"].value_or(d.rule.min_drop);

@@ -210,6 +210,36 @@ std::vector<double> loco_cells(const std::vector<Cell>& cells, const std::vector
   return out;
 }
 
+std::vector<double> loco_draws(const std::vector<Cell>& cells, const std::vector<Emulator>& ems,
+                               const std::vector<size_t>& refit_of,
+                               const std::vector<std::vector<std::vector<double>>>& anchors, uint64_t seed,
+                               const std::vector<double>* null_se) {
+  if (refit_of.size() != ems.size()) throw std::invalid_argument("loco_draws: one refit setting per member");
+  std::mt19937_64 rng(seed);
+  std::vector<double> out;
+  for (const auto& anchor : anchors) {
+    std::vector<Emulator> drawn;
+    for (size_t j = 0; j < ems.size(); ++j) {
+      if (refit_of[j] >= anchor.size())
+        throw std::invalid_argument("loco_draws: no anchor for a refit setting");
+      drawn.push_back(ems[j].redrawn(rng, anchor[refit_of[j]]));
+    }
+    out.push_back(sum(loco_cells(cells, drawn, nullptr, null_se)));
+  }
+  return out;
+}
+
+std::vector<std::vector<std::vector<double>>> anchor_draws(size_t draws, size_t settings, size_t cells,
+                                                           uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> n01(0.0, 1.0);
+  std::vector<std::vector<std::vector<double>>> a(draws, std::vector<std::vector<double>>(settings));
+  for (auto& d : a)
+    for (auto& r : d)
+      for (size_t k = 0; k < cells; ++k) r.push_back(n01(rng));
+  return a;
+}
+
 double loco_score(const std::vector<Cell>& cells, const std::vector<Emulator>& ems) {
   return sum(loco_cells(cells, ems));
 }

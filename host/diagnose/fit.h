@@ -94,6 +94,19 @@ void widen_by_condition_jackknife(StrengthFit& f, const std::vector<double>& loc
 void widen_by_emulator_noise(StrengthFit& f, const std::vector<Cell>& cells, const Emulator& em,
                              int draws = 48, uint64_t seed = 20261125);
 
+// The held-out score's own noise (VerdictRule::tie_noise): the leave-one-condition-out score of a family
+// whose emulators are redrawn within their knots' SE (Emulator::redrawn), once per draw. anchors[d][r][k] is
+// draw d's shift of refit setting r's baseline knot in cell k, in units of its SE (anchor_draws): every
+// candidate gets the same shifts, so the draws of two candidates are paired over the baseline they share and
+// the spread of their difference is that of their own probes. Each member's probes are redrawn from `seed`.
+std::vector<double> loco_draws(const std::vector<Cell>& cells, const std::vector<Emulator>& ems,
+                               const std::vector<size_t>& refit_of,
+                               const std::vector<std::vector<std::vector<double>>>& anchors, uint64_t seed,
+                               const std::vector<double>* null_se = nullptr);
+// Standard normal shifts [draw][refit setting][cell] for loco_draws, from a fixed seed (repeatable reports).
+std::vector<std::vector<std::vector<double>>> anchor_draws(size_t draws, size_t settings, size_t cells,
+                                                           uint64_t seed);
+
 // The null model: with one baseline nothing is fitted and the score is its plain χ²; with refit settings the
 // setting is re-fitted in every fold.
 std::vector<double> loco_null_cells(const std::vector<Cell>& cells,

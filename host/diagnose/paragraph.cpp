@@ -47,6 +47,17 @@ const Candidate* candidate(const Report& r, const std::string& e) {
 }
 
 // The tie and the next experiment, when the runner-up is not clearly worse.
+// Why a runner-up scoring worse held out is tied: by tie_delta, or only by its probes' noise (verdict.h).
+std::string held_out_tie_words(const Candidate& best, const Candidate& c, const VerdictRule& rule) {
+  VerdictRule fixed = rule;
+  fixed.tie_noise = 0.0;
+  if (!clearly_worse(best, c, fixed)) return "not clearly worse by the tie rule";
+  return fmt::format(
+      "a difference of {:.1f} within {:g} standard deviations ({:.1f}) of what the noise of the two "
+      "candidates' probe runs alone moves it",
+      c.loco - best.loco, rule.tie_noise, held_out_noise(best, c));
+}
+
 std::string tie_sentence(const Report& r) {
   if (r.verdict.tied.empty()) return "";
   const Candidate* best = candidate(r, r.verdict.effect);
@@ -80,7 +91,7 @@ std::string tie_sentence(const Report& r) {
                   " **`{}` explains the data {}** (held-out χ² {:.1f} against {:.1f}, {}; {} = {}): the data "
                   "do not single one out, and both are reported.",
                   e, c->loco < best->loco ? "as well" : "nearly as well", c->loco, best->loco,
-                  c->loco < best->loco ? "lower" : "not clearly worse by the tie rule",
+                  c->loco < best->loco ? "lower" : held_out_tie_words(*best, *c, r.spec->rule),
                   effect_spec(e).strength, strength_text(*c, r.runs_of(e)));
     if (std::find(r.unseen.begin(), r.unseen.end(), e) != r.unseen.end())
       s += fmt::format(

@@ -273,7 +273,9 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
                {"held_out", r.spec->rule.held_out == HeldOut::kLogDensity ? "log_density" : "chi2"},
                {"ratio", r.spec->rule.ratio},
                {"min_drop", r.spec->rule.min_drop},
-               {"tie_delta", r.spec->rule.tie_delta}};
+               {"tie_delta", r.spec->rule.tie_delta},
+               {"tie_noise", r.spec->rule.tie_noise},
+               {"tie_draws", r.spec->rule.tie_draws}};
   j["where_summary"] = r.where;
   j["table"] = table_json(table_fit(r.gaps, r.spec->rule.table_level));
   for (size_t k = 0; k < r.cells.size(); ++k) {
@@ -344,6 +346,16 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
               {"range_cut_at", cr && std::isfinite(cr->cut) ? json(cr->cut) : json(nullptr)},
               {"notes", cr ? cr->notes : std::vector<std::string>{}},
               {"text", strength_text(c, cr)}};
+    // Against the chosen (first) candidate: the held-out difference's noise over paired emulator redraws and
+    // the tie margin it gives (verdict.h, tie_noise); null where this candidate has no draws.
+    const Candidate& first = r.verdict.ranking.front();
+    if (&c != &first && !c.loco_draws.empty() && !first.loco_draws.empty()) {
+      x["loco_chi2_noise"] = held_out_noise(first, c);
+      x["tie_margin"] = tie_margin(first, c, r.spec->rule);
+    } else {
+      x["loco_chi2_noise"] = nullptr;
+      x["tie_margin"] = nullptr;
+    }
     if (cr && c.shape < cr->shapes.size() && !std::isnan(cr->shapes[c.shape]))
       x["shape"] = {{"meaning", spec.shape}, {"value", cr->shapes[c.shape]}, {"probed", cr->shapes}};
     if (refit) x["refit"] = setting_json(c.refit);
@@ -529,15 +541,17 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
       "null's by ≥ {} (the null's {:.1f}, its noise floor {:.1f}: the mean z² of the cells not significant, "
       "times the cells, at most 1 a cell), and the fresh-seed runs at its fitted strength leave no gap (no "
       "cell significant, χ² over the table within its {:.3g} % point; else `partial`); a runner-up that also "
-      "passes is *tied* unless its held-out χ² exceeds the best's by ≥ {} × max(1, χ²_best/n); the fresh "
+      "passes is *tied* unless its held-out χ² exceeds the best's by ≥ {} × max(1, χ²_best/n) and by ≥ {} "
+      "standard deviations of that difference over {} paired redraws of the two emulators within their "
+      "runs' SE (the probes' own noise); the fresh "
       "runs must lower χ² below the model's on the same fresh seeds by ≥ {} or "
       "the model's own seed luck ({:.1f}), whichever is more; a candidate the probes cannot show is never "
       "named first on its held-out score; cells significant by Benjamini-Hochberg at {}. Intervals: Δχ² = "
       "max(1, χ²_min/(n − "
       "1)), widened to the fit ± the jackknife over conditions' standard error when that is wider.\n\n",
       r.spec->rule.ratio, r.spec->rule.min_drop, r.verdict.null_loco, r.verdict.floor,
-      100 * r.spec->rule.table_level, r.spec->rule.tie_delta, r.spec->rule.min_drop, r.verdict.seed_luck,
-      r.spec->rule.q);
+      100 * r.spec->rule.table_level, r.spec->rule.tie_delta, r.spec->rule.tie_noise, r.spec->rule.tie_draws,
+      r.spec->rule.min_drop, r.verdict.seed_luck, r.spec->rule.q);
   if (!r.next.proposals.empty()) {
     md += fmt::format("## Next experiment: `{}` or `{}`?\n\n", r.next.effect_a, r.next.effect_b);
     md += fmt::format(

@@ -30,14 +30,31 @@ bool passes_margin(double loco, const Verdict& v, const VerdictRule& rule) {
   return loco <= floor + rule.ratio * (v.null_loco - floor) && v.null_loco - loco >= rule.min_drop;
 }
 
-bool clearly_worse(const Candidate& a, const Candidate& b, const VerdictRule& rule) {
+double held_out_noise(const Candidate& a, const Candidate& b) {
+  const size_t m = std::min(a.loco_draws.size(), b.loco_draws.size());
+  if (m < 2) return 0.0;
+  double mean = 0, ss = 0;
+  for (size_t d = 0; d < m; ++d) {
+    // Welford's running mean and sum of squares of the paired differences.
+    const double x = b.loco_draws[d] - a.loco_draws[d], dm = x - mean;
+    mean += dm / double(d + 1);
+    ss += dm * (x - mean);
+  }
+  return std::sqrt(ss / double(m - 1));
+}
+
+double tie_margin(const Candidate& a, const Candidate& b, const VerdictRule& rule) {
   const double n = double(std::max<size_t>(1, a.loco_cells.size()));
-  return b.loco - a.loco >= rule.tie_delta * std::max(1.0, a.loco / n);
+  return std::max(rule.tie_delta * std::max(1.0, a.loco / n), rule.tie_noise * held_out_noise(a, b));
+}
+
+bool clearly_worse(const Candidate& a, const Candidate& b, const VerdictRule& rule) {
+  return b.loco - a.loco >= tie_margin(a, b, rule);
 }
 
 bool near_tie(const Candidate& a, const Candidate& b, const VerdictRule& rule) {
   VerdictRule twice = rule;
-  twice.tie_delta = 2.0 * rule.tie_delta;
+  twice.tie_delta = 2.0 * rule.tie_delta;  // the noise part is measured (tie_noise), not doubled
   return !clearly_worse(a, b, twice);
 }
 
@@ -84,6 +101,22 @@ Verdict decide(const std::vector<Cell>& cells, const std::vector<std::vector<Pre
   const std::vector<CellGap> g = where(cells, baselines.front(), rule.q);
   const bool any = has_gap(g, rule.table_level);
   v.floor = noise_floor(v.null_loco_cells, g);
+  const auto passes = [&](const Candidate& c) { return passes_margin(c.loco, v, rule); };
+  // The held-out scores' noise (VerdictRule::tie_noise), for the candidates it can tie: the best and every
+  // candidate that passes the effect margin (a tie needs both; any of them may be named first later).
+  if (rule.tie_noise > 0 && rule.tie_draws >= 2 && !v.ranking.empty()) {
+    const auto anchors = anchor_draws(size_t(rule.tie_draws), baselines.size(), cells.size(), 20261129);
+    for (size_t i = 0; i < v.ranking.size(); ++i) {
+      Candidate& c = v.ranking[i];
+      if (i > 0 && !passes(c)) continue;
+      const Family& fam = *std::find_if(families.begin(), families.end(),
+                                        [&](const Family& f) { return f.effect == c.effect; });
+      uint64_t seed = 1469598103934665603ull;  // FNV-1a of the name: each candidate's own probe draws
+      for (unsigned char ch : c.effect) seed = (seed ^ ch) * 1099511628211ull;
+      c.loco_draws = loco_draws(cells, fam.ems, fam.refit_of, anchors, seed,
+                                rule.held_out == HeldOut::kLogDensity ? &null_se : nullptr);
+    }
+  }
   if (!v.ranking.empty()) choose(v, v.ranking.front().effect);
   v.effect.clear();  // chosen only once the rule below says so
   // With refit, a gap the null closes at its re-fitted setting (no cell significant there, by the same rule)
@@ -92,7 +125,6 @@ Verdict decide(const std::vector<Cell>& cells, const std::vector<std::vector<Pre
     if (baselines.size() < 2 || v.null_refit == 0) return false;
     return !has_gap(where(cells, baselines[v.null_refit], rule.q), rule.table_level);
   };
-  const auto passes = [&](const Candidate& c) { return passes_margin(c.loco, v, rule); };
   if (!any) {
     v.kind = "no_gap";
   } else if (closed()) {
