@@ -46,18 +46,18 @@ const Candidate* candidate(const Report& r, const std::string& e) {
   return nullptr;
 }
 
-// The tie and the next experiment, when the runner-up is not clearly worse.
-// Why a runner-up scoring worse held out is tied: by tie_delta, or only by its probes' noise (verdict.h).
-std::string held_out_tie_words(const Candidate& best, const Candidate& c, const VerdictRule& rule) {
-  VerdictRule fixed = rule;
-  fixed.tie_noise = 0.0;
-  if (!clearly_worse(best, c, fixed)) return "not clearly worse by the tie rule";
+// Why a runner-up clearly worse held out was run fresh, when its probes' noise (VerdictRule::tie_noise,
+// verdict.h) rather than twice the tie margin made it a near tie; empty otherwise.
+std::string noise_words(const Candidate& best, const Candidate& c, const VerdictRule& rule) {
+  if (c.loco - best.loco < 2.0 * tie_margin(best, c, rule)) return "";
   return fmt::format(
-      "a difference of {:.1f} within {:g} standard deviations ({:.1f}) of what the noise of the two "
-      "candidates' probe runs alone moves it",
-      c.loco - best.loco, rule.tie_noise, held_out_noise(best, c));
+      " (a difference within {:g} standard deviations ({:.1f}) of what the noise of the two candidates' "
+      "probe "
+      "runs alone moves it, so both were run with fresh seeds)",
+      rule.tie_noise, held_out_noise(best, c));
 }
 
+// The tie and the next experiment, when the runner-up is not clearly worse.
 std::string tie_sentence(const Report& r) {
   if (r.verdict.tied.empty()) return "";
   const Candidate* best = candidate(r, r.verdict.effect);
@@ -73,12 +73,13 @@ std::string tie_sentence(const Report& r) {
         fc && fb && !fc->after.empty() && !fb->after.empty() && clearly_worse(*best, *c, r.spec->rule);
     s +=
         kept ? fmt::format(
-                   " **`{}` explains the data nearly as well**: held out it scored {:.1f} against {:.1f}, "
+                   " **`{}` explains the data nearly as well**: held out it scored {:.1f} against {:.1f}{}, "
                    "but on fresh runs its χ² is {:.1f} against {:.1f}, not clearly worse by the tie rule "
                    "and the model's own seed luck ({:.1f}). The data do not single one out, and both are "
                    "reported ({} = {}).",
-                   e, c->loco, best->loco, chi2_of(fc->gaps_after), chi2_of(fb->gaps_after),
-                   r.verdict.seed_luck, effect_spec(e).strength, strength_text(*c, r.runs_of(e)))
+                   e, c->loco, best->loco, noise_words(*best, *c, r.spec->rule), chi2_of(fc->gaps_after),
+                   chi2_of(fb->gaps_after), r.verdict.seed_luck, effect_spec(e).strength,
+                   strength_text(*c, r.runs_of(e)))
         : on_fresh && fc && fb && !fc->after.empty() && !fb->after.empty()
             ? fmt::format(
                   " **`{}` explains the data nearly as well**: held out it scored {:.1f} against {:.1f}, "
@@ -91,7 +92,7 @@ std::string tie_sentence(const Report& r) {
                   " **`{}` explains the data {}** (held-out χ² {:.1f} against {:.1f}, {}; {} = {}): the data "
                   "do not single one out, and both are reported.",
                   e, c->loco < best->loco ? "as well" : "nearly as well", c->loco, best->loco,
-                  c->loco < best->loco ? "lower" : held_out_tie_words(*best, *c, r.spec->rule),
+                  c->loco < best->loco ? "lower" : "not clearly worse by the tie rule",
                   effect_spec(e).strength, strength_text(*c, r.runs_of(e)));
     if (std::find(r.unseen.begin(), r.unseen.end(), e) != r.unseen.end())
       s += fmt::format(

@@ -347,14 +347,15 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
               {"notes", cr ? cr->notes : std::vector<std::string>{}},
               {"text", strength_text(c, cr)}};
     // Against the chosen (first) candidate: the held-out difference's noise over paired emulator redraws and
-    // the tie margin it gives (verdict.h, tie_noise); null where this candidate has no draws.
+    // the near-tie margin (verdict.h, tie_noise: within it, the candidate is run fresh); null where this
+    // candidate has no draws.
     const Candidate& first = r.verdict.ranking.front();
     if (&c != &first && !c.loco_draws.empty() && !first.loco_draws.empty()) {
       x["loco_chi2_noise"] = held_out_noise(first, c);
-      x["tie_margin"] = tie_margin(first, c, r.spec->rule);
+      x["near_tie_margin"] = near_tie_margin(first, c, r.spec->rule);
     } else {
       x["loco_chi2_noise"] = nullptr;
-      x["tie_margin"] = nullptr;
+      x["near_tie_margin"] = nullptr;
     }
     if (cr && c.shape < cr->shapes.size() && !std::isnan(cr->shapes[c.shape]))
       x["shape"] = {{"meaning", spec.shape}, {"value", cr->shapes[c.shape]}, {"probed", cr->shapes}};
@@ -541,9 +542,10 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
       "null's by ≥ {} (the null's {:.1f}, its noise floor {:.1f}: the mean z² of the cells not significant, "
       "times the cells, at most 1 a cell), and the fresh-seed runs at its fitted strength leave no gap (no "
       "cell significant, χ² over the table within its {:.3g} % point; else `partial`); a runner-up that also "
-      "passes is *tied* unless its held-out χ² exceeds the best's by ≥ {} × max(1, χ²_best/n) and by ≥ {} "
-      "standard deviations of that difference over {} paired redraws of the two emulators within their "
-      "runs' SE (the probes' own noise); the fresh "
+      "passes is *tied* unless its held-out χ² exceeds the best's by ≥ {} × max(1, χ²_best/n); one within "
+      "twice that, or within {} standard deviations of the difference over {} paired redraws of the two "
+      "emulators within their runs' SE (the probes' own noise), is run with fresh seeds and tied if its "
+      "fresh χ² is not clearly worse; the fresh "
       "runs must lower χ² below the model's on the same fresh seeds by ≥ {} or "
       "the model's own seed luck ({:.1f}), whichever is more; a candidate the probes cannot show is never "
       "named first on its held-out score; cells significant by Benjamini-Hochberg at {}. Intervals: Δχ² = "

@@ -43,19 +43,21 @@ double held_out_noise(const Candidate& a, const Candidate& b) {
   return std::sqrt(ss / double(m - 1));
 }
 
-double tie_margin(const Candidate& a, const Candidate& b, const VerdictRule& rule) {
+double tie_margin(const Candidate& a, const Candidate&, const VerdictRule& rule) {
   const double n = double(std::max<size_t>(1, a.loco_cells.size()));
-  return std::max(rule.tie_delta * std::max(1.0, a.loco / n), rule.tie_noise * held_out_noise(a, b));
+  return rule.tie_delta * std::max(1.0, a.loco / n);
 }
 
 bool clearly_worse(const Candidate& a, const Candidate& b, const VerdictRule& rule) {
   return b.loco - a.loco >= tie_margin(a, b, rule);
 }
 
+double near_tie_margin(const Candidate& a, const Candidate& b, const VerdictRule& rule) {
+  return std::max(2.0 * tie_margin(a, b, rule), rule.tie_noise * held_out_noise(a, b));
+}
+
 bool near_tie(const Candidate& a, const Candidate& b, const VerdictRule& rule) {
-  VerdictRule twice = rule;
-  twice.tie_delta = 2.0 * rule.tie_delta;  // the noise part is measured (tie_noise), not doubled
-  return !clearly_worse(a, b, twice);
+  return b.loco - a.loco < near_tie_margin(a, b, rule);
 }
 
 bool fresh_tie(double chi2_a, double chi2_b, size_t n, const VerdictRule& rule, double luck) {
@@ -102,8 +104,8 @@ Verdict decide(const std::vector<Cell>& cells, const std::vector<std::vector<Pre
   const bool any = has_gap(g, rule.table_level);
   v.floor = noise_floor(v.null_loco_cells, g);
   const auto passes = [&](const Candidate& c) { return passes_margin(c.loco, v, rule); };
-  // The held-out scores' noise (VerdictRule::tie_noise), for the candidates it can tie: the best and every
-  // candidate that passes the effect margin (a tie needs both; any of them may be named first later).
+  // The held-out scores' noise (VerdictRule::tie_noise), for the candidates it can make near ties: the best
+  // and every candidate that passes the effect margin (any of them may be named first later).
   if (rule.tie_noise > 0 && rule.tie_draws >= 2 && !v.ranking.empty()) {
     const auto anchors = anchor_draws(size_t(rule.tie_draws), baselines.size(), cells.size(), 20261129);
     for (size_t i = 0; i < v.ranking.size(); ++i) {

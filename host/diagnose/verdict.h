@@ -47,16 +47,19 @@ struct VerdictRule {
   double ratio = 0.5;
   double min_drop = 4.0;
   double tie_delta = 4.0;
-  // The held-out scores' own noise: a runner-up is also tied while its held-out χ² exceeds the best's by less
-  // than tie_noise standard deviations of that difference over tie_draws paired redraws of the two
-  // candidates' emulators within their knots' SE (held_out_noise). Both scores are built on probe runs of a
-  // few seeds, whose seed noise tie_delta does not measure: on the fast flowing table absorption scored 34.3
-  // held out against evaporation's 23.9, a Δ past tie_delta that was never run fresh. The redrawn knots
-  // carry their noise twice (the runs' and the redraw's), so the bootstrap overstates the difference's
-  // spread: by 1.5x on synthetic cells with probes twice as noisy as the data
+  // The held-out scores' own noise: a runner-up is also a near tie (near_tie: it gets fresh runs beside the
+  // chosen effect, and fresh_tie decides) while its held-out χ² exceeds the best's by less than tie_noise
+  // standard deviations of that difference over tie_draws paired redraws of the two candidates' emulators
+  // within their knots' SE (held_out_noise). Both scores are built on probe runs of a few seeds, whose seed
+  // noise tie_delta does not measure: on the fast flowing table absorption scored 34.3 held out against
+  // evaporation's 23.9, past twice tie_delta, and was never run fresh. The redrawn knots carry their noise
+  // twice (the runs' and the redraw's), so the bootstrap overstates the difference's spread: by 1.5x on
+  // synthetic cells with probes twice as noisy as the data
   // (DiagnoseVerdict.TheHeldOutTieCountsTheProbesNoise). 1.5 of its standard deviations are then ~2.3 of the
-  // difference's own: a runner-up as good as the best is called clearly worse by its probes' luck in ~2 %
-  // of cases (tie_delta alone: 57 % there). 0: off (tie_delta alone).
+  // difference's own: a runner-up as good as the best misses its fresh runs by its probes' luck in ~2 % of
+  // cases (twice tie_delta alone: 25 % there). The noise widens only who is run fresh, never the tie itself:
+  // a runner-up whose fresh runs are clearly worse is dropped however noisy its probes. 0: off (twice
+  // tie_delta alone).
   double tie_noise = 1.5;
   int tie_draws = 32;
 };
@@ -138,15 +141,16 @@ Verdict decide(const std::vector<Cell>& cells, const std::vector<Prediction>& ba
 
 // The standard deviation of b.loco - a.loco over their paired redraws (loco_draws); 0 when either has none.
 double held_out_noise(const Candidate& a, const Candidate& b);
-// The tie margin of b against a held out: max(tie_delta x max(1, LOCO_a / n), tie_noise x held_out_noise).
+// The tie margin of b against a held out: tie_delta x max(1, LOCO_a / n) over n cells.
 double tie_margin(const Candidate& a, const Candidate& b, const VerdictRule& rule);
 // Whether `b` is clearly worse than `a` on the held-out cells: b.loco - a.loco >= tie_margin (the tie rule).
 bool clearly_worse(const Candidate& a, const Candidate& b, const VerdictRule& rule);
 
-// A runner-up within twice tie_delta's margin of the best on the held-out cells, or within tie_noise's (not
-// doubled: that part measures the probes' noise). Two held-out scores built on single-seed probe runs also
-// differ by those runs' seed noise, so such a runner-up gets fresh runs (R seeds, no probe in them) beside
-// the chosen effect's, and fresh_tie decides (shrink.cpp).
+// The near-tie margin: max(2 x tie_margin, tie_noise x held_out_noise).
+double near_tie_margin(const Candidate& a, const Candidate& b, const VerdictRule& rule);
+// A runner-up within the near-tie margin of the best on the held-out cells. Two held-out scores built on
+// probe runs of one or two seeds also differ by those runs' seed noise, so such a runner-up gets fresh runs
+// (R seeds, no probe in them) beside the chosen effect's, and fresh_tie decides (shrink.cpp).
 bool near_tie(const Candidate& a, const Candidate& b, const VerdictRule& rule);
 // On fresh runs: b is tied with a unless its χ² over the n cells exceeds a's by tie_delta x max(1, χ²_a / n),
 // or by `luck` where that is larger (the model's own seed luck, as in unseen_on_fresh: the fresh runs of two
