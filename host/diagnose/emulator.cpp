@@ -47,11 +47,7 @@ Prediction Emulator::at(size_t cell, double u) const {
 }
 
 Emulator Emulator::redrawn(std::mt19937_64& rng) const {
-  std::normal_distribution<double> n01(0.0, 1.0);
-  Emulator e = *this;
-  for (size_t k = 0; k < e.mean_.size(); ++k)
-    for (size_t i = 0; i < e.mean_[k].size(); ++i) e.mean_[k][i] += se_[k][i] * n01(rng);
-  return e;
+  return redrawn(rng, {});
 }
 
 Emulator Emulator::redrawn(std::mt19937_64& rng, const std::vector<double>& anchor_z) const {

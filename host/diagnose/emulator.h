@@ -36,8 +36,9 @@ class Emulator {
   // with its own SE: one draw of a parametric bootstrap over the runs behind it (fit.h,
   // widen_by_emulator_noise).
   Emulator redrawn(std::mt19937_64& rng) const;
-  // As above, but the baseline's knot moves by anchor_z[cell] of its SE instead of a fresh draw: emulators of
-  // several candidates built on one baseline share its noise in a paired bootstrap (loco_draws, fit.h).
+  // As above, but the baseline's knot moves by anchor_z[cell] of its SE instead of a fresh draw (where
+  // given): emulators of several candidates built on one baseline share its noise in a paired bootstrap
+  // (loco_draws, fit.h). Empty: the draw above, the same numbers from the same rng.
   Emulator redrawn(std::mt19937_64& rng, const std::vector<double>& anchor_z) const;
 
  private:
