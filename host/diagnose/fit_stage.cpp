@@ -229,7 +229,11 @@ void run_fit(Procedure& p) {
     for (size_t ci = 0; ci < cands.size(); ++ci)
       if (Family f = cands[ci].family(p.baselines); !f.ems.empty()) fams.push_back(f), of.push_back(ci);
     if (fams.empty()) break;
-    const Verdict v = decide(p.tab.cells, p.baselines, fams, p.d.rule);
+    // The rounds read passes_margin and clearly_worse only: the held-out noise (tie_noise), which only
+    // near_tie reads, is not drawn here (it costs 32 re-fits of every passing candidate per round).
+    VerdictRule rule = p.d.rule;
+    rule.tie_noise = 0.0;
+    const Verdict v = decide(p.tab.cells, p.baselines, fams, rule);
     std::vector<bool> contend(cands.size(), false);
     for (size_t r = 0; r < v.ranking.size(); ++r) {
       const Candidate& c = v.ranking[r];

@@ -49,11 +49,10 @@ const Candidate* candidate(const Report& r, const std::string& e) {
 // Why a runner-up clearly worse held out was run fresh, when its probes' noise (VerdictRule::tie_noise,
 // verdict.h) rather than twice the tie margin made it a near tie; empty otherwise.
 std::string noise_words(const Candidate& best, const Candidate& c, const VerdictRule& rule) {
-  if (c.loco - best.loco < 2.0 * tie_margin(best, c, rule)) return "";
+  if (c.loco - best.loco < 2.0 * tie_margin(best, rule)) return "";
   return fmt::format(
       " (a difference within {:g} standard deviations ({:.1f}) of what the noise of the two candidates' "
-      "probe "
-      "runs alone moves it, so both were run with fresh seeds)",
+      "probe runs alone moves it, so both were run with fresh seeds)",
       rule.tie_noise, held_out_noise(best, c));
 }
 

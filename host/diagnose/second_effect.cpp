@@ -87,7 +87,10 @@ Verdict decide_second(const Procedure& p) {
     if (std::find(p.unseen.begin(), p.unseen.end(), c.effect) != p.unseen.end()) continue;
     if (Family f = c.family({p.second.base}); !f.ems.empty()) fams.push_back(f);
   }
-  return decide(p.tab.cells, std::vector<std::vector<Prediction>>{p.second.base}, fams, p.d.rule);
+  // The second round reads no near tie, so the held-out noise (tie_noise) is not drawn.
+  VerdictRule rule = p.d.rule;
+  rule.tie_noise = 0.0;
+  return decide(p.tab.cells, std::vector<std::vector<Prediction>>{p.second.base}, fams, rule);
 }
 
 }  // namespace

@@ -43,17 +43,17 @@ double held_out_noise(const Candidate& a, const Candidate& b) {
   return std::sqrt(ss / double(m - 1));
 }
 
-double tie_margin(const Candidate& a, const Candidate&, const VerdictRule& rule) {
+double tie_margin(const Candidate& a, const VerdictRule& rule) {
   const double n = double(std::max<size_t>(1, a.loco_cells.size()));
   return rule.tie_delta * std::max(1.0, a.loco / n);
 }
 
 bool clearly_worse(const Candidate& a, const Candidate& b, const VerdictRule& rule) {
-  return b.loco - a.loco >= tie_margin(a, b, rule);
+  return b.loco - a.loco >= tie_margin(a, rule);
 }
 
 double near_tie_margin(const Candidate& a, const Candidate& b, const VerdictRule& rule) {
-  return std::max(2.0 * tie_margin(a, b, rule), rule.tie_noise * held_out_noise(a, b));
+  return std::max(2.0 * tie_margin(a, rule), rule.tie_noise * held_out_noise(a, b));
 }
 
 bool near_tie(const Candidate& a, const Candidate& b, const VerdictRule& rule) {

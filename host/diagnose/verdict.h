@@ -141,8 +141,8 @@ Verdict decide(const std::vector<Cell>& cells, const std::vector<Prediction>& ba
 
 // The standard deviation of b.loco - a.loco over their paired redraws (loco_draws); 0 when either has none.
 double held_out_noise(const Candidate& a, const Candidate& b);
-// The tie margin of b against a held out: tie_delta x max(1, LOCO_a / n) over n cells.
-double tie_margin(const Candidate& a, const Candidate& b, const VerdictRule& rule);
+// The tie margin against a held out: tie_delta x max(1, LOCO_a / n) over n cells.
+double tie_margin(const Candidate& a, const VerdictRule& rule);
 // Whether `b` is clearly worse than `a` on the held-out cells: b.loco - a.loco >= tie_margin (the tie rule).
 bool clearly_worse(const Candidate& a, const Candidate& b, const VerdictRule& rule);
 
