@@ -145,11 +145,16 @@ def main(d):
     # probes the table cannot see (never named first on their held-out score alone: a lower bar can come second).
     # The one first held out whose fresh runs did not confirm it, when another's did (passed_over): why the
     # named bar is not the shortest.
+    # A runner-up run fresh (a near tie) and then dropped by its fresh runs says so, with its fresh χ²: it
+    # would otherwise look like one never run.
     unseen = set(j.get("unseen") or [])
     passed = (j.get("passed_over") or {}).get("effect")
+    fresh = {f["effect"]: f.get("chi2_after") for f in (j.get("fresh") or []) if f.get("effect")}
     def role(e):
         r = "named" if e == j.get("effect") else "tied" if e in (j.get("tied") or []) else ""
         r = "not confirmed fresh" if e == passed else r
+        if not r and e in fresh:
+            r = "run fresh, dropped" + (f": χ² {fresh[e]:.3g}" if fresh[e] is not None else "")
         return r + (", " if r else "") + "probes not seen" if e in unseen else r
     names = [null] + [r["effect"] + (f" ({role(r['effect'])})" if role(r["effect"]) else "") + refit(r) for r in rk]
     vals = [j["null_loco_chi2"]] + [r["loco_chi2"] for r in rk]
@@ -163,6 +168,18 @@ def main(d):
             b.set_edgecolor("0.3")
     ax.set_yticks(range(len(names)), names)
     ax.invert_yaxis()
+    # The near-tie zone of each runner-up (verdict.h, near_tie_margin): from the first's held-out χ² to that
+    # plus the larger of twice the tie margin and tie_noise standard deviations of the paired held-out
+    # difference (the probes' noise). A bar ending inside its zone was run fresh, and the fresh runs decided.
+    zone_label = "near-tie zone from the first\n(a bar ending in it is run fresh)"
+    for i, r in enumerate(rk[1:], start=2):
+        m = r.get("near_tie_margin")
+        if m is None or not rk:
+            continue
+        lo = rk[0]["loco_chi2"]
+        ax.errorbar([lo + m / 2], [i], xerr=[[m / 2], [m / 2]], fmt="none", ecolor="tab:orange", elinewidth=2.5,
+                    capsize=3, alpha=0.8, label=zone_label, zorder=3)
+        zone_label = None
     # The chosen candidate's χ² is often a thousandth of the null's: a log axis, and each value written out.
     pos = [v for v in vals if v > 0]
     if pos and max(pos) > 100 * min(pos):
@@ -178,6 +195,7 @@ def main(d):
         if floor > 0:
             ax.axvline(floor, color="0.4", ls="--", lw=1, label=f"noise floor {floor:.3g}")
         ax.axvline(margin, color="tab:red", ls=":", lw=1.2, label=f"effect margin {margin:.3g}")
+    if ax.get_legend_handles_labels()[0]:
         ax.legend(fontsize=7, loc="lower right", frameon=False)
     ax.set_xlim(right=max(vals) * (3.0 if ax.get_xscale() == "log" else 1.15) if vals else 1)
     ax.set_xlabel("held-out χ² (leave one condition out)\nlower is better")

@@ -370,3 +370,49 @@ TEST(DiagnoseFiles, AnEffectThatCannotActIsRefusedBeforeAnyRun) {
             std::string::npos);
   EXPECT_FALSE(fs::exists(d.p / "out" / "store" / "runs")) << "nothing may run on bad input";
 }
+
+// [assays]: measurements a laboratory could add for the next experiment. Each names an observable a
+// laboratory can measure, with the sd of one measurement; one the table already has, or one the model cannot
+// produce, is refused before any run.
+TEST(DiagnoseFiles, AssaysAreLabMeasurementsTheTableLacks) {
+  Dir d;
+  const auto err = [&](const std::string& body) {
+    return expect_error(
+        [&] { parse_diagnosis_file(d.write("d.toml", "case = \"" + kMicroStudyCase + "\"\n" + body)); });
+  };
+  EXPECT_NE(err("[assays]\nmoisture = 0.01\n").find("[assays] moisture: not an observable"),
+            std::string::npos);
+  EXPECT_NE(
+      err("[assays]\nf_wet_mean = 0.01\n").find("[assays] f_wet_mean: f_wet_mean is a simulation quantity"),
+      std::string::npos);
+  EXPECT_NE(err("[assays]\nliquid_free_fraction = -0.01\n")
+                .find("[assays] liquid_free_fraction: the sd of one measurement, a positive number"),
+            std::string::npos);
+  EXPECT_NE(err("[assays]\nliquid_free_fraction = \"2 %\"\n").find("a positive number"), std::string::npos);
+  EXPECT_NE(err("assays = 0.02\n").find("[assays]: a table of observable = measurement sd"),
+            std::string::npos);
+  const DiagnosisSpec ok = parse_diagnosis_file(
+      d.write("d.toml", "case = \"" + kMicroStudyCase + "\"\n[assays]\nliquid_free_fraction = 0.02\n"));
+  EXPECT_EQ(ok.assays.at("liquid_free_fraction"), 0.02);
+
+  // Against the table and the model (the procedure, before any run).
+  d.write("obs.csv",
+          "liquid.content,observable,value,sigma\n\"5 %\",aor_deg_mean,30,1\n\"10 %\",aor_deg_mean,31,1\n"
+          "\"5 %\",liquid_free_fraction,0.5,0.02\n\"10 %\",liquid_free_fraction,0.6,0.02\n");
+  DiagnoseOptions o;
+  o.out = (d.p / "out").string();
+  o.figures = false;
+  o.quiet = true;
+  const auto run_err = [&](const std::string& assays) {
+    const std::string f = d.write(
+        "d.toml", "case = \"" + kMicroStudyCase + "\"\nobservations = \"obs.csv\"\n[assays]\n" + assays);
+    return expect_error([&] { run_diagnosis(parse_diagnosis_file(f), o); });
+  };
+  EXPECT_NE(run_err("liquid_free_fraction = 0.02\n")
+                .find("[assays] liquid_free_fraction: the observation table " + (d.p / "obs.csv").string() +
+                      " already measures it"),
+            std::string::npos);
+  EXPECT_NE(run_err("aor_centre_deg = 1\n").find("[assays] aor_centre_deg: the model cannot produce it"),
+            std::string::npos);
+  EXPECT_FALSE(fs::exists(d.p / "out" / "store" / "runs")) << "nothing may run on bad input";
+}

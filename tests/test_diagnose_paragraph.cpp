@@ -126,6 +126,15 @@ TEST(DiagnoseParagraph, ATieNamesBothAndAddsNeither) {
   r.next.proposals[0].seeds = 1;
   const std::string one_seed = verdict_paragraph(r);
   EXPECT_NE(one_seed.find("one seed each"), std::string::npos) << one_seed;
+  // An assay the file names ([assays]) and the table lacks says what measures it.
+  r.next.proposals[0].observable = "liquid_free_fraction";
+  r.next.proposals[0].assay = true;
+  const std::string assay = verdict_paragraph(r);
+  EXPECT_NE(
+      assay.find("measure `liquid_free_fraction` at drum.rpm=90, liquid.content=10 % (an assay the table "
+                 "does not have: washing / extraction assay or NMR"),
+      std::string::npos)
+      << assay;
   r.next = {};
 
   // Three tied: all named, and "either" no longer fits.

@@ -380,7 +380,7 @@ TEST(DiagnoseVerdict, NextExperimentProposesConditionsBeyondTheTable) {
   EXPECT_EQ(labels[0], "liquid.content=15 %");
   EXPECT_EQ(labels[1], "drum.rpm=60, liquid.content=10 %");
   EXPECT_EQ(labels[2], "drum.rpm=15, liquid.content=10 %");
-  EXPECT_EQ(labels[3], "liquid.content=10 %, run.duration=6 s");
+  EXPECT_EQ(labels[3], "liquid.content=10 %, run.duration=12 s");
   EXPECT_EQ(labels[4], "liquid.content=2.5 %");
   EXPECT_EQ(propose_conditions(table, table[2], 30.0, 3.0, 2).size(), 2u);
 }

@@ -4,10 +4,12 @@
 
 #include <toml++/toml.h>
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 
 #include "diagnose/effects.h"
+#include "diagnose/observables.h"
 
 namespace fs = std::filesystem;
 
@@ -91,6 +93,7 @@ DiagnosisSpec parse_diagnosis_file(const std::string& path_in) {
                   "confirm",
                   "max_cost",
                   "next_conditions",
+                  "assays",
                   "reach_conditions",
                   "second_effect",
                   "set",
@@ -187,6 +190,27 @@ DiagnosisSpec parse_diagnosis_file(const std::string& path_in) {
     if (!r || *r < 0 || *r > 20)
       throw DiagnoseError(fmt::format("{}: next_conditions: an integer in [0, 20]", path));
     d.next_conditions = size_t(*r);
+  }
+  if (const auto* t = root["assays"].as_table()) {
+    for (const auto& [k, v] : *t) {
+      const std::string obs(k.str());
+      const ObservableSpec* o = find_observable(obs);
+      if (!o)
+        throw DiagnoseError(
+            fmt::format("{}: [assays] {}: not an observable (one of {})", path, obs, observable_names()));
+      if (o->routine.rfind("no", 0) == 0)
+        throw DiagnoseError(fmt::format(
+            "{}: [assays] {}: {} is a simulation quantity that no laboratory measures: it cannot be "
+            "the next experiment",
+            path, obs, obs));
+      const auto sd = v.value<double>();
+      if (!sd || !(*sd > 0) || !std::isfinite(*sd))
+        throw DiagnoseError(fmt::format("{}: [assays] {}: the sd of one measurement, a positive number in {}",
+                                        path, obs, o->unit));
+      d.assays[obs] = *sd;
+    }
+  } else if (root.contains("assays")) {
+    throw DiagnoseError(fmt::format("{}: [assays]: a table of observable = measurement sd", path));
   }
   if (root.contains("reach_conditions")) {
     const auto r = root["reach_conditions"].value<int64_t>();

@@ -36,6 +36,9 @@ struct DiagnosisSpec {
   int confirm = 1;             // re-fits of the chosen effect with its fresh runs as a knot (0-3, shrink.h)
   double max_cost = 10;        // a run needing more than this many times a baseline run's steps is not run
   size_t next_conditions = 6;  // conditions the next-experiment stage may propose and run (0: none)
+  // [assays]: observables the laboratory could add to the table (a washing assay of the free liquid), each
+  // with the sd of one measurement. The next-experiment stage may propose them; nothing else reads them.
+  std::map<std::string, double> assays;
   size_t reach_conditions =
       3;               // conditions beyond the table where a candidate it cannot see is run (power.h)
   int replicates = 2;  // baseline and shrink seeds

@@ -7,6 +7,7 @@
 #include <map>
 #include <set>
 
+#include "diagnose/baseline.h"
 #include "diagnose/files.h"
 #include "diagnose/shrink.h"
 
@@ -38,6 +39,29 @@ Condition with_value(const Condition& base, const std::string& key, const std::s
   std::sort(c.values.begin(), c.values.end(), [](const auto& a, const auto& b) { return a.key < b.key; });
   c.label = condition_label(c.values);
   return c;
+}
+
+// For each assay the file names ([assays]): the calibrated model's seed spread over its runs' own window
+// SE at the table's conditions (as the baseline measures it for the table's observables, baseline.cpp), so
+// that an assay's model error is the seed-to-seed one. 1 where fewer than two seeds report it.
+std::map<std::string, double> assays_inflation(const Procedure& p) {
+  std::map<std::string, double> f;
+  const Variant base = p.variant("", 0);
+  for (const auto& [obs, sd] : p.d.assays) {
+    std::vector<Cell> cells;
+    std::vector<std::vector<Prediction>> per_seed(p.base_seeds.size());
+    for (const Condition& c : p.tab.conditions) {
+      Cell cell;
+      cell.observable = obs;
+      cells.push_back(cell);
+      for (size_t s = 0; s < p.base_seeds.size(); ++s)
+        per_seed[s].push_back(p.book.reports(c, base, {p.base_seeds[s]}, obs)
+                                  ? p.book.predict(c, base, {p.base_seeds[s]}, obs, 1.0)
+                                  : Prediction{std::nan(""), std::nan("")});
+    }
+    f[obs] = within_inflation(cells, per_seed)[obs];
+  }
+  return f;
 }
 
 }  // namespace
@@ -73,8 +97,11 @@ std::vector<Condition> propose_conditions(const std::vector<Condition>& table, c
     out.push_back(with_value(base, "drum.rpm", fmt::format("{:.4g}", 2.0 * model_rpm)));
     out.push_back(with_value(base, "drum.rpm", fmt::format("{:.4g}", 0.5 * model_rpm)));
   }
+  // Four times as long, not twice: what tells a saturating sink (pore absorption) from a steady one
+  // (evaporation) is the liquid left late in the run, and a window four times as long also has half the
+  // noise.
   if (!keys.count("run.duration") && model_duration_s > 0)
-    out.push_back(with_value(base, "run.duration", fmt::format("{:.4g} s", 2.0 * model_duration_s)));
+    out.push_back(with_value(base, "run.duration", fmt::format("{:.4g} s", 4.0 * model_duration_s)));
   out.insert(out.end(), between.begin(), between.end());
   std::vector<Condition> unique;
   for (const Condition& c : out) {
@@ -108,6 +135,10 @@ void run_next_experiment(Procedure& p) {
   p.next.effect_a = a.effect;
   p.next.effect_b = b.effect;
   std::map<std::string, double> sigma = median_sigma(p.tab.cells);
+  std::map<std::string, double> inflation;  // per observable: seed spread over the runs' own window SE
+  for (const Cell& c : p.tab.cells) inflation[c.observable] = p.inflation(c.observable);
+  const std::map<std::string, double> assay_inflation = assays_inflation(p);
+  for (const auto& [obs, sd] : p.d.assays) sigma[obs] = sd, inflation[obs] = assay_inflation.at(obs);
   const auto separation = [&](const std::string& obs, const Prediction& x, const Prediction& y) {
     return std::fabs(x.mean - y.mean) / std::sqrt(sigma[obs] * sigma[obs] + x.se * x.se + y.se * y.se);
   };
@@ -125,18 +156,40 @@ void run_next_experiment(Procedure& p) {
                sigma[obs],
                separation(obs, a.after[k], b.after[k]),
                true,
+               false,
                p.fresh_seeds.size()};
     if (q.separation > best) best = q.separation, base = p.tab.cell_condition[k];
     p.next.proposals.push_back(q);
   }
+  const Variant va = p.variant(a.effect, a.strength, a.refit, a.shape);
+  const Variant vb = p.variant(b.effect, b.strength, b.refit, b.shape);
+  // The assays at the table's conditions, from the same fresh runs (no new run).
+  for (size_t ci = 0; ci < p.tab.conditions.size(); ++ci)
+    for (const auto& [obs, sd] : p.d.assays) {
+      const Condition& c = p.tab.conditions[ci];
+      if (!p.book.reports(c, va, p.fresh_seeds, obs) || !p.book.reports(c, vb, p.fresh_seeds, obs)) continue;
+      const Prediction x = p.book.predict(c, va, p.fresh_seeds, obs, inflation[obs]),
+                       y = p.book.predict(c, vb, p.fresh_seeds, obs, inflation[obs]);
+      Proposal q{c.label,
+                 obs,
+                 x.mean,
+                 y.mean,
+                 x.se,
+                 y.se,
+                 sd,
+                 separation(obs, x, y),
+                 true,
+                 true,
+                 p.fresh_seeds.size()};
+      if (q.separation > best) best = q.separation, base = ci;
+      p.next.proposals.push_back(q);
+    }
   // Beyond the table, in two rounds to halve the cost where nothing separates: both models at every proposed
   // condition on the first seed (common random numbers: the pair's difference is less noisy than either),
   // then the other seeds only where some observable already separates them by kPromising; a condition that
   // stays on one seed is reported with its one-seed numbers (seeds = 1) and cannot be the best proposal by
   // much.
   constexpr double kPromising = 2.0;
-  const Variant va = p.variant(a.effect, a.strength, a.refit, a.shape);
-  const Variant vb = p.variant(b.effect, b.strength, b.refit, b.shape);
   std::vector<Condition> props = propose_conditions(p.tab.conditions, p.tab.conditions[base], p.models[0].rpm,
                                                     p.models[0].duration_s, p.d.next_conditions);
   const std::vector<uint64_t> first{p.base_seeds.front()};
@@ -153,6 +206,7 @@ void run_next_experiment(Procedure& p) {
   p.run();
   std::set<std::string> observables;
   for (const Cell& c : p.tab.cells) observables.insert(c.observable);
+  for (const auto& [obs, sd] : p.d.assays) observables.insert(obs);
   // The proposals at condition c on these seeds; empty when a run failed (noted).
   const auto measure = [&](const Condition& c, const std::vector<uint64_t>& seeds) {
     std::vector<Proposal> out;
@@ -164,10 +218,10 @@ void run_next_experiment(Procedure& p) {
     for (const std::string& obs : observables) {
       if (!p.book.reports(c, va, seeds, obs) || !p.book.reports(c, vb, seeds, obs)) continue;
       // The seeds' own window errors scaled to the baseline's seed spread (two seeds may agree by chance).
-      const Prediction x = p.book.predict(c, va, seeds, obs, p.inflation(obs)),
-                       y = p.book.predict(c, vb, seeds, obs, p.inflation(obs));
-      out.push_back(
-          {c.label, obs, x.mean, y.mean, x.se, y.se, sigma[obs], separation(obs, x, y), false, seeds.size()});
+      const Prediction x = p.book.predict(c, va, seeds, obs, inflation[obs]),
+                       y = p.book.predict(c, vb, seeds, obs, inflation[obs]);
+      out.push_back({c.label, obs, x.mean, y.mean, x.se, y.se, sigma[obs], separation(obs, x, y), false,
+                     p.d.assays.count(obs) > 0, seeds.size()});
     }
     return out;
   };

@@ -17,7 +17,7 @@ void run_next_experiment(Procedure& p);
 
 // The conditions proposed beyond the table, at most `max`: each is `base` with one key changed. For each
 // condition key of the table, the midpoints between its measured values and one step past the largest; then
-// the drum speed x2 and x1/2 and the run x2 longer when they are not condition keys. Values are written in
+// the drum speed x2 and x1/2 and the run x4 longer when they are not condition keys. Values are written in
 // the unit the table uses for the key. Pure (tests).
 std::vector<Condition> propose_conditions(const std::vector<Condition>& table, const Condition& base,
                                           double model_rpm, double model_duration_s, size_t max);

@@ -7,11 +7,18 @@
 #include <cmath>
 
 #include "diagnose/effects.h"
+#include "diagnose/observables.h"
 #include "diagnose/report.h"
 
 namespace wetdem::diagnose {
 
 namespace {
+
+// "a washing / extraction assay or NMR: ...": what measures an observable, for the next-experiment sentence.
+std::string assay_instrument(const std::string& observable) {
+  const ObservableSpec* o = find_observable(observable);
+  return o ? o->instrument : observable;
+}
 
 // What the null model with refit leaves (only with refit and a fitted null): a sentence for the paragraph.
 std::string null_refit_sentence(const Report& r) {
@@ -106,8 +113,10 @@ std::string tie_sentence(const Report& r) {
         " **Next experiment:** measure `{}` at {}{}: the two fitted models differ there by {:.1f} σ (`{}` "
         "{:.4g} ± {:.2g}, `{}` {:.4g} ± {:.2g}, measurement noise {:.3g}{}).",
         q.observable, q.condition,
-        q.in_table ? " (a condition of the table: measure it again, more precisely)" : "", q.separation,
-        r.next.effect_a, q.model_a, q.se_a, r.next.effect_b, q.model_b, q.se_b, q.sigma,
+        q.assay      ? fmt::format(" (an assay the table does not have: {})", assay_instrument(q.observable))
+        : q.in_table ? " (a condition of the table: measure it again, more precisely)"
+                     : "",
+        q.separation, r.next.effect_a, q.model_a, q.se_a, r.next.effect_b, q.model_b, q.se_b, q.sigma,
         q.seeds == 1 ? "; one seed each: no condition separated them by 2 σ on its first seed" : "");
   } else if (!r.next.note.empty()) {
     s += " No separating measurement was found: " + r.next.note + ".";

@@ -96,6 +96,18 @@ Procedure::Procedure(const DiagnosisSpec& d_, const DiagnoseOptions& o_)
   for (const RefitSetting& r : settings) models.push_back(model_facts(d, r));
   const ModelFacts& model = models.front();
   check_producible(tab, !model.has_plates);
+  for (const auto& [obs, sd] : d.assays) {
+    for (const Cell& c : tab.cells)
+      if (c.observable == obs)
+        throw DiagnoseError(fmt::format(
+            "{}: [assays] {}: the observation table {} already measures it (its noise comes from there): "
+            "remove it from [assays]",
+            d.path, obs, tab.path));
+    if (find_observable(obs)->needs_plates && !model.has_plates)
+      throw DiagnoseError(fmt::format(
+          "{}: [assays] {}: the model cannot produce it: it is a periodic slice, which has no end plates",
+          d.path, obs));
+  }
   for (const std::string& e : d.effects)
     if (const std::string why = effect_spec(e).not_applicable(model); !why.empty() && d.effects_given)
       throw DiagnoseError(fmt::format("{}: effects: '{}' cannot act here: {}", d.path, e, why));

@@ -63,6 +63,7 @@ struct Proposal {
   double model_a = 0.0, model_b = 0.0, se_a = 0.0, se_b = 0.0, sigma = 0.0;
   double separation = 0.0;  // |a - b| / sqrt(sigma² + se_a² + se_b²)
   bool in_table = false;    // the condition is one the table already has
+  bool assay = false;       // the observable is not in the table: an assay the file names ([assays])
   size_t seeds = 0;         // seeds behind each model's number (one: a condition that did not look promising)
 };
 struct NextExperiment {

@@ -430,6 +430,7 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
                        {"sigma", q.sigma},
                        {"separation", q.separation},
                        {"in_table", q.in_table},
+                       {"assay", q.assay},
                        {"seeds", q.seeds}});
     }
     j["next_experiment"] = {
@@ -562,9 +563,9 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
     md += "|---|---|---|---|---|---|---|---|\n";
     for (size_t i = 0; i < r.next.proposals.size() && i < 8; ++i) {
       const Proposal& q = r.next.proposals[i];
-      md += fmt::format("| {} | {} | {:.4g} ± {:.2g} | {:.4g} ± {:.2g} | {:.3g} | {:.2f} | {} | {} |\n",
-                        q.condition, q.observable, q.model_a, q.se_a, q.model_b, q.se_b, q.sigma,
-                        q.separation, q.in_table ? "yes" : "no", q.seeds);
+      md += fmt::format("| {} | {}{} | {:.4g} ± {:.2g} | {:.4g} ± {:.2g} | {:.3g} | {:.2f} | {} | {} |\n",
+                        q.condition, q.observable, q.assay ? " (assay, not in the table)" : "", q.model_a,
+                        q.se_a, q.model_b, q.se_b, q.sigma, q.separation, q.in_table ? "yes" : "no", q.seeds);
     }
     md += "\n";
   }
