@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <map>
+#include <set>
 #include <utility>
 
 #include "app/output/summary.h"
@@ -419,7 +420,7 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
   }
   if (!r.next.effect_a.empty() || !r.next.note.empty()) {
     json props = json::array();
-    for (size_t i = 0; i < r.next.proposals.size() && i < 12; ++i) {
+    for (size_t i = 0; i < r.next.proposals.size(); ++i) {
       const Proposal& q = r.next.proposals[i];
       props.push_back({{"condition", q.condition},
                        {"observable", q.observable},
@@ -561,8 +562,13 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
         "| condition | observable | `{}` | `{}` | noise σ | separation (σ) | in the table | seeds |\n",
         r.next.effect_a, r.next.effect_b);
     md += "|---|---|---|---|---|---|---|---|\n";
-    for (size_t i = 0; i < r.next.proposals.size() && i < 8; ++i) {
+    // The best eight, and each assay's best where it is not among them: the file asked about it, so the
+    // report says how it did, weak or not (diagnosis.json lists every proposal).
+    std::set<std::string> shown;
+    for (size_t i = 0; i < r.next.proposals.size(); ++i) {
       const Proposal& q = r.next.proposals[i];
+      if (i >= 8 && (!q.assay || shown.count(q.observable))) continue;
+      shown.insert(q.observable);
       md += fmt::format("| {} | {}{} | {:.4g} ± {:.2g} | {:.4g} ± {:.2g} | {:.3g} | {:.2f} | {} | {} |\n",
                         q.condition, q.observable, q.assay ? " (assay, not in the table)" : "", q.model_a,
                         q.se_a, q.model_b, q.se_b, q.sigma, q.separation, q.in_table ? "yes" : "no", q.seeds);

@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# End to end on the micro drum, through the CLI: the next experiment (next_experiment.cpp) with an assay the
+# table lacks. The slow-evaporation twin of the escalation check ties the two liquid sinks at two seeds; both
+# fitted models then run beyond the table (a run four times as long among the conditions), and the assay named
+# in [assays] (the AoR's fluctuation) is weighed at the table's conditions (from the fresh runs) and beyond,
+# with its own sd. It is never fitted: the verdict's cells are the table's.
+# usage: next_e2e.sh WETDEM SOURCE_DIR [STORE]
+source "$(dirname "$0")/lib.sh" "$@"
+
+wd twin "$SRC/tests/diagnose/twin_evaporation_ci.toml" --out "$D/t" --store "$S" --quiet
+wd diagnose "$SRC/tests/diagnose/micro_next_ci.toml" --observations "$D/t/observations.csv" --out "$D/d" --store "$S" \
+  --quiet --no-figures
+echo "verdict: $(J "$D/d/diagnosis.json" 'j["verdict"], j["effect"], j["tied"]')"
+echo "best proposals: $(J "$D/d/diagnosis.json" \
+  '[(q["condition"], q["observable"], round(q["separation"], 2), q["assay"]) for q in j["next_experiment"]["proposals"][:4]]')"
+expect "$D/d/diagnosis.json" 'len(j["tied"]) > 0 and "evaporation" in [j["effect"]] + j["tied"]' \
+  "the sinks did not tie with the truth among them (the check needs a tie)" "$D/d/report.md"
+expect "$D/d/diagnosis.json" 'all(c["observable"] != "aor_deg_std" for c in j["cells"])' \
+  "an assay entered the table's cells"
+P='j["next_experiment"]["proposals"]'
+expect "$D/d/diagnosis.json" "any(q['assay'] and q['in_table'] and q['observable'] == 'aor_deg_std' for q in $P)" \
+  "the assay was not weighed at the table's conditions" "$D/d/report.md"
+expect "$D/d/diagnosis.json" "any(q['assay'] and not q['in_table'] for q in $P)" \
+  "the assay was not weighed beyond the table" "$D/d/report.md"
+expect "$D/d/diagnosis.json" "all(q['sigma'] == 0.5 for q in $P if q['assay'])" "the assay's sd is not the file's"
+grep -q "aor_deg_std (assay, not in the table)" "$D/d/report.md" ||
+  { echo "FAIL: the report does not mark the assay"; cat "$D/d/report.md"; exit 1; }
+grep -q "run.duration=1.2 s" "$D/d/report.md" ||
+  { echo "FAIL: no run four times as long (0.3 s -> 1.2 s) among the conditions"; cat "$D/d/report.md"; exit 1; }
+echo "next-experiment e2e: $(($(date +%s) - t0)) s"
