@@ -4,7 +4,9 @@
 gap_map.png      cells (condition x observable) coloured by z, before and (if an effect was chosen) after
 observables.png  each observable against its condition: observations with error bars, baseline band, the
                  chosen effect's band, and with refit the re-fitted null's band (when not the calibrated model)
-ranking.png      held-out chi^2 of every fitted candidate against the null model (with refit: each one's setting)
+ranking.png      held-out chi^2 of every fitted candidate against the null model (with refit: each one's setting),
+                 each runner-up's near-tie zone (run fresh when its bar ends in it) and what the fresh runs made of
+                 it (named, tied, or dropped with its fresh chi^2)
 """
 import json
 import os
@@ -177,7 +179,7 @@ def main(d):
         if m is None or not rk:
             continue
         lo = rk[0]["loco_chi2"]
-        ax.errorbar([lo + m / 2], [i], xerr=[[m / 2], [m / 2]], fmt="none", ecolor="tab:orange", elinewidth=2.5,
+        ax.errorbar([lo + m / 2], [i + 0.28], xerr=[[m / 2], [m / 2]], fmt="none", ecolor="tab:orange", elinewidth=2,
                     capsize=3, alpha=0.8, label=zone_label, zorder=3)
         zone_label = None
     # The chosen candidate's χ² is often a thousandth of the null's: a log axis, and each value written out.
