@@ -156,14 +156,16 @@ def main(d):
         r = "named" if e == j.get("effect") else "tied" if e in (j.get("tied") or []) else ""
         r = "not confirmed fresh" if e == passed else r
         if not r and e in fresh:
-            r = "run fresh, dropped" + (f": χ² {fresh[e]:.3g}" if fresh[e] is not None else "")
+            r = "run fresh, dropped"
+        if r and fresh.get(e) is not None:
+            r += f": fresh χ² {fresh[e]:.3g}"
         return r + (", " if r else "") + "probes not seen" if e in unseen else r
     names = [null] + [r["effect"] + (f" ({role(r['effect'])})" if role(r["effect"]) else "") + refit(r) for r in rk]
     vals = [j["null_loco_chi2"]] + [r["loco_chi2"] for r in rk]
-    fig, ax = plt.subplots(figsize=(6.2, 1 + (0.65 if "refit" in j else 0.4) * len(names)))
+    fig, ax = plt.subplots(figsize=(9.0, 1 + (0.65 if "refit" in j else 0.4) * len(names)))
     shade = {"named": "tab:blue"}
     bars = ax.barh(range(len(names)), vals,
-                   color=["0.6"] + [shade.get(role(r["effect"]).split(",")[0], "lightsteelblue") for r in rk])
+                   color=["0.6"] + [shade.get(role(r["effect"]).replace(":", ",").split(",")[0], "lightsteelblue") for r in rk])
     for b, r in zip(bars[1:], rk):
         if r["effect"] in unseen:
             b.set_hatch("///")
@@ -197,12 +199,12 @@ def main(d):
         if floor > 0:
             ax.axvline(floor, color="0.4", ls="--", lw=1, label=f"noise floor {floor:.3g}")
         ax.axvline(margin, color="tab:red", ls=":", lw=1.2, label=f"effect margin {margin:.3g}")
-    if ax.get_legend_handles_labels()[0]:
-        ax.legend(fontsize=7, loc="lower right", frameon=False)
+    if ax.get_legend_handles_labels()[0]:  # beside the axes: inside, it hides the bars' ends and whiskers
+        ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
     ax.set_xlim(right=max(vals) * (3.0 if ax.get_xscale() == "log" else 1.15) if vals else 1)
     ax.set_xlabel("held-out χ² (leave one condition out)\nlower is better")
     fig.tight_layout()
-    fig.savefig(os.path.join(out, "ranking.png"), dpi=120)
+    fig.savefig(os.path.join(out, "ranking.png"), dpi=120, bbox_inches="tight")
     plt.close(fig)
 
 
