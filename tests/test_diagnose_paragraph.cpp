@@ -135,6 +135,11 @@ TEST(DiagnoseParagraph, ATieNamesBothAndAddsNeither) {
                  "does not have: washing / extraction assay or NMR"),
       std::string::npos)
       << assay;
+  r.next.proposals[0].in_table = true;
+  const std::string assay_in_table = verdict_paragraph(r);
+  EXPECT_NE(assay_in_table.find("(a condition of the table, with an assay the table does not have: washing"),
+            std::string::npos)
+      << assay_in_table;
   r.next = {};
 
   // Three tied: all named, and "either" no longer fits.

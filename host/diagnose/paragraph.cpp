@@ -113,7 +113,9 @@ std::string tie_sentence(const Report& r) {
         " **Next experiment:** measure `{}` at {}{}: the two fitted models differ there by {:.1f} σ (`{}` "
         "{:.4g} ± {:.2g}, `{}` {:.4g} ± {:.2g}, measurement noise {:.3g}{}).",
         q.observable, q.condition,
-        q.assay      ? fmt::format(" (an assay the table does not have: {})", assay_instrument(q.observable))
+        q.assay
+            ? fmt::format(" ({}an assay the table does not have: {})",
+                          q.in_table ? "a condition of the table, with " : "", assay_instrument(q.observable))
         : q.in_table ? " (a condition of the table: measure it again, more precisely)"
                      : "",
         q.separation, r.next.effect_a, q.model_a, q.se_a, r.next.effect_b, q.model_b, q.se_b, q.sigma,
