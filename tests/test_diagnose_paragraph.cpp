@@ -140,6 +140,12 @@ TEST(DiagnoseParagraph, ATieNamesBothAndAddsNeither) {
   EXPECT_NE(assay_in_table.find("(a condition of the table, with an assay the table does not have: washing"),
             std::string::npos)
       << assay_in_table;
+  // The assay on every sample of the table, when it adds up to more.
+  r.next.series = {{"liquid_free_fraction", 3, 4.2}};
+  const std::string series = verdict_paragraph(r);
+  EXPECT_NE(series.find("Made on every sample of the table (3 conditions), it separates them by 4.2 σ."),
+            std::string::npos)
+      << series;
   r.next = {};
 
   // Three tied: all named, and "either" no longer fits.

@@ -243,11 +243,24 @@ void run_next_experiment(Procedure& p) {
       if (std::vector<Proposal> all = measure(wanted[i], p.base_seeds); !all.empty()) found[i] = all;
     p.next.proposals.insert(p.next.proposals.end(), found[i].begin(), found[i].end());
   }
+  // Each assay on every sample of the table: separations at independent conditions add in quadrature.
+  for (const auto& [obs, sd] : p.d.assays) {
+    AssaySeries as{obs, 0, 0.0};
+    for (const Proposal& q : p.next.proposals)
+      if (q.assay && q.in_table && q.observable == obs)
+        ++as.conditions, as.separation += q.separation * q.separation;
+    as.separation = std::sqrt(as.separation);
+    if (as.conditions > 1) p.next.series.push_back(as);
+  }
+  std::sort(p.next.series.begin(), p.next.series.end(),
+            [](const AssaySeries& x, const AssaySeries& y) { return x.separation > y.separation; });
   // A condition the laboratory already prepared is the cheaper experiment: it comes first unless a new one
   // separates the pair by more than kNewCondition times as much (the absorption-weak twin: the free liquid at
   // 2.5 % in the table, 9.96 sigma, against 1.25 %, 9.98).
   constexpr double kNewCondition = 1.05;
-  const auto rank = [](const Proposal& q) { return q.in_table ? kNewCondition * q.separation : q.separation; };
+  const auto rank = [](const Proposal& q) {
+    return q.in_table ? kNewCondition * q.separation : q.separation;
+  };
   std::stable_sort(p.next.proposals.begin(), p.next.proposals.end(),
                    [&](const Proposal& x, const Proposal& y) { return rank(x) > rank(y); });
 }

@@ -66,9 +66,16 @@ struct Proposal {
   bool assay = false;       // the observable is not in the table: an assay the file names ([assays])
   size_t seeds = 0;         // seeds behind each model's number (one: a condition that did not look promising)
 };
+// An assay made on every sample of the table: the pair's separation over all its conditions together.
+struct AssaySeries {
+  std::string observable;
+  size_t conditions = 0;    // the table's conditions at which both models report it
+  double separation = 0.0;  // sqrt(sum of each condition's separation²): independent measurements
+};
 struct NextExperiment {
   std::string effect_a, effect_b;
   std::vector<Proposal> proposals;  // best first
+  std::vector<AssaySeries> series;  // per assay ([assays]), best first
   std::string note;                 // why none was run, when none was
 };
 

@@ -434,8 +434,14 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
                        {"assay", q.assay},
                        {"seeds", q.seeds}});
     }
-    j["next_experiment"] = {
-        {"effects", {r.next.effect_a, r.next.effect_b}}, {"proposals", props}, {"note", r.next.note}};
+    json series = json::array();
+    for (const AssaySeries& a : r.next.series)
+      series.push_back(
+          {{"observable", a.observable}, {"conditions", a.conditions}, {"separation", a.separation}});
+    j["next_experiment"] = {{"effects", {r.next.effect_a, r.next.effect_b}},
+                            {"proposals", props},
+                            {"assay_series", series},
+                            {"note", r.next.note}};
   }
   j["second"] = second_json(r);
   j["reach"] = reach_json(r);
@@ -574,6 +580,11 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
                         q.se_a, q.model_b, q.se_b, q.sigma, q.separation, q.in_table ? "yes" : "no", q.seeds);
     }
     md += "\n";
+    for (const AssaySeries& a : r.next.series)
+      md += fmt::format(
+          "The assay `{}` on every sample of the table ({} conditions) separates them by {:.1f} σ together "
+          "(each condition's separation added in quadrature).\n\n",
+          a.observable, a.conditions, a.separation);
   }
   md += second_markdown(r);
   md += reach_markdown(r);
