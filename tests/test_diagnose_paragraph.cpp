@@ -140,7 +140,9 @@ TEST(DiagnoseParagraph, ATieNamesBothAndAddsNeither) {
   EXPECT_NE(assay_in_table.find("(a condition of the table, with an assay the table does not have: washing"),
             std::string::npos)
       << assay_in_table;
-  // The assay on every sample of the table, when it adds up to more.
+  // The assay on every sample of the table, when it adds up to more (and not when it adds up to less).
+  r.next.series = {{"liquid_free_fraction", 3, 1.0}};
+  EXPECT_EQ(verdict_paragraph(r).find("every sample"), std::string::npos) << verdict_paragraph(r);
   r.next.series = {{"liquid_free_fraction", 3, 4.2}};
   const std::string series = verdict_paragraph(r);
   EXPECT_NE(series.find("Made on every sample of the table (3 conditions), it separates them by 4.2 σ."),

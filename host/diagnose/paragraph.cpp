@@ -120,12 +120,17 @@ std::string tie_sentence(const Report& r) {
                      : "",
         q.separation, r.next.effect_a, q.model_a, q.se_a, r.next.effect_b, q.model_b, q.se_b, q.sigma,
         q.seeds == 1 ? "; one seed each: no condition separated them by 2 σ on its first seed" : "");
-    if (!r.next.series.empty() && r.next.series.front().observable != q.observable)
-      s += fmt::format(" The assay `{}` on every sample of the table separates them by {:.1f} σ together.",
-                       r.next.series.front().observable, r.next.series.front().separation);
-    else if (!r.next.series.empty())
-      s += fmt::format(" Made on every sample of the table ({} conditions), it separates them by {:.1f} σ.",
-                       r.next.series.front().conditions, r.next.series.front().separation);
+    // The assay on every sample, only when that is the stronger experiment.
+    if (!r.next.series.empty() && r.next.series.front().separation > q.separation) {
+      const AssaySeries& a = r.next.series.front();
+      s += a.observable == q.observable
+               ? fmt::format(
+                     " Made on every sample of the table ({} conditions), it separates them by {:.1f} σ.",
+                     a.conditions, a.separation)
+               : fmt::format(
+                     " The assay `{}` on every sample of the table separates them by {:.1f} σ together.",
+                     a.observable, a.separation);
+    }
   } else if (!r.next.note.empty()) {
     s += " No separating measurement was found: " + r.next.note + ".";
   }
