@@ -2,6 +2,7 @@
 # WETDEM SOURCE_DIR [STORE], a scratch folder $D removed on exit, the run store $S, and two helpers on a JSON file:
 #   J FILE EXPR                  prints EXPR evaluated with j = the file's JSON (python syntax)
 #   expect FILE EXPR WHY [SHOW]  fails with "FAIL: WHY" (and prints SHOW, e.g. the report) unless EXPR is True
+#   expect_text FILE TEXT WHY    fails with "FAIL: WHY" (and prints FILE) unless FILE contains TEXT (a grep pattern)
 set -euo pipefail
 W=$1
 SRC=$2
@@ -16,6 +17,12 @@ expect() {
   [ "$(J "$1" "$2")" = True ] && return 0
   echo "FAIL: $3"
   [ -n "${4:-}" ] && cat "$4"
+  exit 1
+}
+expect_text() {
+  grep -q -- "$2" "$1" && return 0
+  echo "FAIL: $3"
+  cat "$1"
   exit 1
 }
 # `wd twin|diagnose ARGS`: the CLI call with the runs of each stage handed to one process as an ensemble

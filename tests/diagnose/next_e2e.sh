@@ -26,8 +26,6 @@ expect "$D/d/diagnosis.json" "all(q['sigma'] == 0.5 for q in $P if q['assay'])" 
 # The assay on every sample of the table: its separations at the table's conditions in quadrature.
 expect "$D/d/diagnosis.json" "[(a['observable'], a['conditions'] >= 2, abs(a['separation'] - sum(q['separation'] ** 2 for q in $P if q['assay'] and q['in_table']) ** 0.5) < 1e-9) for a in j['next_experiment']['assay_series']] == [('aor_deg_std', True, True)]" \
   "the assay series is not the table conditions' separations in quadrature"
-grep -q "aor_deg_std (assay, not in the table)" "$D/d/report.md" ||
-  { echo "FAIL: the report does not mark the assay"; cat "$D/d/report.md"; exit 1; }
-grep -q "run.duration=1.2 s" "$D/d/report.md" ||
-  { echo "FAIL: no run four times as long (0.3 s -> 1.2 s) among the conditions"; cat "$D/d/report.md"; exit 1; }
+expect_text "$D/d/report.md" "aor_deg_std (assay, not in the table)" "the report does not mark the assay"
+expect_text "$D/d/report.md" "run.duration=1.2 s" "no run four times as long (0.3 s -> 1.2 s) among the conditions"
 echo "next-experiment e2e: $(($(date +%s) - t0)) s"
