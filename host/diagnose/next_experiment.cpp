@@ -163,24 +163,28 @@ void run_next_experiment(Procedure& p) {
   }
   const Variant va = p.variant(a.effect, a.strength, a.refit, a.shape);
   const Variant vb = p.variant(b.effect, b.strength, b.refit, b.shape);
+  // Both models' runs at condition c on these seeds, for one observable: each run's own window error scaled
+  // to the baseline's seed spread (two seeds may agree by chance).
+  const auto pair_at = [&](const Condition& c, const std::vector<uint64_t>& seeds, const std::string& obs,
+                           bool in_table) {
+    const Prediction x = p.book.predict(c, va, seeds, obs, inflation[obs]),
+                     y = p.book.predict(c, vb, seeds, obs, inflation[obs]);
+    return Proposal{c.label,     obs,
+                    x.mean,      y.mean,
+                    x.se,        y.se,
+                    sigma[obs],  separation(obs, x, y),
+                    in_table,    p.d.assays.count(obs) > 0,
+                    seeds.size()};
+  };
+  const auto both_report = [&](const Condition& c, const std::vector<uint64_t>& seeds,
+                               const std::string& obs) {
+    return p.book.reports(c, va, seeds, obs) && p.book.reports(c, vb, seeds, obs);
+  };
   // The assays at the table's conditions, from the same fresh runs (no new run).
   for (size_t ci = 0; ci < p.tab.conditions.size(); ++ci)
     for (const auto& [obs, sd] : p.d.assays) {
-      const Condition& c = p.tab.conditions[ci];
-      if (!p.book.reports(c, va, p.fresh_seeds, obs) || !p.book.reports(c, vb, p.fresh_seeds, obs)) continue;
-      const Prediction x = p.book.predict(c, va, p.fresh_seeds, obs, inflation[obs]),
-                       y = p.book.predict(c, vb, p.fresh_seeds, obs, inflation[obs]);
-      Proposal q{c.label,
-                 obs,
-                 x.mean,
-                 y.mean,
-                 x.se,
-                 y.se,
-                 sd,
-                 separation(obs, x, y),
-                 true,
-                 true,
-                 p.fresh_seeds.size()};
+      if (!both_report(p.tab.conditions[ci], p.fresh_seeds, obs)) continue;
+      const Proposal q = pair_at(p.tab.conditions[ci], p.fresh_seeds, obs, true);
       if (q.separation > best) best = q.separation, base = ci;
       p.next.proposals.push_back(q);
     }
@@ -215,14 +219,8 @@ void run_next_experiment(Procedure& p) {
       p.notes.push_back("next experiment: " + (fa.empty() ? fb : fa));
       return out;
     }
-    for (const std::string& obs : observables) {
-      if (!p.book.reports(c, va, seeds, obs) || !p.book.reports(c, vb, seeds, obs)) continue;
-      // The seeds' own window errors scaled to the baseline's seed spread (two seeds may agree by chance).
-      const Prediction x = p.book.predict(c, va, seeds, obs, inflation[obs]),
-                       y = p.book.predict(c, vb, seeds, obs, inflation[obs]);
-      out.push_back({c.label, obs, x.mean, y.mean, x.se, y.se, sigma[obs], separation(obs, x, y), false,
-                     p.d.assays.count(obs) > 0, seeds.size()});
-    }
+    for (const std::string& obs : observables)
+      if (both_report(c, seeds, obs)) out.push_back(pair_at(c, seeds, obs, false));
     return out;
   };
   std::vector<std::vector<Proposal>> found;

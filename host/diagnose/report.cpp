@@ -7,7 +7,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <map>
-#include <set>
 #include <utility>
 
 #include "app/output/summary.h"
@@ -418,31 +417,7 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
         rem.push_back(r.cell_condition[k] + " / " + r.cells[k].observable);
     j["remaining_gap"] = rem;
   }
-  if (!r.next.effect_a.empty() || !r.next.note.empty()) {
-    json props = json::array();
-    for (size_t i = 0; i < r.next.proposals.size(); ++i) {
-      const Proposal& q = r.next.proposals[i];
-      props.push_back({{"condition", q.condition},
-                       {"observable", q.observable},
-                       {"model_a", q.model_a},
-                       {"model_b", q.model_b},
-                       {"se_a", q.se_a},
-                       {"se_b", q.se_b},
-                       {"sigma", q.sigma},
-                       {"separation", q.separation},
-                       {"in_table", q.in_table},
-                       {"assay", q.assay},
-                       {"seeds", q.seeds}});
-    }
-    json series = json::array();
-    for (const AssaySeries& a : r.next.series)
-      series.push_back(
-          {{"observable", a.observable}, {"conditions", a.conditions}, {"separation", a.separation}});
-    j["next_experiment"] = {{"effects", {r.next.effect_a, r.next.effect_b}},
-                            {"proposals", props},
-                            {"assay_series", series},
-                            {"note", r.next.note}};
-  }
+  if (!r.next.effect_a.empty() || !r.next.note.empty()) j["next_experiment"] = next_json(r);
   j["second"] = second_json(r);
   j["reach"] = reach_json(r);
   j["within_inflation"] = r.within_inflation;
@@ -562,30 +537,7 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
       r.spec->rule.ratio, r.spec->rule.min_drop, r.verdict.null_loco, r.verdict.floor,
       100 * r.spec->rule.table_level, r.spec->rule.tie_delta, r.spec->rule.tie_noise, r.spec->rule.tie_draws,
       r.spec->rule.min_drop, r.verdict.seed_luck, r.spec->rule.q);
-  if (!r.next.proposals.empty()) {
-    md += fmt::format("## Next experiment: `{}` or `{}`?\n\n", r.next.effect_a, r.next.effect_b);
-    md += fmt::format(
-        "| condition | observable | `{}` | `{}` | noise σ | separation (σ) | in the table | seeds |\n",
-        r.next.effect_a, r.next.effect_b);
-    md += "|---|---|---|---|---|---|---|---|\n";
-    // The best eight, and each assay's best where it is not among them: the file asked about it, so the
-    // report says how it did, weak or not (diagnosis.json lists every proposal).
-    std::set<std::string> shown;
-    for (size_t i = 0; i < r.next.proposals.size(); ++i) {
-      const Proposal& q = r.next.proposals[i];
-      if (i >= 8 && (!q.assay || shown.count(q.observable))) continue;
-      shown.insert(q.observable);
-      md += fmt::format("| {} | {}{} | {:.4g} ± {:.2g} | {:.4g} ± {:.2g} | {:.3g} | {:.2f} | {} | {} |\n",
-                        q.condition, q.observable, q.assay ? " (assay, not in the table)" : "", q.model_a,
-                        q.se_a, q.model_b, q.se_b, q.sigma, q.separation, q.in_table ? "yes" : "no", q.seeds);
-    }
-    md += "\n";
-    for (const AssaySeries& a : r.next.series)
-      md += fmt::format(
-          "The assay `{}` on every sample of the table ({} conditions) separates them by {:.1f} σ together "
-          "(each condition's separation added in quadrature).\n\n",
-          a.observable, a.conditions, a.separation);
-  }
+  md += next_markdown(r);
   md += second_markdown(r);
   md += reach_markdown(r);
   if (!r.notes.empty()) {

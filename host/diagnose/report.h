@@ -94,6 +94,11 @@ std::string strength_text(const Candidate& c, const CandidateRuns* runs);
 std::string reach_markdown(const Report& r);
 nlohmann::json reach_json(const Report& r);
 
+// The measurement that would separate two tied effects (next_experiment.h): report.md's section (empty when
+// nothing was proposed) and diagnosis.json's "next_experiment" (report_next.cpp).
+std::string next_markdown(const Report& r);
+nlohmann::json next_json(const Report& r);
+
 // The second round as diagnosis.json's "second" (null when it did not run) and its section of report.md.
 nlohmann::json second_json(const Report& r);
 std::string second_markdown(const Report& r);

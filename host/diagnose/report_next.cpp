@@ -1,0 +1,64 @@
+// The report's section and diagnosis.json's "next_experiment": the measurement that would separate two tied
+// effects (next_experiment.h), with the assays the file names ([assays]).
+#include <fmt/format.h>
+
+#include <set>
+#include <string>
+
+#include "diagnose/report.h"
+
+namespace wetdem::diagnose {
+
+std::string next_markdown(const Report& r) {
+  if (r.next.proposals.empty()) return "";
+  std::string md = fmt::format("## Next experiment: `{}` or `{}`?\n\n", r.next.effect_a, r.next.effect_b);
+  md += fmt::format(
+      "| condition | observable | `{}` | `{}` | noise σ | separation (σ) | in the table | seeds |\n",
+      r.next.effect_a, r.next.effect_b);
+  md += "|---|---|---|---|---|---|---|---|\n";
+  // The best eight, and each assay's best where it is not among them: the file asked about it, so the
+  // report says how it did, weak or not (diagnosis.json lists every proposal).
+  std::set<std::string> shown;
+  for (size_t i = 0; i < r.next.proposals.size(); ++i) {
+    const Proposal& q = r.next.proposals[i];
+    if (i >= 8 && (!q.assay || shown.count(q.observable))) continue;
+    shown.insert(q.observable);
+    md += fmt::format("| {} | {}{} | {:.4g} ± {:.2g} | {:.4g} ± {:.2g} | {:.3g} | {:.2f} | {} | {} |\n",
+                      q.condition, q.observable, q.assay ? " (assay, not in the table)" : "", q.model_a,
+                      q.se_a, q.model_b, q.se_b, q.sigma, q.separation, q.in_table ? "yes" : "no", q.seeds);
+  }
+  md += "\n";
+  for (const AssaySeries& a : r.next.series)
+    md += fmt::format(
+        "The assay `{}` on every sample of the table ({} conditions) separates them by {:.1f} σ together "
+        "(each condition's separation added in quadrature).\n\n",
+        a.observable, a.conditions, a.separation);
+  return md;
+}
+
+nlohmann::json next_json(const Report& r) {
+  using nlohmann::json;
+  json props = json::array();
+  for (const Proposal& q : r.next.proposals)
+    props.push_back({{"condition", q.condition},
+                     {"observable", q.observable},
+                     {"model_a", q.model_a},
+                     {"model_b", q.model_b},
+                     {"se_a", q.se_a},
+                     {"se_b", q.se_b},
+                     {"sigma", q.sigma},
+                     {"separation", q.separation},
+                     {"in_table", q.in_table},
+                     {"assay", q.assay},
+                     {"seeds", q.seeds}});
+  json series = json::array();
+  for (const AssaySeries& a : r.next.series)
+    series.push_back(
+        {{"observable", a.observable}, {"conditions", a.conditions}, {"separation", a.separation}});
+  return {{"effects", {r.next.effect_a, r.next.effect_b}},
+          {"proposals", props},
+          {"assay_series", series},
+          {"note", r.next.note}};
+}
+
+}  // namespace wetdem::diagnose
