@@ -385,6 +385,41 @@ TEST(DiagnoseVerdict, NextExperimentProposesConditionsBeyondTheTable) {
   EXPECT_EQ(propose_conditions(table, table[2], 30.0, 3.0, 2).size(), 2u);
 }
 
+// The next experiment's order: a condition of the table wins unless a new one separates the pair by more than
+// kNewConditionFactor (5 %) as much; otherwise the larger separation first, ties in their given order.
+TEST(DiagnoseVerdict, NextExperimentPrefersAConditionTheTableHasUnlessANewOneIsClearlyBetter) {
+  const auto q = [](const std::string& cond, double sep, bool in_table) {
+    Proposal p;
+    p.condition = cond, p.observable = "liquid_free_fraction", p.separation = sep, p.in_table = in_table;
+    return p;
+  };
+  // The absorption-weak case: 9.98 sigma at a new 1.25 % against 9.96 at the table's 2.5 %.
+  std::vector<Proposal> v = {q("1.25 %", 9.98, false), q("2.5 %", 9.96, true), q("7.5 %", 3.0, false)};
+  rank_proposals(v);
+  ASSERT_EQ(v.size(), 3u);
+  EXPECT_EQ(v[0].condition, "2.5 %") << "within 5 %: the sample the lab already has";
+  EXPECT_EQ(v[1].condition, "1.25 %");
+  EXPECT_EQ(v[2].condition, "7.5 %");
+  // A new condition 6 % better wins.
+  v = {q("2.5 %", 10.0, true), q("1.25 %", 10.6, false)};
+  rank_proposals(v);
+  EXPECT_EQ(v[0].condition, "1.25 %");
+  // Exactly at the factor: not more, so the table's condition keeps first place (stable, table first).
+  v = {q("2.5 %", 10.0, true), q("1.25 %", 10.5, false)};
+  rank_proposals(v);
+  EXPECT_EQ(v[0].condition, "2.5 %");
+  // Without the preference (factor 1) the larger separation wins, and equal ones keep their order.
+  v = {q("2.5 %", 9.96, true), q("1.25 %", 9.98, false), q("5 %", 9.98, false)};
+  rank_proposals(v, 1.0);
+  EXPECT_EQ(v[0].condition, "1.25 %");
+  EXPECT_EQ(v[1].condition, "5 %");
+  EXPECT_EQ(v[2].condition, "2.5 %");
+  // Among the table's own conditions the factor cancels: the larger separation first.
+  v = {q("5 %", 2.0, true), q("10 %", 3.0, true)};
+  rank_proposals(v);
+  EXPECT_EQ(v[0].condition, "10 %");
+}
+
 // A twin's noise never leaves an observable's possible range and does not bias the mean (twin.h): f_wet near
 // 0 % stays in [0, 1] with the truth's mean, a surface clump size of 1.3 +- 1 stays >= 1 with mean 1.3 (a
 // Gaussian truncated at 1 would give ~2.0: every dry cell of a flowing twin showed clumps the model lacks),

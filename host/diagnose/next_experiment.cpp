@@ -124,6 +124,14 @@ std::map<std::string, double> median_sigma(const std::vector<Cell>& cells) {
   return sigma;
 }
 
+void rank_proposals(std::vector<Proposal>& proposals, double new_condition_factor) {
+  const auto rank = [&](const Proposal& q) {
+    return q.in_table ? new_condition_factor * q.separation : q.separation;
+  };
+  std::stable_sort(proposals.begin(), proposals.end(),
+                   [&](const Proposal& x, const Proposal& y) { return rank(x) > rank(y); });
+}
+
 void run_next_experiment(Procedure& p) {
   p.next = {};
   if (p.verdict.tied.empty()) return;
@@ -252,15 +260,7 @@ void run_next_experiment(Procedure& p) {
   }
   std::sort(p.next.series.begin(), p.next.series.end(),
             [](const AssaySeries& x, const AssaySeries& y) { return x.separation > y.separation; });
-  // A condition the laboratory already prepared is the cheaper experiment: it comes first unless a new one
-  // separates the pair by more than kNewCondition times as much (the absorption-weak twin: the free liquid at
-  // 2.5 % in the table, 9.96 sigma, against 1.25 %, 9.98).
-  constexpr double kNewCondition = 1.05;
-  const auto rank = [](const Proposal& q) {
-    return q.in_table ? kNewCondition * q.separation : q.separation;
-  };
-  std::stable_sort(p.next.proposals.begin(), p.next.proposals.end(),
-                   [&](const Proposal& x, const Proposal& y) { return rank(x) > rank(y); });
+  rank_proposals(p.next.proposals);
 }
 
 }  // namespace wetdem::diagnose
