@@ -133,6 +133,47 @@ TEST(DiagnoseVerdict, ASecondParameterIsFittedAsAProfile) {
   EXPECT_LT(loco_score(cells, both), 0.2 * loco_score(cells, std::vector<Emulator>{both[0]}));
 }
 
+// The interval profiles the second parameter out. Two rates that leave the same pattern at capacities a
+// decade apart (a slow rate needs ten times the capacity): the fit keeps the better one, and its interval
+// alone (the strength given that rate) excludes the other rate's capacity; the profile interval spans both.
+// A member that fits clearly worse everywhere adds nothing, and one whose low region reaches its strongest
+// knot opens the interval there.
+TEST(DiagnoseVerdict, TheIntervalSpansEveryShapeThatFitsAsWell) {
+  const std::vector<Prediction> base(5, Prediction{30.0, 0.1});
+  const std::vector<double> off = {0.0, 0.55, 1.05, 2.0, 2.9};  // nearly kSlope: a near-equal fit
+  const Response fast = linear("absorption", {0.01, 0.05, 0.2}, kSlope, 30.0);
+  const Response slow = linear("absorption", {0.1, 0.5, 2.0}, off, 30.0);
+  const Response decoy = linear("absorption", {0.01, 0.05, 0.2}, {3.0, 2.0, 1.0, 0.5, 0.0}, 30.0);
+  const double u = std::log10(0.05) - (std::log10(0.01) - 1.0);
+  std::vector<double> y;
+  for (double k : kSlope) y.push_back(30.0 + k * u);
+  const std::vector<Cell> cells = cells_at(kPhi, y, 0.3);
+  const std::vector<Emulator> ems = {Emulator(base, fast), Emulator(base, slow), Emulator(base, decoy)};
+  const ProfileFit pf = fit_profile(cells, ems);
+  ASSERT_EQ(pf.member, 0u);
+  EXPECT_NEAR(std::log10(pf.fit.strength), std::log10(0.05), 0.01);
+  EXPECT_LT(pf.fit.hi, 0.1) << "the fast rate's own interval stays near 0.05";
+  StrengthFit f = pf.fit;
+  EXPECT_EQ(widen_by_profile(f, cells, ems, pf.member), 1u) << "the slow rate, not the decoy";
+  EXPECT_EQ(f.profile_members, 1u);
+  EXPECT_DOUBLE_EQ(f.strength, pf.fit.strength) << "the fit itself does not move";
+  EXPECT_DOUBLE_EQ(f.lo, pf.fit.lo);
+  EXPECT_GT(f.hi, 0.4) << "the slow rate's capacity, ~0.5";
+  EXPECT_LT(f.hi, 0.7);
+  EXPECT_FALSE(f.open_lo || f.open_hi);
+  EXPECT_DOUBLE_EQ(f.chi2_hi, f.hi) << "the profile is the Δχ² interval";
+  // The slow rate probed up to 0.5 only: its low region reaches its strongest knot, so the side is open.
+  const Response slow_short = linear("absorption", {0.1, 0.3, 0.5}, off, 30.0);
+  StrengthFit g = pf.fit;
+  widen_by_profile(g, cells, {ems[0], Emulator(base, slow_short)}, 0);
+  EXPECT_TRUE(g.open_hi);
+  EXPECT_FALSE(g.open_lo);
+  // One member: nothing to profile over.
+  StrengthFit h = pf.fit;
+  EXPECT_EQ(widen_by_profile(h, cells, {ems[0]}, 0), 0u);
+  EXPECT_DOUBLE_EQ(h.hi, pf.fit.hi);
+}
+
 // The profile compares each shape at its own best strength. A shape probed at one strength only (as the fit
 // stage adds the other rates, at the capacity fitted at the middle one) sits at an edge of its knots and
 // loses to the default shape there, though at its own best it fits exactly: next_member_edge extends it (a

@@ -147,6 +147,41 @@ ProfileFit fit_profile(const std::vector<Cell>& cells, const std::vector<Emulato
   return best;
 }
 
+size_t widen_by_profile(StrengthFit& f, const std::vector<Cell>& cells, const std::vector<Emulator>& ems,
+                        size_t best, const std::vector<size_t>& idx_in) {
+  std::vector<size_t> idx = idx_in;
+  if (idx.empty())
+    for (size_t k = 0; k < cells.size(); ++k) idx.push_back(k);
+  const double threshold = f.chi2 + f.delta;
+  constexpr int kGrid = 401;  // fit_strength's grid
+  size_t reached = 0;
+  for (size_t j = 0; j < ems.size(); ++j) {
+    if (j == best) continue;
+    const Emulator& em = ems[j];
+    const double a = em.u_lo(), b = em.u_hi(), h = (b - a) / (kGrid - 1);
+    int first = -1, last = -1;
+    for (int i = 0; i < kGrid; ++i) {
+      double c = 0;
+      for (size_t k : idx) {
+        const double z = z_score(cells[k], em.at(k, a + h * i));
+        c += z * z;
+      }
+      if (c <= threshold) last = i, first = first < 0 ? i : first;
+    }
+    if (first < 0) continue;
+    ++reached;
+    // An open side stays open (the best member's included): it says the data allow any strength past it.
+    f.lo = std::min(f.lo, std::pow(10.0, a + h * first));
+    f.hi = std::max(f.hi, std::pow(10.0, a + h * last));
+    f.open_lo = f.open_lo || first == 0;
+    f.open_hi = f.open_hi || last == kGrid - 1;
+  }
+  f.chi2_lo = f.lo;
+  f.chi2_hi = f.hi;
+  f.profile_members = reached;
+  return reached;
+}
+
 size_t fit_null_refit(const std::vector<Cell>& cells, const std::vector<std::vector<Prediction>>& baselines,
                       const std::vector<size_t>& idx) {
   if (baselines.empty()) throw std::invalid_argument("fit_null_refit: one baseline per refit setting");

@@ -29,6 +29,9 @@ struct StrengthFit {
   double jackknife_se_log10 = 0.0;
   // The spread of log10(strength) over emulators redrawn within their runs' SE (0: not computed).
   double emulator_se_log10 = 0.0;
+  // The other members of the family (shapes, refit settings) whose χ² comes within `delta` of the minimum
+  // somewhere: the interval spans their strengths there too (widen_by_profile; 0: none, or not computed).
+  size_t profile_members = 0;
 };
 
 // Weighted least squares of the strength against the cells `idx` (all when empty): χ²(u) on a dense grid over
@@ -50,6 +53,17 @@ struct ProfileFit {
 };
 ProfileFit fit_profile(const std::vector<Cell>& cells, const std::vector<Emulator>& ems,
                        const std::vector<size_t>& idx = {});
+// The interval of a family's strength with its second parameter profiled out. fit_profile's interval is that
+// of the best member alone: the strength's interval *given* the best shape (and refit setting). The profile
+// interval (the likelihood-ratio interval with a nuisance parameter) is every strength at which *some*
+// member's χ² comes within the best fit's Δ of its minimum: on a few seconds of a drum a slow absorption rate
+// with a large capacity drains the films about as fast as a fast rate with a small one, and the interval of
+// the best rate alone then excludes the truth's capacity at the other rate. Widens f (fitted at member `best`
+// of `ems`) to the union over the members; a member whose low region reaches an end of its own knots makes
+// that side open, as fit_strength does for the best one. Returns how many other members reached (also in
+// f.profile_members). The fit itself (strength, member) is unchanged.
+size_t widen_by_profile(StrengthFit& f, const std::vector<Cell>& cells, const std::vector<Emulator>& ems,
+                        size_t best, const std::vector<size_t>& idx = {});
 // The null model with refit: the setting whose baseline has the least χ² over idx (lowest on a tie).
 size_t fit_null_refit(const std::vector<Cell>& cells, const std::vector<std::vector<Prediction>>& baselines,
                       const std::vector<size_t>& idx = {});

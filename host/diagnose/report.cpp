@@ -120,6 +120,9 @@ std::string strength_text(const Candidate& c, const CandidateRuns* runs) {
     interval = fmt::format("{:.3g} and below: the interval runs to the weakest strength probed", f.hi);
   else
     interval = fmt::format("{:.3g}-{:.3g}", f.lo, f.hi);
+  // The interval spans the other shapes where they fit as well (widen_by_profile): say so beside the shape.
+  if (!shape.empty() && f.profile_members > 0)
+    interval += fmt::format(", over every {} that fits as well", effect_spec(c.effect).shape);
   return fmt::format("{:.3g}{} ({})", f.strength, shape, interval);
 }
 
@@ -339,6 +342,7 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
               {"strength_interval_chi2", {c.fit.chi2_lo, c.fit.chi2_hi}},
               {"strength_jackknife_se_log10", c.fit.jackknife_se_log10},
               {"strength_emulator_se_log10", c.fit.emulator_se_log10},
+              {"strength_interval_profile_members", c.fit.profile_members},
               {"strength_at_edge", c.fit.at_edge},
               {"strength_meaning", spec.strength},
               {"physical_range", {spec.phys_lo, spec.phys_hi}},

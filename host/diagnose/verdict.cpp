@@ -88,9 +88,10 @@ Verdict decide(const std::vector<Cell>& cells, const std::vector<std::vector<Pre
     for (double x : c.loco_cells) c.loco += x;
     const ProfileFit f = fit_profile(cells, fam.ems);
     c.fit = f.fit;
-    // The reported interval: the Δχ² interval widened by the jackknife over conditions and by the emulator's
-    // own noise (fit.h); the member's probed range bounds it. The verdict and the runs the fit asks for do
-    // not use it.
+    // The reported interval: the Δχ² interval profiled over the family's other members (shapes, refit
+    // settings), widened by the jackknife over conditions and by the emulator's own noise (fit.h); the
+    // member's probed range bounds the last two. The verdict and the runs the fit asks for do not use it.
+    widen_by_profile(c.fit, cells, fam.ems, f.member);
     widen_by_condition_jackknife(c.fit, fold_strengths, fam.ems[f.member].u_lo(), fam.ems[f.member].u_hi());
     widen_by_emulator_noise(c.fit, cells, fam.ems[f.member]);
     c.member = f.member;
