@@ -424,6 +424,15 @@ TEST(DiagnoseVerdict, NextExperimentProposesConditionsBeyondTheTable) {
   EXPECT_EQ(labels[3], "liquid.content=10 %, run.duration=12 s");
   EXPECT_EQ(labels[4], "liquid.content=2.5 %");
   EXPECT_EQ(propose_conditions(table, table[2], 30.0, 3.0, 2).size(), 2u);
+  // Around a second base (the camera's best condition when an assay moved the first): the conditions the
+  // first lacks, at most the count asked, after the first's.
+  const std::vector<Condition> around_low = propose_conditions(table, table[1], 30.0, 3.0, 10);
+  const std::vector<Condition> both = merge_conditions(p, around_low, 2);
+  ASSERT_EQ(both.size(), p.size() + 2);
+  for (size_t i = 0; i < p.size(); ++i) EXPECT_EQ(both[i].label, p[i].label);
+  EXPECT_EQ(both[p.size()].label, "drum.rpm=60, liquid.content=5 %");
+  EXPECT_EQ(both[p.size() + 1].label, "drum.rpm=15, liquid.content=5 %");
+  EXPECT_EQ(merge_conditions(p, p, 3).size(), p.size()) << "nothing twice";
 }
 
 // The next experiment's order: a condition of the table wins unless a new one separates the pair by more than

@@ -113,6 +113,18 @@ std::vector<Condition> propose_conditions(const std::vector<Condition>& table, c
   return unique;
 }
 
+std::vector<Condition> merge_conditions(std::vector<Condition> first, const std::vector<Condition>& second,
+                                        size_t max_second) {
+  size_t added = 0;
+  for (const Condition& c : second) {
+    if (added == max_second) break;
+    const bool seen =
+        std::any_of(first.begin(), first.end(), [&](const Condition& f) { return f.label == c.label; });
+    if (!seen) first.push_back(c), ++added;
+  }
+  return first;
+}
+
 std::map<std::string, double> median_sigma(const std::vector<Cell>& cells) {
   std::map<std::string, std::vector<double>> sig;
   for (const Cell& c : cells) sig[c.observable].push_back(c.sigma);
@@ -169,6 +181,7 @@ void run_next_experiment(Procedure& p) {
     if (q.separation > best) best = q.separation, base = p.tab.cell_condition[k];
     p.next.proposals.push_back(q);
   }
+  const size_t camera_base = base;  // where the table's own observables separate the pair most
   const Variant va = p.variant(a.effect, a.strength, a.refit, a.shape);
   const Variant vb = p.variant(b.effect, b.strength, b.refit, b.shape);
   // Both models' runs at condition c on these seeds, for one observable: each run's own window error scaled
@@ -204,6 +217,14 @@ void run_next_experiment(Procedure& p) {
   constexpr double kPromising = 2.0;
   std::vector<Condition> props = propose_conditions(p.tab.conditions, p.tab.conditions[base], p.models[0].rpm,
                                                     p.models[0].duration_s, p.d.next_conditions);
+  // When an assay moved the base, the table's own observables are also tried around their own best
+  // condition (half as many conditions): a laboratory that cannot make the assay still gets the best
+  // measurement it can make beyond the table.
+  if (camera_base != base)
+    props = merge_conditions(props,
+                             propose_conditions(p.tab.conditions, p.tab.conditions[camera_base],
+                                                p.models[0].rpm, p.models[0].duration_s, p.d.next_conditions),
+                             (p.d.next_conditions + 1) / 2);
   const std::vector<uint64_t> first{p.base_seeds.front()};
   std::vector<Condition> wanted;
   for (Condition& c : props) {

@@ -30,6 +30,11 @@ std::vector<Condition> propose_conditions(const std::vector<Condition>& table, c
 inline constexpr double kNewConditionFactor = 1.05;
 void rank_proposals(std::vector<Proposal>& proposals, double new_condition_factor = kNewConditionFactor);
 
+// `first`, then the conditions of `second` it lacks (by label), at most `max_second` of them, in their order.
+// Pure (tests).
+std::vector<Condition> merge_conditions(std::vector<Condition> first, const std::vector<Condition>& second,
+                                        size_t max_second);
+
 // The noise of a new measurement of each observable: the table's median sigma for it.
 std::map<std::string, double> median_sigma(const std::vector<Cell>& cells);
 
