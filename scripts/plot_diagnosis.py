@@ -123,8 +123,12 @@ def main(d):
                                 color=colour, alpha=alpha,
                                 label=f"with {label}, fresh seeds (±2 SE)" if first else None)
                 ax.plot(x, ma, color=colour, ls=ls)
+            # With groups, the legend entry shows the group's line style with its marker: the model lines of
+            # that group (e.g. the 60 rpm rows) are drawn dashed like it.
             ax.errorbar(x, [c["y"] for c in cs], yerr=[c["sigma"] for c in cs], fmt=mk, color="k", capsize=3,
-                        label="observed (±σ)" + sfx)
+                        label=None if tag else "observed (±σ)")
+            if tag:
+                ax.plot([], [], color="k", marker=mk, ls=ls, label="observed (±σ), model lines" + sfx)
         ax.set_xlabel(xlabel if xkey else "condition")
         ax.set_title(o, fontsize=9)
     # One legend for the figure (the first panel's entries: bands, then each group's observations).
