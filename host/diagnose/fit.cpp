@@ -42,13 +42,32 @@ GridMin grid_min(F&& f, double a, double b, int n) {
   return m;
 }
 
+// The cells fitted: idx, or every cell when it is empty.
+std::vector<size_t> fitted_cells(const std::vector<Cell>& cells, const std::vector<size_t>& idx) {
+  if (!idx.empty()) return idx;
+  std::vector<size_t> all(cells.size());
+  for (size_t k = 0; k < all.size(); ++k) all[k] = k;
+  return all;
+}
+
+// χ² over the cells idx at u = log10(strength), with the emulator's SE in every cell's variance.
+double chi2_at(const std::vector<Cell>& cells, const Emulator& em, const std::vector<size_t>& idx, double u) {
+  double s = 0;
+  for (size_t k : idx) {
+    const double z = z_score(cells[k], em.at(k, u));
+    s += z * z;
+  }
+  return s;
+}
+
+constexpr int kStrengthGrid =
+    401;  // points of the dense grid over [u_lo, u_hi] (fit_strength, widen_by_profile)
+
 }  // namespace
 
 StrengthFit fit_strength(const std::vector<Cell>& cells, const Emulator& em,
                          const std::vector<size_t>& idx_in) {
-  std::vector<size_t> idx = idx_in;
-  if (idx.empty())
-    for (size_t k = 0; k < cells.size(); ++k) idx.push_back(k);
+  const std::vector<size_t> idx = fitted_cells(cells, idx_in);
   // χ² with the emulator's SE in every cell's variance (the effective-variance method for a model that is
   // itself noisy). Its u-dependence pulls weak fits onto the knots, where that SE is largest; freezing the
   // weights (iteratively reweighted) or adding the Gaussian log-determinant removes the pull, but both fit
@@ -56,15 +75,8 @@ StrengthFit fit_strength(const std::vector<Cell>& cells, const Emulator& em,
   // segment (errors in variables: +0.06 to +0.12 decades on DiagnoseStats.IntervalsStay...'s responses,
   // against < 0.01 here). This one is kept, and the interval is widened by the emulator's own noise instead
   // (widen_by_emulator_noise), which makes a fit on a knot honest about what it knows.
-  auto chi = [&](double u) {
-    double s = 0;
-    for (size_t k : idx) {
-      const double z = z_score(cells[k], em.at(k, u));
-      s += z * z;
-    }
-    return s;
-  };
-  constexpr int kGrid = 401;
+  auto chi = [&](double u) { return chi2_at(cells, em, idx, u); };
+  constexpr int kGrid = kStrengthGrid;
   const double a = em.u_lo(), b = em.u_hi(), h = (b - a) / (kGrid - 1);
   const GridMin m = grid_min(chi, a, b, kGrid);
   const std::vector<double>& g = m.g;
@@ -149,25 +161,17 @@ ProfileFit fit_profile(const std::vector<Cell>& cells, const std::vector<Emulato
 
 size_t widen_by_profile(StrengthFit& f, const std::vector<Cell>& cells, const std::vector<Emulator>& ems,
                         size_t best, const std::vector<size_t>& idx_in) {
-  std::vector<size_t> idx = idx_in;
-  if (idx.empty())
-    for (size_t k = 0; k < cells.size(); ++k) idx.push_back(k);
+  const std::vector<size_t> idx = fitted_cells(cells, idx_in);
   const double threshold = f.chi2 + f.delta;
-  constexpr int kGrid = 401;  // fit_strength's grid
+  constexpr int kGrid = kStrengthGrid;
   size_t reached = 0;
   for (size_t j = 0; j < ems.size(); ++j) {
     if (j == best) continue;
     const Emulator& em = ems[j];
     const double a = em.u_lo(), b = em.u_hi(), h = (b - a) / (kGrid - 1);
     int first = -1, last = -1;
-    for (int i = 0; i < kGrid; ++i) {
-      double c = 0;
-      for (size_t k : idx) {
-        const double z = z_score(cells[k], em.at(k, a + h * i));
-        c += z * z;
-      }
-      if (c <= threshold) last = i, first = first < 0 ? i : first;
-    }
+    for (int i = 0; i < kGrid; ++i)
+      if (chi2_at(cells, em, idx, a + h * i) <= threshold) last = i, first = first < 0 ? i : first;
     if (first < 0) continue;
     ++reached;
     // An open side stays open (the best member's included): it says the data allow any strength past it.
