@@ -1,8 +1,10 @@
 // The next experiment (next_experiment.h), on its pure parts: the conditions proposed beyond and between the
 // table's, the merge of a second base's conditions, and the order of the proposals (a condition the table
-// already has first unless a new one is clearly better).
+// already has first unless a new one is clearly better), and the separation left once each model re-fits.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -74,4 +76,94 @@ TEST(DiagnoseVerdict, NextExperimentPrefersAConditionTheTableHasUnlessANewOneIsC
   v = {q("5 %", 2.0, true), q("10 %", 3.0, true)};
   rank_proposals(v);
   EXPECT_EQ(v[0].condition, "10 %");
+}
+
+// The refit separation (refit_rise), on two liquid sinks a table of camera cells cannot tell apart. A
+// saturating sink of capacity c leaves 1 - c/phi of the liquid free at content phi; a steady one leaves the
+// same fraction 1 - s at every content. Both fit the table (one cell that neither moves); the truth (the
+// steady sink at s = 0.5) leaves half the liquid free at 15 % and 30 %, the saturating one fitted at c = 0.05
+// predicts 0.667 and 0.833 there. One free-liquid value separates the fitted models by 5.6 sigma, but either
+// model re-fits its strength to match it: the single measurement separates nothing. Two contents together
+// cannot both be matched by one fraction: the steady sink re-fitted to the saturating one's pair (0.667,
+// 0.833) is best at 0.75 and leaves 2 (0.083/0.03)² = 15.4, the saturating one re-fitted to the steady one's
+// pair leaves 55.6; the pair separates them by sqrt(min) = 3.93 sigma. A rival whose response at the new cell
+// does not depend on its strength cannot re-fit at all: its rise is the plain z² exactly.
+TEST(DiagnoseVerdict, TheRefitSeparationLetsEachModelRefitToTheOthersValue) {
+  const double sigma = 0.03;
+  const std::vector<Cell> table = {{{}, "aor_deg_mean", 30.0, 1.0}};
+  const std::vector<Prediction> baseline = {{30.0, 0.0}};
+  const std::vector<double> caps = {0.01, 0.03, 0.1}, fractions = {0.1, 0.3, 0.7};
+  const auto response = [&](const std::string& effect, const std::vector<double>& strengths) {
+    Response r;
+    r.effect = effect;
+    r.strengths = strengths;
+    for (size_t k = 0; k < strengths.size(); ++k) r.pred.push_back({{30.0, 0.0}});
+    return r;
+  };
+  const Response saturating = response("absorption", caps), steady = response("evaporation", fractions);
+  // The extra free-liquid cell at content phi, observed y (the other model's value), with the rival's null
+  // (all liquid free) and its knots there.
+  const auto extra = [&](double y, const std::vector<double>& knots) {
+    ExtraMeasurement e;
+    e.cell = {{}, "liquid_free_fraction", y, sigma};
+    e.null = {1.0, 0.0};
+    for (double x : knots) e.knots.push_back({x, 0.0});
+    return e;
+  };
+  const auto saturating_at = [&](double phi) {
+    std::vector<double> v;
+    for (double c : caps) v.push_back(1.0 - c / phi);
+    return v;
+  };
+  const std::vector<double> steady_knots = {0.9, 0.7, 0.3};  // 1 - s at every content
+  const double sat15 = 1.0 - 0.05 / 0.15, sat30 = 1.0 - 0.05 / 0.30;
+  // One measurement at 15 %: each re-fits to the other's value.
+  const double rise_sat = refit_rise(table, baseline, saturating, {extra(0.5, saturating_at(0.15))});
+  const double rise_steady = refit_rise(table, baseline, steady, {extra(sat15, steady_knots)});
+  EXPECT_LT(rise_sat, 0.01);
+  EXPECT_LT(rise_steady, 0.01);
+  EXPECT_LT(refit_separation(rise_sat, rise_steady), 0.1);
+  // Both contents together.
+  const double pair_sat = refit_rise(table, baseline, saturating,
+                                     {extra(0.5, saturating_at(0.15)), extra(0.5, saturating_at(0.30))});
+  const double pair_steady =
+      refit_rise(table, baseline, steady, {extra(sat15, steady_knots), extra(sat30, steady_knots)});
+  EXPECT_NEAR(pair_steady, 2.0 * std::pow((sat30 - sat15) / 2.0 / sigma, 2), 0.01);
+  EXPECT_NEAR(pair_sat, 55.56, 0.1);
+  EXPECT_NEAR(refit_separation(pair_sat, pair_steady), 3.93, 0.01);
+  // A rival that cannot move the new cell: the plain z², whatever the table.
+  const double fixed = refit_rise(table, baseline, saturating, {extra(0.5, {sat15, sat15, sat15})});
+  EXPECT_NEAR(fixed, std::pow((sat15 - 0.5) / sigma, 2), 1e-9);
+  EXPECT_THROW(refit_rise(table, baseline, saturating, {extra(0.5, {0.5})}), std::invalid_argument)
+      << "knots that do not match the response's strengths";
+  // The pair is the better experiment: more than the single measurement made twice.
+  Proposal single;
+  single.separation = std::fabs(sat15 - 0.5) / sigma;
+  single.refit_separation = refit_separation(rise_sat, rise_steady);
+  ProposalPair pair{single, single, std::hypot(single.separation, single.separation),
+                    refit_separation(pair_sat, pair_steady)};
+  EXPECT_TRUE(pair_beats_single(pair, single));
+  single.refit_separation = 3.0;  // a single measurement that survives the re-fit: a pair must beat 4.24
+  EXPECT_FALSE(pair_beats_single(pair, single));
+  // Twice as good as a single one that cannot decide, but undecided itself (the micro twin: 1.1 against 0.7).
+  single.refit_separation = 0.7;
+  pair.refit_separation = 1.1;
+  EXPECT_FALSE(pair_beats_single(pair, single));
+}
+
+// Proposals whose refit separation is known rank by it, before those without one.
+TEST(DiagnoseVerdict, NextExperimentRanksByTheSeparationLeftAfterTheRefit) {
+  const auto q = [](const std::string& cond, double sep, double refit) {
+    Proposal p;
+    p.condition = cond, p.observable = "liquid_free_fraction", p.separation = sep, p.refit_separation = refit;
+    return p;
+  };
+  std::vector<Proposal> v = {q("15 %", 6.9, 0.4), q("20 %", 4.1, 2.5), q("2.5 %", 1.0, std::nan("")),
+                             q("10 %", 3.0, 2.0)};
+  rank_proposals(v);
+  ASSERT_EQ(v.size(), 4u);
+  EXPECT_EQ(v[0].condition, "20 %");
+  EXPECT_EQ(v[1].condition, "10 %");
+  EXPECT_EQ(v[2].condition, "15 %") << "the largest plain separation, matched by a re-fit";
+  EXPECT_EQ(v[3].condition, "2.5 %") << "no refit separation: after every proposal with one";
 }

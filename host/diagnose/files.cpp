@@ -93,6 +93,7 @@ DiagnosisSpec parse_diagnosis_file(const std::string& path_in) {
                   "confirm",
                   "max_cost",
                   "next_conditions",
+                  "next_refit",
                   "assays",
                   "reach_conditions",
                   "second_effect",
@@ -190,6 +191,12 @@ DiagnosisSpec parse_diagnosis_file(const std::string& path_in) {
     if (!r || *r < 0 || *r > 20)
       throw DiagnoseError(fmt::format("{}: next_conditions: an integer in [0, 20]", path));
     d.next_conditions = size_t(*r);
+  }
+  if (root.contains("next_refit")) {
+    const auto r = root["next_refit"].value<int64_t>();
+    if (!r || *r < 0 || *r > 10)
+      throw DiagnoseError(fmt::format("{}: next_refit: an integer in [0, 10]", path));
+    d.next_refit = size_t(*r);
   }
   if (const auto* t = root["assays"].as_table()) {
     for (const auto& [k, v] : *t) {

@@ -36,6 +36,9 @@ struct DiagnosisSpec {
   int confirm = 1;             // re-fits of the chosen effect with its fresh runs as a knot (0-3, shrink.h)
   double max_cost = 10;        // a run needing more than this many times a baseline run's steps is not run
   size_t next_conditions = 6;  // conditions the next-experiment stage may propose and run (0: none)
+  // Of them, the best conditions at which both tied models also run at every strength they were probed at,
+  // so that each can re-fit to the other's value there (next_experiment.h, refit_rise; 0: none).
+  size_t next_refit = 3;
   // [assays]: observables the laboratory could add to the table (a washing assay of the free liquid), each
   // with the sd of one measurement. The next-experiment stage may propose them; nothing else reads them.
   std::map<std::string, double> assays;

@@ -5,10 +5,13 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <set>
+#include <stdexcept>
 
 #include "diagnose/baseline.h"
 #include "diagnose/files.h"
+#include "diagnose/fit.h"
 #include "diagnose/shrink.h"
 
 namespace wetdem::diagnose {
@@ -62,6 +65,152 @@ std::map<std::string, double> assays_inflation(const Procedure& p) {
     f[obs] = within_inflation(cells, per_seed)[obs];
   }
   return f;
+}
+
+// A tied model as a rival: the member of its fitted candidate at the refit setting and shape its fresh check
+// ran (its response over the table), and its variants there: the null first, then one per strength.
+struct Side {
+  const Response* response = nullptr;
+  size_t refit = 0;
+  std::vector<Variant> variants;
+};
+
+Side side_of(const Procedure& p, const FreshCheck& f) {
+  Side s;
+  s.refit = f.refit;
+  for (const CandidateRuns& c : p.fitted)
+    if (c.effect == f.effect)
+      for (size_t i = 0; i < c.members.size(); ++i) {
+        const double sh = c.shapes.at(c.shape_of[i]);
+        if (c.refit_of[i] == f.refit && (sh == f.shape || (std::isnan(sh) && std::isnan(f.shape))) &&
+            !c.members[i].strengths.empty())
+          s.response = &c.members[i];
+      }
+  if (!s.response) return s;
+  s.variants.push_back(p.variant("", 0.0, f.refit));
+  for (double x : s.response->strengths) s.variants.push_back(p.variant(f.effect, x, f.refit, f.shape));
+  return s;
+}
+
+// The refit separation (refit_rise) of the proposals at the table's conditions, where both models' probes
+// ran, and at the best `next_refit` conditions beyond it, where both now also run at every strength they were
+// probed at (on the probe seeds, with the null there: common random numbers, as the table's probes); then of
+// pairs of those proposals and of each assay on every sample.
+void add_refit_separations(Procedure& p, const FreshCheck& a, const FreshCheck& b,
+                           std::vector<Condition>& beyond, std::map<std::string, double>& sigma,
+                           std::map<std::string, double>& inflation) {
+  if (p.d.next_refit == 0) return;
+  const Side sa = side_of(p, a), sb = side_of(p, b);
+  if (!sa.response || !sb.response) {
+    p.notes.push_back("next experiment: no refit separation (a tied model has no probed response)");
+    return;
+  }
+  std::map<std::string, Condition*> at;  // the conditions the models' responses are known at, by label
+  for (Condition& c : p.tab.conditions) at[c.label] = &c;
+  std::map<std::string, double> best;  // beyond the table: each condition's best separation
+  for (const Proposal& q : p.next.proposals)
+    if (!q.in_table) best[q.condition] = std::max(best[q.condition], q.separation);
+  std::vector<Condition*> chosen;
+  for (Condition& c : beyond)
+    if (best.count(c.label) && best[c.label] >= 1.0) chosen.push_back(&c);  // below 1 σ nothing separates
+  std::stable_sort(chosen.begin(), chosen.end(),
+                   [&](const Condition* x, const Condition* y) { return best[x->label] > best[y->label]; });
+  if (chosen.size() > p.d.next_refit) chosen.resize(p.d.next_refit);
+  for (Condition* c : chosen) {
+    try {
+      for (const Side* x : {&sa, &sb})
+        for (const Variant& v : x->variants) p.book.want(*c, v, p.probe_seeds);
+      at[c->label] = c;
+    } catch (const study::StudyError& e) {
+      p.notes.push_back(
+          fmt::format("next experiment: {} cannot be run at every probed strength: {}", c->label, e.what()));
+    }
+  }
+  p.run();
+  // The rival x at condition c for observable obs, the other model's value y ± y_se the measurement; none
+  // where a run failed or does not report obs. At a table cell the rival's own emulator knots are used.
+  const auto extra = [&](const std::string& label, const std::string& obs, double y, double y_se,
+                         const Side& x) -> std::optional<ExtraMeasurement> {
+    if (!at.count(label)) return std::nullopt;
+    const Condition& c = *at.at(label);
+    ExtraMeasurement e;
+    e.cell.observable = obs;
+    e.cell.y = y;
+    e.cell.sigma = std::sqrt(sigma[obs] * sigma[obs] + y_se * y_se);
+    for (size_t k = 0; k < p.tab.cells.size(); ++k)
+      if (p.tab.cells[k].observable == obs && p.tab.conditions[p.tab.cell_condition[k]].label == label) {
+        e.null = p.baselines[x.refit][k];
+        for (const auto& pred : x.response->pred) e.knots.push_back(pred[k]);
+        return e;
+      }
+    for (size_t i = 0; i < x.variants.size(); ++i) {
+      const Variant& v = x.variants[i];
+      const std::vector<uint64_t>* seeds = &p.probe_seeds;
+      if (!p.book.has_summaries({c}, v, *seeds)) seeds = &p.fresh_seeds;  // a knot of the fresh runs
+      if (!p.book.has_summaries({c}, v, *seeds) || !p.book.failure({c}, v, *seeds).empty() ||
+          !p.book.reports(c, v, *seeds, obs))
+        return std::nullopt;
+      Prediction q = p.book.predict(c, v, *seeds, obs, inflation[obs]);
+      if (i == 0) {
+        e.null = q;
+        continue;
+      }
+      q.se = knot_se(0.0, q.se, seeds->size(), p.base_seeds.size());
+      e.knots.push_back(q);
+    }
+    return e;
+  };
+  // Each proposal's extra measurement with b as the rival (a right) and with a as the rival (b right).
+  std::vector<std::pair<ExtraMeasurement, ExtraMeasurement>> ex(p.next.proposals.size());
+  std::vector<bool> has(p.next.proposals.size(), false);
+  const auto rises = [&](const std::vector<size_t>& set) {
+    std::vector<ExtraMeasurement> eb, ea;
+    for (size_t i : set) eb.push_back(ex[i].first), ea.push_back(ex[i].second);
+    return refit_separation(refit_rise(p.tab.cells, p.baselines[sb.refit], *sb.response, eb),
+                            refit_rise(p.tab.cells, p.baselines[sa.refit], *sa.response, ea));
+  };
+  for (size_t i = 0; i < p.next.proposals.size(); ++i) {
+    Proposal& q = p.next.proposals[i];
+    const auto eb = extra(q.condition, q.observable, q.model_a, q.se_a, sb);
+    const auto ea = extra(q.condition, q.observable, q.model_b, q.se_b, sa);
+    if (!eb || !ea) continue;
+    ex[i] = {*eb, *ea};
+    has[i] = true;
+    q.refit_separation = rises({i});
+  }
+  // Pairs of the best eight at two conditions (two observables at one condition share its runs' noise).
+  std::vector<size_t> top;
+  for (size_t i = 0; i < has.size(); ++i)
+    if (has[i]) top.push_back(i);
+  std::stable_sort(top.begin(), top.end(), [&](size_t x, size_t y) {
+    return p.next.proposals[x].refit_separation > p.next.proposals[y].refit_separation;
+  });
+  if (top.size() > 8) top.resize(8);
+  for (size_t u = 0; u < top.size(); ++u)
+    for (size_t w = u + 1; w < top.size(); ++w) {
+      const Proposal &x = p.next.proposals[top[u]], &y = p.next.proposals[top[w]];
+      if (x.condition == y.condition) continue;
+      p.next.pairs.push_back({x, y, std::hypot(x.separation, y.separation), rises({top[u], top[w]})});
+    }
+  std::stable_sort(
+      p.next.pairs.begin(), p.next.pairs.end(),
+      [](const ProposalPair& x, const ProposalPair& y) { return x.refit_separation > y.refit_separation; });
+  if (p.next.pairs.size() > 5) p.next.pairs.resize(5);
+  // Each assay on every sample of the table, both models re-fitted to all of it.
+  for (AssaySeries& as : p.next.series) {
+    std::vector<size_t> set;
+    for (size_t i = 0; i < p.next.proposals.size(); ++i) {
+      const Proposal& q = p.next.proposals[i];
+      if (q.assay && q.in_table && q.observable == as.observable) {
+        if (!has[i]) {
+          set.clear();
+          break;
+        }
+        set.push_back(i);
+      }
+    }
+    if (!set.empty()) as.refit_separation = rises(set);
+  }
 }
 
 }  // namespace
@@ -138,10 +287,36 @@ std::map<std::string, double> median_sigma(const std::vector<Cell>& cells) {
 
 void rank_proposals(std::vector<Proposal>& proposals, double new_condition_factor) {
   const auto rank = [&](const Proposal& q) {
-    return q.in_table ? new_condition_factor * q.separation : q.separation;
+    const double s = std::isfinite(q.refit_separation) ? q.refit_separation : q.separation;
+    return q.in_table ? new_condition_factor * s : s;
   };
-  std::stable_sort(proposals.begin(), proposals.end(),
-                   [&](const Proposal& x, const Proposal& y) { return rank(x) > rank(y); });
+  std::stable_sort(proposals.begin(), proposals.end(), [&](const Proposal& x, const Proposal& y) {
+    const bool fx = std::isfinite(x.refit_separation), fy = std::isfinite(y.refit_separation);
+    if (fx != fy) return fx;
+    return rank(x) > rank(y);
+  });
+}
+
+double refit_rise(const std::vector<Cell>& cells, const std::vector<Prediction>& baseline,
+                  const Response& rival, const std::vector<ExtraMeasurement>& extra) {
+  const StrengthFit table = fit_strength(cells, Emulator(baseline, rival));
+  std::vector<Cell> all = cells;
+  std::vector<Prediction> base = baseline;
+  Response r = rival;
+  for (const ExtraMeasurement& e : extra) {
+    if (e.knots.size() != r.strengths.size())
+      throw std::invalid_argument("refit_rise: an extra measurement's knots do not match the response's");
+    all.push_back(e.cell);
+    base.push_back(e.null);
+    for (size_t k = 0; k < e.knots.size(); ++k) r.pred[k].push_back(e.knots[k]);
+  }
+  const StrengthFit with = fit_strength(all, Emulator(base, r));
+  return std::max(0.0, with.chi2 - table.chi2);
+}
+
+bool pair_beats_single(const ProposalPair& pair, const Proposal& single) {
+  const double s = std::isfinite(single.refit_separation) ? single.refit_separation : single.separation;
+  return pair.refit_separation >= kDecisive && pair.refit_separation > std::sqrt(2.0) * s;
 }
 
 void run_next_experiment(Procedure& p) {
@@ -279,8 +454,12 @@ void run_next_experiment(Procedure& p) {
     as.separation = std::sqrt(as.separation);
     if (as.conditions > 1) p.next.series.push_back(as);
   }
+  add_refit_separations(p, a, b, wanted, sigma, inflation);
+  const auto series_rank = [](const AssaySeries& x) {
+    return std::isfinite(x.refit_separation) ? x.refit_separation : x.separation;
+  };
   std::sort(p.next.series.begin(), p.next.series.end(),
-            [](const AssaySeries& x, const AssaySeries& y) { return x.separation > y.separation; });
+            [&](const AssaySeries& x, const AssaySeries& y) { return series_rank(x) > series_rank(y); });
   rank_proposals(p.next.proposals);
 }
 

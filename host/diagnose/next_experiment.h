@@ -5,6 +5,7 @@
 // they differ most relative to the noise is what the engineer should measure next.
 #pragma once
 
+#include <cmath>
 #include <map>
 #include <string>
 #include <vector>
@@ -23,10 +24,11 @@ void run_next_experiment(Procedure& p);
 std::vector<Condition> propose_conditions(const std::vector<Condition>& table, const Condition& base,
                                           double model_rpm, double model_duration_s, size_t max);
 
-// Orders the proposals best first. A condition the laboratory already prepared (in_table) is the cheaper
-// experiment: it comes first unless a new one separates the pair by more than `new_condition_factor` times as
-// much (the absorption-weak twin: the free liquid at 2.5 % in the table, 9.96 sigma, against 1.25 %, 9.98).
-// Equal ranks keep their order (stable). Pure (tests).
+// Orders the proposals best first: those with a refit separation by it, before those without (they were not
+// among the best by separation, which bounds the refit separation up to the probes' noise). A condition the
+// laboratory already prepared (in_table) is the cheaper experiment: it comes first unless a new one separates
+// the pair by more than `new_condition_factor` times as much (the absorption-weak twin: the free liquid at
+// 2.5 % in the table, 9.96 sigma, against 1.25 %, 9.98). Equal ranks keep their order (stable). Pure (tests).
 inline constexpr double kNewConditionFactor = 1.05;
 void rank_proposals(std::vector<Proposal>& proposals, double new_condition_factor = kNewConditionFactor);
 
@@ -34,6 +36,39 @@ void rank_proposals(std::vector<Proposal>& proposals, double new_condition_facto
 // Pure (tests).
 std::vector<Condition> merge_conditions(std::vector<Condition> first, const std::vector<Condition>& second,
                                         size_t max_second);
+
+// A measurement added to the table for the refit separation: the cell it would give if one model were right
+// (that model's value there; σ² the measurement's noise² plus that value's SE²), and the other model's
+// response there: its null (without the effect, at its refit setting) and its prediction at every strength of
+// its response, in order.
+struct ExtraMeasurement {
+  Cell cell;
+  Prediction null;
+  std::vector<Prediction> knots;
+};
+
+// How much the rival's least χ² rises when the measurements are added and it re-fits its strength to them:
+// min_s [χ²_table(s) + Σ z_extra(s)²] − min_s χ²_table(s), both through the rival's emulator (fit_strength;
+// `baseline` and `rival` are the table's, the extra cells are appended to them). >= 0. Pure (tests).
+double refit_rise(const std::vector<Cell>& cells, const std::vector<Prediction>& baseline,
+                  const Response& rival, const std::vector<ExtraMeasurement>& extra);
+
+// The separation of two fitted models compares them at their fitted strengths. A measurement the rival
+// matches by re-fitting its strength separates nothing: one free-liquid value at one content, which a
+// saturating sink matches with another pore capacity (evaporation-strong, docs/validation.md). So a design is
+// also judged with each model free to re-fit: √min(rise of b if a is right, rise of a if b is right), in σ
+// (the T-optimal criterion for discriminating two models, Atkinson & Fedorov 1975, applied both ways).
+inline double refit_separation(double rise_b_if_a, double rise_a_if_b) {
+  const double m = rise_b_if_a < rise_a_if_b ? rise_b_if_a : rise_a_if_b;
+  return m > 0 ? std::sqrt(m) : 0.0;
+}
+
+// Whether two measurements made together are the better next experiment than the best single one: their
+// refit separation exceeds √2 times the single's, what making the single measurement twice would give (a
+// pair that does better breaks the rival's re-fit, not only the noise), and reaches kDecisive: a pair that
+// still cannot decide is not worth twice the work. Pure (tests).
+inline constexpr double kDecisive = 2.0;  // σ left after the re-fit below which a measurement may not decide
+bool pair_beats_single(const ProposalPair& pair, const Proposal& single);
 
 // The noise of a new measurement of each observable: the table's median sigma for it.
 std::map<std::string, double> median_sigma(const std::vector<Cell>& cells);

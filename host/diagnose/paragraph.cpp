@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "diagnose/effects.h"
+#include "diagnose/next_experiment.h"
 #include "diagnose/observables.h"
 #include "diagnose/report.h"
 
@@ -120,16 +121,35 @@ std::string tie_sentence(const Report& r) {
                      : "",
         q.separation, r.next.effect_a, q.model_a, q.se_a, r.next.effect_b, q.model_b, q.se_b, q.sigma,
         q.seeds == 1 ? "; one seed each: no condition separated them by 2 σ on its first seed" : "");
+    if (std::isfinite(q.refit_separation))
+      s += fmt::format(" Once each re-fits its strength to the other's value there, {:.1f} σ remain{}.",
+                       q.refit_separation,
+                       q.refit_separation < kDecisive ? ": on its own this measurement may not decide" : "");
+    // Judged as the re-fit leaves them: the separation after re-fit where known.
+    const auto worth = [](double refit, double plain) { return std::isfinite(refit) ? refit : plain; };
+    const double single = worth(q.refit_separation, q.separation);
+    if (!r.next.pairs.empty() && pair_beats_single(r.next.pairs.front(), q)) {
+      const ProposalPair& w = r.next.pairs.front();
+      s += fmt::format(
+          " **Better, two measurements together:** `{}` at {} and `{}` at {}, {:.1f} σ after re-fit (more "
+          "than "
+          "the single one made twice, √2 × {:.1f}): one model can re-fit to either value, not to both.",
+          w.first.observable, w.first.condition, w.second.observable, w.second.condition, w.refit_separation,
+          single);
+    }
     // The assay on every sample, only when that is the stronger experiment.
-    if (!r.next.series.empty() && r.next.series.front().separation > q.separation) {
+    if (!r.next.series.empty() &&
+        worth(r.next.series.front().refit_separation, r.next.series.front().separation) > single) {
       const AssaySeries& a = r.next.series.front();
+      const std::string how =
+          std::isfinite(a.refit_separation)
+              ? fmt::format("{:.1f} σ once each model re-fits to all of them", a.refit_separation)
+              : fmt::format("{:.1f} σ", a.separation);
       s += a.observable == q.observable
-               ? fmt::format(
-                     " Made on every sample of the table ({} conditions), it separates them by {:.1f} σ.",
-                     a.conditions, a.separation)
-               : fmt::format(
-                     " The assay `{}` on every sample of the table separates them by {:.1f} σ together.",
-                     a.observable, a.separation);
+               ? fmt::format(" Made on every sample of the table ({} conditions), it separates them by {}.",
+                             a.conditions, how)
+               : fmt::format(" The assay `{}` on every sample of the table separates them by {} together.",
+                             a.observable, how);
     }
   } else if (!r.next.note.empty()) {
     s += " No separating measurement was found: " + r.next.note + ".";

@@ -65,16 +65,29 @@ struct Proposal {
   bool in_table = false;    // the condition is one the table already has
   bool assay = false;       // the observable is not in the table: an assay the file names ([assays])
   size_t seeds = 0;         // seeds behind each model's number (one: a condition that did not look promising)
+  // The separation once each model may re-fit its strength to the other's value there (refit_separation,
+  // next_experiment.h); NaN where the models were not run at their probed strengths at this condition.
+  double refit_separation = std::numeric_limits<double>::quiet_NaN();
 };
 // An assay made on every sample of the table: the pair's separation over all its conditions together.
 struct AssaySeries {
   std::string observable;
   size_t conditions = 0;    // the table's conditions at which both models report it
   double separation = 0.0;  // sqrt(sum of each condition's separation²): independent measurements
+  double refit_separation = std::numeric_limits<double>::quiet_NaN();  // all of them, each model re-fitted
+};
+// Two measurements at two conditions made together: a model that can re-fit its strength to match one
+// measurement may be unable to match both (the fraction a saturating sink leaves free changes with content, a
+// steady one's does not).
+struct ProposalPair {
+  Proposal first, second;
+  double separation = 0.0;  // the two separations in quadrature
+  double refit_separation = 0.0;
 };
 struct NextExperiment {
   std::string effect_a, effect_b;
   std::vector<Proposal> proposals;  // best first
+  std::vector<ProposalPair> pairs;  // of the proposals with a refit separation, best first
   std::vector<AssaySeries> series;  // per assay ([assays]), best first
   std::string note;                 // why none was run, when none was
 };

@@ -27,5 +27,17 @@ expect "$D/d/diagnosis.json" "all(q['sigma'] == 0.5 for q in $P if q['assay'])" 
 expect "$D/d/diagnosis.json" "[(a['observable'], a['conditions'] >= 2, abs(a['separation'] - sum(q['separation'] ** 2 for q in $P if q['assay'] and q['in_table']) ** 0.5) < 1e-9) for a in j['next_experiment']['assay_series']] == [('aor_deg_std', True, True)]" \
   "the assay series is not the table conditions' separations in quadrature"
 expect_text "$D/d/report.md" "aor_deg_std (assay, not in the table)" "the report does not mark the assay"
-expect_text "$D/d/report.md" "run.duration=1.2 s" "no run four times as long (0.3 s -> 1.2 s) among the conditions"
+expect "$D/d/diagnosis.json" "any('run.duration=1.2 s' in q['condition'] for q in $P)" \
+  "no run four times as long (0.3 s -> 1.2 s) among the conditions"
+# The separation once each model re-fits its strength (refit_rise): at the table's conditions from the probes'
+# runs, and at the best conditions beyond it from the runs at every probed strength; at most the plain
+# separation up to the probes' noise (a re-fit can only help the rival), and the proposals rank by it.
+R='[q["refit_separation"] for q in '"$P"' if q["refit_separation"] is not None]'
+expect "$D/d/diagnosis.json" "any(q['refit_separation'] is not None and q['in_table'] for q in $P) and any(q['refit_separation'] is not None and not q['in_table'] for q in $P)" \
+  "no refit separation in or beyond the table" "$D/d/report.md"
+expect "$D/d/diagnosis.json" "all(q['refit_separation'] <= q['separation'] + 1.0 for q in $P if q['refit_separation'] is not None)" \
+  "a refit separation well above the plain one (the re-fit can only help the rival)"
+expect "$D/d/diagnosis.json" "$P[0]['refit_separation'] is not None and max($R) <= 1.05 * $P[0]['refit_separation'] + 1e-12" \
+  "the first proposal is not the best after the re-fit"
+expect_text "$D/d/report.md" "after re-fit (σ)" "the report has no separation after the re-fit"
 echo "next-experiment e2e: $(($(date +%s) - t0)) s"
