@@ -167,3 +167,16 @@ TEST(DiagnoseVerdict, NextExperimentRanksByTheSeparationLeftAfterTheRefit) {
   EXPECT_EQ(v[2].condition, "15 %") << "the largest plain separation, matched by a re-fit";
   EXPECT_EQ(v[3].condition, "2.5 %") << "no refit separation: after every proposal with one";
 }
+
+// The separation a measurement needs to decide the tie on fresh runs: √ of fresh_tie's margin.
+TEST(DiagnoseVerdict, TheNextExperimentKnowsWhatTheVerdictNeeds) {
+  VerdictRule rule;  // tie_delta 4
+  EXPECT_NEAR(needed_separation(30.0, 50, rule, 0.0), 2.0, 1e-12) << "χ²/n below 1: tie_delta alone";
+  EXPECT_NEAR(needed_separation(100.0, 50, rule, 0.0), std::sqrt(8.0), 1e-12) << "scatter past χ²/n = 1";
+  EXPECT_NEAR(needed_separation(34.1, 50, rule, 16.1), std::sqrt(16.1), 1e-12)
+      << "evaporation-strong: the model's own seed luck";
+  // The rule it mirrors: a rise just short of the margin stays tied, just past it does not.
+  const double need = needed_separation(34.1, 50, rule, 16.1);
+  EXPECT_TRUE(fresh_tie(34.1, 34.1 + need * need - 0.01, 50, rule, 16.1));
+  EXPECT_FALSE(fresh_tie(34.1, 34.1 + need * need + 0.01, 50, rule, 16.1));
+}

@@ -13,6 +13,7 @@
 #include "diagnose/files.h"
 #include "diagnose/fit.h"
 #include "diagnose/shrink.h"
+#include "diagnose/where.h"
 
 namespace wetdem::diagnose {
 
@@ -314,6 +315,10 @@ double refit_rise(const std::vector<Cell>& cells, const std::vector<Prediction>&
   return std::max(0.0, with.chi2 - table.chi2);
 }
 
+double needed_separation(double chi2_a, size_t n, const VerdictRule& rule, double luck) {
+  return std::sqrt(std::max(rule.tie_delta * std::max(1.0, chi2_a / double(std::max<size_t>(1, n))), luck));
+}
+
 bool pair_beats_single(const ProposalPair& pair, const Proposal& single) {
   const double s = std::isfinite(single.refit_separation) ? single.refit_separation : single.separation;
   return pair.refit_separation >= kDecisive && pair.refit_separation > std::sqrt(2.0) * s;
@@ -455,6 +460,7 @@ void run_next_experiment(Procedure& p) {
     if (as.conditions > 1) p.next.series.push_back(as);
   }
   add_refit_separations(p, a, b, wanted, sigma, inflation);
+  p.next.needed = needed_separation(chi2_of(a.gaps_after), p.tab.cells.size(), p.d.rule, p.verdict.seed_luck);
   const auto series_rank = [](const AssaySeries& x) {
     return std::isfinite(x.refit_separation) ? x.refit_separation : x.separation;
   };

@@ -63,6 +63,13 @@ inline double refit_separation(double rise_b_if_a, double rise_a_if_b) {
   return m > 0 ? std::sqrt(m) : 0.0;
 }
 
+// The separation after re-fit that a measurement needs to decide the tie on fresh runs: the rival's fresh χ²
+// must come to exceed the first's by fresh_tie's margin, max(tie_delta x max(1, χ²_a / n), luck) over n cells
+// (verdict.h), and a rise of the rival's least χ² by that much is √ of it in σ. On evaporation-strong's table
+// the model's own seed luck (16.1) sets it: about 4 σ, where the plain 2 σ of a significant difference would
+// not decide. Pure (tests).
+double needed_separation(double chi2_a, size_t n, const VerdictRule& rule, double luck);
+
 // Whether two measurements made together are the better next experiment than the best single one: their
 // refit separation exceeds √2 times the single's, what making the single measurement twice would give (a
 // pair that does better breaks the rival's re-fit, not only the noise), and reaches kDecisive: a pair that

@@ -121,10 +121,16 @@ std::string tie_sentence(const Report& r) {
                      : "",
         q.separation, r.next.effect_a, q.model_a, q.se_a, r.next.effect_b, q.model_b, q.se_b, q.sigma,
         q.seeds == 1 ? "; one seed each: no condition separated them by 2 σ on its first seed" : "");
+    // What the verdict needs to decide the tie on fresh runs (needed_separation), at least kDecisive.
+    const double needed = std::max(kDecisive, r.next.needed);
+    const std::string needs =
+        fmt::format("the verdict needs about {:.1f} σ (its tie rule on fresh runs{})", needed,
+                    r.next.needed > kDecisive ? ", set by the model's own seed luck or scatter" : "");
     if (std::isfinite(q.refit_separation))
-      s += fmt::format(" Once each re-fits its strength to the other's value there, {:.1f} σ remain{}.",
-                       q.refit_separation,
-                       q.refit_separation < kDecisive ? ": on its own this measurement may not decide" : "");
+      s += fmt::format(
+          " Once each re-fits its strength to the other's value there, {:.1f} σ remain{}.",
+          q.refit_separation,
+          q.refit_separation < needed ? "; " + needs + ": on its own this measurement may not decide" : "");
     // Judged as the re-fit leaves them: the separation after re-fit where known.
     const auto worth = [](double refit, double plain) { return std::isfinite(refit) ? refit : plain; };
     const double single = worth(q.refit_separation, q.separation);
@@ -132,10 +138,16 @@ std::string tie_sentence(const Report& r) {
       const ProposalPair& w = r.next.pairs.front();
       s += fmt::format(
           " **Better, two measurements together:** `{}` at {} and `{}` at {}, {:.1f} σ after re-fit (more "
-          "than "
-          "the single one made twice, √2 × {:.1f}): one model can re-fit to either value, not to both.",
+          "than the single one made twice, √2 × {:.1f}): one model can re-fit to either value, not to "
+          "both{}.",
           w.first.observable, w.first.condition, w.second.observable, w.second.condition, w.refit_separation,
-          single);
+          single,
+          w.refit_separation < needed
+              ? fmt::format(
+                    ". Even the pair is short of the {:.1f} σ the verdict needs: with more replicates the "
+                    "seed luck, and so that need, falls",
+                    needed)
+              : "");
     }
     // The assay on every sample, only when that is the stronger experiment.
     if (!r.next.series.empty() &&

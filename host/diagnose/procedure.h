@@ -89,7 +89,10 @@ struct NextExperiment {
   std::vector<Proposal> proposals;  // best first
   std::vector<ProposalPair> pairs;  // of the proposals with a refit separation, best first
   std::vector<AssaySeries> series;  // per assay ([assays]), best first
-  std::string note;                 // why none was run, when none was
+  // The separation after re-fit a measurement needs to decide the tie on fresh runs (needed_separation,
+  // next_experiment.h); 0 where not known.
+  double needed = 0.0;
+  std::string note;  // why none was run, when none was
 };
 
 // The second round (second_effect.h): a second candidate fitted on top of the first effect when that one

@@ -45,11 +45,15 @@ std::string next_markdown(const Report& r) {
                       q.in_table ? "yes" : "no", q.seeds);
   }
   md += "\n";
-  md +=
-      "*After re-fit*: the separation once each model may re-fit its strength to the other's value there "
-      "(the "
-      "rise of its least χ² over the table with that measurement added, in σ): what the measurement would "
-      "still tell apart. Blank where the models were not run at their probed strengths.\n\n";
+  md += "*After re-fit*: the separation once each model may re-fit its strength to the other's value ";
+  md += "there (the rise of its least χ² over the table with that measurement added, in σ): what the ";
+  md += "measurement would still tell apart. Blank where the models were not run at their probed strengths.";
+  if (r.next.needed > 0)
+    md += fmt::format(
+        " To decide the tie on fresh runs the verdict needs a rise of about {:.1f} in χ² ({:.1f} σ after "
+        "re-fit): its tie rule, max(tie_delta × max(1, χ²/n), the model's own seed luck).",
+        r.next.needed * r.next.needed, r.next.needed);
+  md += "\n\n";
   if (!r.next.pairs.empty()) {
     md += "Two measurements made together (the best pairs by their separation after re-fit):\n\n";
     md += "| first | second | separation (σ) | after re-fit (σ) |\n|---|---|---|---|\n";
@@ -101,6 +105,7 @@ nlohmann::json next_json(const Report& r) {
   return {{"effects", {r.next.effect_a, r.next.effect_b}},
           {"proposals", props},
           {"pairs", pairs},
+          {"needed_separation", r.next.needed},
           {"assay_series", series},
           {"note", r.next.note}};
 }

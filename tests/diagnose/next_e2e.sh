@@ -12,7 +12,7 @@ wd diagnose "$SRC/tests/diagnose/micro_next_ci.toml" --observations "$D/t/observ
   --quiet --no-figures
 echo "verdict: $(J "$D/d/diagnosis.json" 'j["verdict"], j["effect"], j["tied"]')"
 echo "best proposals: $(J "$D/d/diagnosis.json" \
-  '[(q["condition"], q["observable"], round(q["separation"], 2), q["assay"]) for q in j["next_experiment"]["proposals"][:4]]')"
+  '[(q["condition"], q["observable"], round(q["separation"], 2), q["refit_separation"] and round(q["refit_separation"], 2), q["assay"]) for q in j["next_experiment"]["proposals"][:4]]')"
 expect "$D/d/diagnosis.json" 'len(j["tied"]) > 0 and "evaporation" in [j["effect"]] + j["tied"]' \
   "the sinks did not tie with the truth among them (the check needs a tie)" "$D/d/report.md"
 expect "$D/d/diagnosis.json" 'all(c["observable"] != "aor_deg_std" for c in j["cells"])' \
