@@ -180,3 +180,33 @@ TEST(DiagnoseVerdict, TheNextExperimentKnowsWhatTheVerdictNeeds) {
   EXPECT_TRUE(fresh_tie(34.1, 34.1 + need * need - 0.01, 50, rule, 16.1));
   EXPECT_FALSE(fresh_tie(34.1, 34.1 + need * need + 0.01, 50, rule, 16.1));
 }
+
+// A rival with a second parameter re-fits over its members: a rate whose response can match the new value
+// takes the re-fit at the price of its own table χ²; a member whose response there is not known cannot.
+TEST(DiagnoseVerdict, TheRefitSeparationProfilesTheRivalsSecondParameter) {
+  const std::vector<Cell> table = {{{}, "aor_deg_mean", 30.0, 1.0}};
+  const std::vector<Prediction> baseline = {{30.0, 0.0}};
+  const auto response = [](double table_value) {
+    Response r;
+    r.effect = "absorption";
+    r.strengths = {0.01, 0.03, 0.1};
+    for (size_t k = 0; k < 3; ++k) r.pred.push_back({{table_value, 0.0}});
+    return r;
+  };
+  // The fitted rate fits the table exactly and cannot move the new cell; the other rate fits the table
+  // 1 worse (its AoR one σ off at every strength) and spans the new value.
+  const Response fitted = response(30.0), other = response(31.0);
+  ExtraMeasurement stuck, spans;
+  stuck.cell = spans.cell = {{}, "liquid_free_fraction", 0.5, 0.03};
+  stuck.null = spans.null = {1.0, 0.0};
+  stuck.knots = {{0.667, 0.0}, {0.667, 0.0}, {0.667, 0.0}};
+  spans.knots = {{0.9, 0.0}, {0.7, 0.0}, {0.3, 0.0}};
+  const double z2 = std::pow((0.667 - 0.5) / 0.03, 2);
+  std::vector<RivalMember> family = {{&baseline, &fitted, {stuck}, true}, {&baseline, &other, {spans}, true}};
+  EXPECT_NEAR(refit_rise(table, family), 1.0, 1e-6) << "the other rate re-fits, at its table price";
+  EXPECT_NEAR(refit_rise(table, {family[0]}), z2, 1e-9) << "alone, the fitted rate pays the plain z²";
+  family[1].known = false;
+  EXPECT_NEAR(refit_rise(table, family), z2, 1e-9) << "a member not run there cannot take the re-fit";
+  family[0].known = false;
+  EXPECT_TRUE(std::isnan(refit_rise(table, family))) << "no member known";
+}

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <optional>
 #include <set>
@@ -68,29 +69,51 @@ std::map<std::string, double> assays_inflation(const Procedure& p) {
   return f;
 }
 
-// A tied model as a rival: the member of its fitted candidate at the refit setting and shape its fresh check
-// ran (its response over the table), and its variants there: the null first, then one per strength.
-struct Side {
+// A tied model as a rival: the members of its fitted candidate (refit settings x shapes), the one its fresh
+// check ran first. Each with its response over the table and its variants: the null first, then one per
+// strength. A member re-fits to a new measurement only where its response there is known: at the table's
+// conditions every member's probes ran; beyond the table the first runs, and the others only when they fit
+// the table within the first's Δ (the profile's members, widen_by_profile): a member the table already
+// rejects cannot take the re-fit.
+struct Member {
   const Response* response = nullptr;
   size_t refit = 0;
+  bool beyond = false;  // run beyond the table
   std::vector<Variant> variants;
 };
 
-Side side_of(const Procedure& p, const FreshCheck& f) {
-  Side s;
-  s.refit = f.refit;
+std::vector<Member> side_of(const Procedure& p, const FreshCheck& f) {
+  std::vector<Member> out;
+  const CandidateRuns* cr = nullptr;
   for (const CandidateRuns& c : p.fitted)
-    if (c.effect == f.effect)
-      for (size_t i = 0; i < c.members.size(); ++i) {
-        const double sh = c.shapes.at(c.shape_of[i]);
-        if (c.refit_of[i] == f.refit && (sh == f.shape || (std::isnan(sh) && std::isnan(f.shape))) &&
-            !c.members[i].strengths.empty())
-          s.response = &c.members[i];
-      }
-  if (!s.response) return s;
-  s.variants.push_back(p.variant("", 0.0, f.refit));
-  for (double x : s.response->strengths) s.variants.push_back(p.variant(f.effect, x, f.refit, f.shape));
-  return s;
+    if (c.effect == f.effect) cr = &c;
+  if (!cr) return out;
+  const auto member = [&](size_t i) {
+    Member m;
+    m.response = &cr->members[i];
+    m.refit = cr->refit_of[i];
+    const double shape = cr->shapes.at(cr->shape_of[i]);
+    m.variants.push_back(p.variant("", 0.0, m.refit));
+    for (double x : m.response->strengths) m.variants.push_back(p.variant(f.effect, x, m.refit, shape));
+    return m;
+  };
+  for (size_t i = 0; i < cr->members.size(); ++i) {
+    const double sh = cr->shapes.at(cr->shape_of[i]);
+    if (cr->refit_of[i] == f.refit && (sh == f.shape || (std::isnan(sh) && std::isnan(f.shape))) &&
+        !cr->members[i].strengths.empty())
+      out.insert(out.begin(), member(i)), out.front().beyond = true;
+  }
+  if (out.empty()) return out;
+  const StrengthFit first =
+      fit_strength(p.tab.cells, Emulator(p.baselines[out.front().refit], *out.front().response));
+  for (size_t i = 0; i < cr->members.size(); ++i) {
+    if (&cr->members[i] == out.front().response || cr->members[i].strengths.empty()) continue;
+    Member m = member(i);
+    m.beyond = fit_strength(p.tab.cells, Emulator(p.baselines[m.refit], *m.response)).chi2 <=
+               first.chi2 + first.delta;
+    out.push_back(m);
+  }
+  return out;
 }
 
 // The refit separation (refit_rise) of the proposals at the table's conditions, where both models' probes
@@ -101,8 +124,8 @@ void add_refit_separations(Procedure& p, const FreshCheck& a, const FreshCheck& 
                            std::vector<Condition>& beyond, std::map<std::string, double>& sigma,
                            std::map<std::string, double>& inflation) {
   if (p.d.next_refit == 0) return;
-  const Side sa = side_of(p, a), sb = side_of(p, b);
-  if (!sa.response || !sb.response) {
+  const std::vector<Member> sa = side_of(p, a), sb = side_of(p, b);
+  if (sa.empty() || sb.empty()) {
     p.notes.push_back("next experiment: no refit separation (a tied model has no probed response)");
     return;
   }
@@ -119,8 +142,10 @@ void add_refit_separations(Procedure& p, const FreshCheck& a, const FreshCheck& 
   if (chosen.size() > p.d.next_refit) chosen.resize(p.d.next_refit);
   for (Condition* c : chosen) {
     try {
-      for (const Side* x : {&sa, &sb})
-        for (const Variant& v : x->variants) p.book.want(*c, v, p.probe_seeds);
+      for (const std::vector<Member>* side : {&sa, &sb})
+        for (const Member& m : *side)
+          if (m.beyond)
+            for (const Variant& v : m.variants) p.book.want(*c, v, p.probe_seeds);
       at[c->label] = c;
     } catch (const study::StudyError& e) {
       p.notes.push_back(
@@ -128,10 +153,11 @@ void add_refit_separations(Procedure& p, const FreshCheck& a, const FreshCheck& 
     }
   }
   p.run();
-  // The rival x at condition c for observable obs, the other model's value y ± y_se the measurement; none
-  // where a run failed or does not report obs. At a table cell the rival's own emulator knots are used.
+  // Member x of a rival at condition c for observable obs, the other model's value y ± y_se the
+  // measurement; none where a run is missing, failed or does not report obs. At a table cell the member's own
+  // emulator knots are used.
   const auto extra = [&](const std::string& label, const std::string& obs, double y, double y_se,
-                         const Side& x) -> std::optional<ExtraMeasurement> {
+                         const Member& x) -> std::optional<ExtraMeasurement> {
     if (!at.count(label)) return std::nullopt;
     const Condition& c = *at.at(label);
     ExtraMeasurement e;
@@ -161,21 +187,32 @@ void add_refit_separations(Procedure& p, const FreshCheck& a, const FreshCheck& 
     }
     return e;
   };
-  // Each proposal's extra measurement with b as the rival (a right) and with a as the rival (b right).
-  std::vector<std::pair<ExtraMeasurement, ExtraMeasurement>> ex(p.next.proposals.size());
+  // Each proposal's extra measurement per member: of b as the rival (a right), of a as the rival (b right).
+  using PerMember = std::vector<std::optional<ExtraMeasurement>>;
+  std::vector<std::pair<PerMember, PerMember>> ex(p.next.proposals.size());
   std::vector<bool> has(p.next.proposals.size(), false);
+  const auto family = [&](const std::vector<Member>& side, bool side_b, const std::vector<size_t>& set) {
+    std::vector<RivalMember> f;
+    for (size_t m = 0; m < side.size(); ++m) {
+      RivalMember r{&p.baselines[side[m].refit], side[m].response, {}, true};
+      for (size_t i : set) {
+        const std::optional<ExtraMeasurement>& e = side_b ? ex[i].first[m] : ex[i].second[m];
+        if (!e) r.known = false;
+        if (r.known) r.extra.push_back(*e);
+      }
+      f.push_back(r);
+    }
+    return f;
+  };
   const auto rises = [&](const std::vector<size_t>& set) {
-    std::vector<ExtraMeasurement> eb, ea;
-    for (size_t i : set) eb.push_back(ex[i].first), ea.push_back(ex[i].second);
-    return refit_separation(refit_rise(p.tab.cells, p.baselines[sb.refit], *sb.response, eb),
-                            refit_rise(p.tab.cells, p.baselines[sa.refit], *sa.response, ea));
+    return refit_separation(refit_rise(p.tab.cells, family(sb, true, set)),
+                            refit_rise(p.tab.cells, family(sa, false, set)));
   };
   for (size_t i = 0; i < p.next.proposals.size(); ++i) {
     Proposal& q = p.next.proposals[i];
-    const auto eb = extra(q.condition, q.observable, q.model_a, q.se_a, sb);
-    const auto ea = extra(q.condition, q.observable, q.model_b, q.se_b, sa);
-    if (!eb || !ea) continue;
-    ex[i] = {*eb, *ea};
+    for (const Member& m : sb) ex[i].first.push_back(extra(q.condition, q.observable, q.model_a, q.se_a, m));
+    for (const Member& m : sa) ex[i].second.push_back(extra(q.condition, q.observable, q.model_b, q.se_b, m));
+    if (!ex[i].first.front() || !ex[i].second.front()) continue;  // the fitted members must be known
     has[i] = true;
     q.refit_separation = rises({i});
   }
@@ -317,6 +354,16 @@ double refit_rise(const std::vector<Cell>& cells, const std::vector<Prediction>&
 
 double needed_separation(double chi2_a, size_t n, const VerdictRule& rule, double luck) {
   return std::sqrt(std::max(rule.tie_delta * std::max(1.0, chi2_a / double(std::max<size_t>(1, n))), luck));
+}
+
+double refit_rise(const std::vector<Cell>& cells, const std::vector<RivalMember>& family) {
+  double table = std::numeric_limits<double>::infinity(), with = table;
+  for (const RivalMember& m : family) {
+    const double t = fit_strength(cells, Emulator(*m.baseline, *m.response)).chi2;
+    table = std::min(table, t);
+    if (m.known) with = std::min(with, t + refit_rise(cells, *m.baseline, *m.response, m.extra));
+  }
+  return std::isfinite(with) ? std::max(0.0, with - table) : std::nan("");
 }
 
 bool pair_beats_single(const ProposalPair& pair, const Proposal& single) {

@@ -53,6 +53,18 @@ struct ExtraMeasurement {
 double refit_rise(const std::vector<Cell>& cells, const std::vector<Prediction>& baseline,
                   const Response& rival, const std::vector<ExtraMeasurement>& extra);
 
+// The same for a rival with a second parameter (absorption's rate) or refit settings: each member re-fits its
+// strength, and the rise is min over the members that know every extra measurement of their χ² with them,
+// minus min over all members of their χ² on the table alone (the profile's best). NaN when no member knows
+// them. `baseline` and `response` point at the member's own. Pure (tests).
+struct RivalMember {
+  const std::vector<Prediction>* baseline = nullptr;
+  const Response* response = nullptr;
+  std::vector<ExtraMeasurement> extra;
+  bool known = true;  // its response at every extra measurement is known
+};
+double refit_rise(const std::vector<Cell>& cells, const std::vector<RivalMember>& family);
+
 // The separation of two fitted models compares them at their fitted strengths. A measurement the rival
 // matches by re-fitting its strength separates nothing: one free-liquid value at one content, which a
 // saturating sink matches with another pore capacity (evaporation-strong, docs/validation.md). So a design is
