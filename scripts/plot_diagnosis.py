@@ -7,6 +7,9 @@ observables.png  each observable against its condition: observations with error 
 ranking.png      held-out chi^2 of every fitted candidate against the null model (with refit: each one's setting),
                  each runner-up's near-tie zone (run fresh when its bar ends in it) and what the fresh runs made of
                  it (named, tied, or dropped with its fresh chi^2)
+next_experiment.png  when two effects tie: the best measurements that would separate them (and pairs of them,
+                 and an assay on every sample), each as the fitted models' separation and what is left once each
+                 model re-fits its strength to the other's value, against the separation the verdict needs
 """
 import json
 import os
@@ -209,6 +212,47 @@ def main(d):
     ax.set_xlabel("held-out χ² (leave one condition out)\nlower is better")
     fig.tight_layout()
     fig.savefig(os.path.join(out, "ranking.png"), dpi=120, bbox_inches="tight")
+    plt.close(fig)
+    next_experiment(j, out)
+
+
+def next_experiment(j, out):
+    """The next experiment's proposals (diagnosis.md, "The separation after re-fit")."""
+    nx = j.get("next_experiment") or {}
+    props = nx.get("proposals") or []
+    if not props:
+        return
+    a, b = (nx.get("effects") or ["a", "b"])[:2]
+    rows = []  # (label, plain, after re-fit or None)
+    for q in props[:10]:
+        where = "table" if q["in_table"] else "new"
+        tag = f" [assay, {where}]" if q["assay"] else f" [{where}]"
+        rows.append((f"{q['observable']} at {q['condition']}{tag}", q["separation"], q.get("refit_separation")))
+    for w in (nx.get("pairs") or [])[:3]:
+        rows.append((f"pair: {w['first']['observable']} at {w['first']['condition']}\n"
+                     f"   + {w['second']['observable']} at {w['second']['condition']}",
+                     w["separation"], w["refit_separation"]))
+    for s in nx.get("assay_series") or []:
+        rows.append((f"{s['observable']} on every sample ({s['conditions']} conditions)", s["separation"],
+                     s.get("refit_separation")))
+    fig, ax = plt.subplots(figsize=(9.5, 1.2 + 0.42 * len(rows)))
+    y = range(len(rows))
+    ax.barh(y, [r[1] for r in rows], color="lightsteelblue", label=f"the fitted models ({a}, {b}) apart")
+    ax.barh(y, [r[2] if r[2] is not None else 0 for r in rows], height=0.45, color="tab:blue",
+            label="left once each re-fits its strength")
+    for i, r in enumerate(rows):
+        ax.text(r[1], i, f" {r[1]:.2g}" + (f" / {r[2]:.2g}" if r[2] is not None else " / not re-fitted"),
+                va="center", fontsize=7)
+    need = max(2.0, nx.get("needed_separation") or 0.0)
+    ax.axvline(need, color="tab:red", ls=":", lw=1.2, label=f"what the verdict needs: {need:.2g} σ")
+    ax.set_yticks(list(y), [r[0] for r in rows], fontsize=7)
+    ax.invert_yaxis()
+    ax.set_xlim(right=max(max(r[1] for r in rows), need) * 1.3)
+    ax.set_xlabel("separation (σ of the measurement and both models' errors)")
+    ax.set_title(f"Next experiment: {a} or {b}? (best first, by what is left after the re-fit)", fontsize=9)
+    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.07 - 0.35 / len(rows)), ncol=3, frameon=False)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "next_experiment.png"), dpi=120, bbox_inches="tight")
     plt.close(fig)
 
 
