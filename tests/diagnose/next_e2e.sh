@@ -40,4 +40,7 @@ expect "$D/d/diagnosis.json" "all(q['refit_separation'] <= q['separation'] + 1.0
 expect "$D/d/diagnosis.json" "$P[0]['refit_separation'] is not None and max($R) <= 1.05 * $P[0]['refit_separation'] + 1e-12" \
   "the first proposal is not the best after the re-fit"
 expect_text "$D/d/report.md" "after re-fit (σ)" "the report has no separation after the re-fit"
+# The figure of the next experiment (plot_diagnosis.py), drawn from this diagnosis.json.
+/usr/bin/python3 "$SRC/scripts/plot_diagnosis.py" "$D/d" > "$D/plot.log" 2>&1 || { cat "$D/plot.log"; echo "FAIL: plot_diagnosis.py"; exit 1; }
+[ -s "$D/d/figures/next_experiment.png" ] || { echo "FAIL: no figures/next_experiment.png for a tie"; exit 1; }
 echo "next-experiment e2e: $(($(date +%s) - t0)) s"
