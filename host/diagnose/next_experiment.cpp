@@ -325,7 +325,7 @@ std::map<std::string, double> median_sigma(const std::vector<Cell>& cells) {
 
 void rank_proposals(std::vector<Proposal>& proposals, double new_condition_factor) {
   const auto rank = [&](const Proposal& q) {
-    const double s = std::isfinite(q.refit_separation) ? q.refit_separation : q.separation;
+    const double s = judged_separation(q.refit_separation, q.separation);
     return q.in_table ? new_condition_factor * s : s;
   };
   std::stable_sort(proposals.begin(), proposals.end(), [&](const Proposal& x, const Proposal& y) {
@@ -335,9 +335,11 @@ void rank_proposals(std::vector<Proposal>& proposals, double new_condition_facto
   });
 }
 
-double refit_rise(const std::vector<Cell>& cells, const std::vector<Prediction>& baseline,
-                  const Response& rival, const std::vector<ExtraMeasurement>& extra) {
-  const StrengthFit table = fit_strength(cells, Emulator(baseline, rival));
+namespace {
+
+// The rival's least χ² over the table with the extra measurements appended (its strength re-fitted to all).
+double chi2_with(const std::vector<Cell>& cells, const std::vector<Prediction>& baseline,
+                 const Response& rival, const std::vector<ExtraMeasurement>& extra) {
   std::vector<Cell> all = cells;
   std::vector<Prediction> base = baseline;
   Response r = rival;
@@ -348,12 +350,19 @@ double refit_rise(const std::vector<Cell>& cells, const std::vector<Prediction>&
     base.push_back(e.null);
     for (size_t k = 0; k < e.knots.size(); ++k) r.pred[k].push_back(e.knots[k]);
   }
-  const StrengthFit with = fit_strength(all, Emulator(base, r));
-  return std::max(0.0, with.chi2 - table.chi2);
+  return fit_strength(all, Emulator(base, r)).chi2;
+}
+
+}  // namespace
+
+double refit_rise(const std::vector<Cell>& cells, const std::vector<Prediction>& baseline,
+                  const Response& rival, const std::vector<ExtraMeasurement>& extra) {
+  const double with = chi2_with(cells, baseline, rival, extra);
+  return std::max(0.0, with - fit_strength(cells, Emulator(baseline, rival)).chi2);
 }
 
 double needed_separation(double chi2_a, size_t n, const VerdictRule& rule, double luck) {
-  return std::sqrt(std::max(rule.tie_delta * std::max(1.0, chi2_a / double(std::max<size_t>(1, n))), luck));
+  return std::sqrt(fresh_tie_margin(chi2_a, n, rule, luck));
 }
 
 double refit_rise(const std::vector<Cell>& cells, const std::vector<RivalMember>& family) {
@@ -361,13 +370,13 @@ double refit_rise(const std::vector<Cell>& cells, const std::vector<RivalMember>
   for (const RivalMember& m : family) {
     const double t = fit_strength(cells, Emulator(*m.baseline, *m.response)).chi2;
     table = std::min(table, t);
-    if (m.known) with = std::min(with, t + refit_rise(cells, *m.baseline, *m.response, m.extra));
+    if (m.known) with = std::min(with, chi2_with(cells, *m.baseline, *m.response, m.extra));
   }
   return std::isfinite(with) ? std::max(0.0, with - table) : std::nan("");
 }
 
 bool pair_beats_single(const ProposalPair& pair, const Proposal& single) {
-  const double s = std::isfinite(single.refit_separation) ? single.refit_separation : single.separation;
+  const double s = judged_separation(single.refit_separation, single.separation);
   return pair.refit_separation >= kDecisive && pair.refit_separation > std::sqrt(2.0) * s;
 }
 
@@ -508,11 +517,10 @@ void run_next_experiment(Procedure& p) {
   }
   add_refit_separations(p, a, b, wanted, sigma, inflation);
   p.next.needed = needed_separation(chi2_of(a.gaps_after), p.tab.cells.size(), p.d.rule, p.verdict.seed_luck);
-  const auto series_rank = [](const AssaySeries& x) {
-    return std::isfinite(x.refit_separation) ? x.refit_separation : x.separation;
-  };
-  std::sort(p.next.series.begin(), p.next.series.end(),
-            [&](const AssaySeries& x, const AssaySeries& y) { return series_rank(x) > series_rank(y); });
+  std::sort(p.next.series.begin(), p.next.series.end(), [](const AssaySeries& x, const AssaySeries& y) {
+    return judged_separation(x.refit_separation, x.separation) >
+           judged_separation(y.refit_separation, y.separation);
+  });
   rank_proposals(p.next.proposals);
 }
 

@@ -82,6 +82,11 @@ inline double refit_separation(double rise_b_if_a, double rise_a_if_b) {
 // not decide. Pure (tests).
 double needed_separation(double chi2_a, size_t n, const VerdictRule& rule, double luck);
 
+// What a proposal is judged by: its separation after re-fit where known, else the plain one.
+inline double judged_separation(double refit, double plain) {
+  return std::isfinite(refit) ? refit : plain;
+}
+
 // Whether two measurements made together are the better next experiment than the best single one: their
 // refit separation exceeds √2 times the single's, what making the single measurement twice would give (a
 // pair that does better breaks the rival's re-fit, not only the noise), and reaches kDecisive: a pair that

@@ -131,9 +131,7 @@ std::string tie_sentence(const Report& r) {
           " Once each re-fits its strength to the other's value there, {:.1f} σ remain{}.",
           q.refit_separation,
           q.refit_separation < needed ? "; " + needs + ": on its own this measurement may not decide" : "");
-    // Judged as the re-fit leaves them: the separation after re-fit where known.
-    const auto worth = [](double refit, double plain) { return std::isfinite(refit) ? refit : plain; };
-    const double single = worth(q.refit_separation, q.separation);
+    const double single = judged_separation(q.refit_separation, q.separation);
     if (!r.next.pairs.empty() && pair_beats_single(r.next.pairs.front(), q)) {
       const ProposalPair& w = r.next.pairs.front();
       s += fmt::format(
@@ -150,8 +148,8 @@ std::string tie_sentence(const Report& r) {
               : "");
     }
     // The assay on every sample, only when that is the stronger experiment.
-    if (!r.next.series.empty() &&
-        worth(r.next.series.front().refit_separation, r.next.series.front().separation) > single) {
+    if (!r.next.series.empty() && judged_separation(r.next.series.front().refit_separation,
+                                                    r.next.series.front().separation) > single) {
       const AssaySeries& a = r.next.series.front();
       const std::string how =
           std::isfinite(a.refit_separation)

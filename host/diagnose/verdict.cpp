@@ -60,9 +60,12 @@ bool near_tie(const Candidate& a, const Candidate& b, const VerdictRule& rule) {
   return b.loco - a.loco < near_tie_margin(a, b, rule);
 }
 
+double fresh_tie_margin(double chi2_a, size_t n, const VerdictRule& rule, double luck) {
+  return std::max(rule.tie_delta * std::max(1.0, chi2_a / double(std::max<size_t>(1, n))), luck);
+}
+
 bool fresh_tie(double chi2_a, double chi2_b, size_t n, const VerdictRule& rule, double luck) {
-  return chi2_b - chi2_a <
-         std::max(rule.tie_delta * std::max(1.0, chi2_a / double(std::max<size_t>(1, n))), luck);
+  return chi2_b - chi2_a < fresh_tie_margin(chi2_a, n, rule, luck);
 }
 
 Verdict decide(const std::vector<Cell>& cells, const std::vector<std::vector<Prediction>>& baselines,

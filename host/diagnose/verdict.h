@@ -156,6 +156,8 @@ bool near_tie(const Candidate& a, const Candidate& b, const VerdictRule& rule);
 // or by `luck` where that is larger (the model's own seed luck, as in unseen_on_fresh: the fresh runs of two
 // candidates are two seed sets, and on the flowing drum those alone move χ² by 9-100).
 bool fresh_tie(double chi2_a, double chi2_b, size_t n, const VerdictRule& rule, double luck = 0.0);
+// That margin: max(tie_delta x max(1, χ²_a / n), luck).
+double fresh_tie_margin(double chi2_a, size_t n, const VerdictRule& rule, double luck = 0.0);
 
 // The fresh-seed check: an `effect` whose runs leave a gap (has_gap at table_level) becomes `partial`.
 void settle_verdict(Verdict& v, const std::vector<CellGap>& after, const VerdictRule& rule);

@@ -1,0 +1,198 @@
+// The fit behind the verdict (fit.h), on synthetic cells with known answers: an interval widened by the
+// scatter the fit leaves, open ends, extension past an edge within the physical range, a second parameter
+// fitted as a profile (absorption at another rate is still absorption) and its interval over every shape that
+// fits as well, and a shape probed at one strength extended to its own best. Suite names stay
+// DiagnoseVerdict.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "diagnose/emulator.h"
+#include "diagnose/fit.h"
+#include "support/synthetic_cells.h"
+
+using namespace wetdem::diagnose;
+using namespace wetdem::test;
+
+// Data scattered more than their error bars say: the interval widens by √(χ²_min/(n - 1)) in χ² terms.
+TEST(DiagnoseVerdict, IntervalWidensWithTheScatterTheFitLeaves) {
+  const Response r = linear("evaporation", {0.01, 0.1, 1.0}, kSlope, 30.0, 0.0);
+  const std::vector<Prediction> base(5, Prediction{30.0, 0.0});
+  const Emulator em(base, r);
+  const double u = std::log10(0.1) - (std::log10(0.01) - 1.0);  // s = 0.1: two decades above the anchor
+  std::vector<double> y, y_scattered;
+  const double jitter[] = {+1.0, -1.0, +1.0, -1.0, +1.0};
+  for (size_t k = 0; k < 5; ++k)
+    y.push_back(30.0 + kSlope[k] * u), y_scattered.push_back(y.back() + 3 * jitter[k]);
+  const StrengthFit tight = fit_strength(cells_at(kPhi, y, 0.5), em);
+  const StrengthFit loose = fit_strength(cells_at(kPhi, y_scattered, 0.5), em);
+  EXPECT_DOUBLE_EQ(tight.delta, 1.0);
+  EXPECT_GT(loose.delta, 5.0) << "chi2_min/(n-1) with every cell 6 sigma off";
+  EXPECT_NEAR(loose.delta, loose.chi2 / 4.0, 1e-12);
+  EXPECT_GT(std::log(loose.hi / loose.lo), 2.0 * std::log(tight.hi / tight.lo));
+  EXPECT_FALSE(tight.open_lo || tight.open_hi);
+}
+
+// A truth stronger than every probe: the fit sits at the top (open interval), next_edge_knot extends the
+// range by the probes' ratio, and stops at the physical limit, saying so.
+TEST(DiagnoseVerdict, EdgeOfTheProbesExtendsWithinThePhysicalRange) {
+  Response r = linear("cohesion", {1e-3, 3e-3, 1e-2}, kSlope, 30.0);
+  const std::vector<Prediction> base(5, Prediction{30.0, 0.1});
+  auto truth_at = [&](double s) {
+    std::vector<Prediction> p;
+    const double u0 = std::log10(1e-3) - 1.0;
+    for (double k : kSlope) p.push_back({30.0 + k * (std::log10(s) - u0), 0.1});
+    return p;
+  };
+  std::vector<double> y;
+  for (const Prediction& p : truth_at(0.05)) y.push_back(p.mean);
+  const std::vector<Cell> cells = cells_at(kPhi, y, 0.3);
+  StrengthFit f = fit_strength(cells, Emulator(base, r));
+  EXPECT_TRUE(f.at_hi);
+  EXPECT_TRUE(f.open_hi);
+  int limit = 0;
+  const double up = next_edge_knot(f, r, 1e-4, 0.1, &limit);
+  EXPECT_NEAR(up, 0.0333, 1e-4) << "a step of the probes' ratio (3.33)";
+  EXPECT_EQ(limit, 0);
+  add_knot(r, up, truth_at(up));
+  f = fit_strength(cells, Emulator(base, r));
+  const double up2 = next_edge_knot(f, r, 1e-4, 0.1, &limit);
+  EXPECT_NEAR(up2, 0.1, 1e-12) << "capped at the physical limit";
+  add_knot(r, up2, truth_at(up2));
+  f = fit_strength(cells, Emulator(base, r));
+  EXPECT_FALSE(f.at_hi);
+  EXPECT_NEAR(std::log10(f.strength), std::log10(0.05), 0.02);
+  EXPECT_EQ(next_edge_knot(f, r, 1e-4, 0.1, &limit), 0.0) << "inside the probes now";
+  // A truth beyond the physical range: the fit stays at the top and the extension stops there.
+  std::vector<double> y_far;
+  for (const Prediction& p : truth_at(0.5)) y_far.push_back(p.mean);
+  const StrengthFit g = fit_strength(cells_at(kPhi, y_far, 0.3), Emulator(base, r));
+  EXPECT_TRUE(g.at_hi);
+  EXPECT_EQ(next_edge_knot(g, r, 1e-4, 0.1, &limit), 0.0);
+  EXPECT_EQ(limit, +1);
+  // Below the weakest probe: extend down, floored at the lower end.
+  std::vector<double> y_weak;
+  for (const Prediction& p : truth_at(2e-4)) y_weak.push_back(p.mean);
+  const StrengthFit w = fit_strength(cells_at(kPhi, y_weak, 0.05), Emulator(base, r));
+  EXPECT_TRUE(w.at_lo);
+  EXPECT_NEAR(next_edge_knot(w, r, 1e-4, 0.1, &limit), 3e-4, 1e-12);
+}
+
+// Absorption whose second parameter (the rate) changes the fingerprint: responses at three rates; data made
+// at the slow rate are fitted there, at the right capacity, and the profile over the rate beats the default
+// rate alone by far (held out).
+TEST(DiagnoseVerdict, ASecondParameterIsFittedAsAProfile) {
+  // Fast absorption lowers the AoR at every content by the same amount; slow absorption only the wet cells
+  // late in the window, so the two rates leave different patterns.
+  const std::vector<double> fast = {0.0, 1.0, 2.0, 2.0, 2.0}, slow = {0.0, 0.0, 0.5, 1.5, 3.0};
+  const std::vector<Prediction> base(5, Prediction{30.0, 0.1});
+  const Response r_fast = linear("absorption", {0.01, 0.05, 0.2}, fast, 30.0);
+  const Response r_slow = linear("absorption", {0.01, 0.05, 0.2}, slow, 30.0);
+  const double u = std::log10(0.08) - (std::log10(0.01) - 1.0);
+  std::vector<double> y;
+  for (double k : slow) y.push_back(30.0 + k * u);
+  const std::vector<Cell> cells = cells_at(kPhi, y, 0.3);
+  const std::vector<Emulator> both = {Emulator(base, r_fast), Emulator(base, r_slow)};
+  const ProfileFit f = fit_profile(cells, both);
+  EXPECT_EQ(f.member, 1u) << "the slow rate";
+  EXPECT_NEAR(std::log10(f.fit.strength), std::log10(0.08), 0.01);
+  EXPECT_LT(loco_score(cells, both), 0.2 * loco_score(cells, std::vector<Emulator>{both[0]}));
+}
+
+// The interval profiles the second parameter out. Two rates that leave the same pattern at capacities a
+// decade apart (a slow rate needs ten times the capacity): the fit keeps the better one, and its interval
+// alone (the strength given that rate) excludes the other rate's capacity; the profile interval spans both.
+// A member that fits clearly worse everywhere adds nothing, and one whose low region reaches its strongest
+// knot opens the interval there.
+TEST(DiagnoseVerdict, TheIntervalSpansEveryShapeThatFitsAsWell) {
+  const std::vector<Prediction> base(5, Prediction{30.0, 0.1});
+  const std::vector<double> off = {0.0, 0.55, 1.05, 2.0, 2.9};  // nearly kSlope: a near-equal fit
+  const Response fast = linear("absorption", {0.01, 0.05, 0.2}, kSlope, 30.0);
+  const Response slow = linear("absorption", {0.1, 0.5, 2.0}, off, 30.0);
+  const Response decoy = linear("absorption", {0.01, 0.05, 0.2}, {3.0, 2.0, 1.0, 0.5, 0.0}, 30.0);
+  const double u = std::log10(0.05) - (std::log10(0.01) - 1.0);
+  std::vector<double> y;
+  for (double k : kSlope) y.push_back(30.0 + k * u);
+  const std::vector<Cell> cells = cells_at(kPhi, y, 0.3);
+  const std::vector<Emulator> ems = {Emulator(base, fast), Emulator(base, slow), Emulator(base, decoy)};
+  const ProfileFit pf = fit_profile(cells, ems);
+  ASSERT_EQ(pf.member, 0u);
+  EXPECT_NEAR(std::log10(pf.fit.strength), std::log10(0.05), 0.01);
+  EXPECT_LT(pf.fit.hi, 0.1) << "the fast rate's own interval stays near 0.05";
+  StrengthFit f = pf.fit;
+  EXPECT_EQ(widen_by_profile(f, cells, ems, pf.member), 1u) << "the slow rate, not the decoy";
+  EXPECT_EQ(f.profile_members, 1u);
+  EXPECT_DOUBLE_EQ(f.strength, pf.fit.strength) << "the fit itself does not move";
+  EXPECT_DOUBLE_EQ(f.lo, pf.fit.lo);
+  EXPECT_GT(f.hi, 0.4) << "the slow rate's capacity, ~0.5";
+  EXPECT_LT(f.hi, 0.7);
+  EXPECT_FALSE(f.open_lo || f.open_hi);
+  EXPECT_DOUBLE_EQ(f.chi2_hi, f.hi) << "the profile is the Δχ² interval";
+  // The slow rate probed up to 0.5 only: its low region reaches its strongest knot, so the side is open.
+  const Response slow_short = linear("absorption", {0.1, 0.3, 0.5}, off, 30.0);
+  StrengthFit g = pf.fit;
+  widen_by_profile(g, cells, {ems[0], Emulator(base, slow_short)}, 0);
+  EXPECT_TRUE(g.open_hi);
+  EXPECT_FALSE(g.open_lo);
+  // One member: nothing to profile over.
+  StrengthFit h = pf.fit;
+  EXPECT_EQ(widen_by_profile(h, cells, {ems[0]}, 0), 0u);
+  EXPECT_DOUBLE_EQ(h.hi, pf.fit.hi);
+}
+
+// The profile compares each shape at its own best strength. A shape probed at one strength only (as the fit
+// stage adds the other rates, at the capacity fitted at the middle one) sits at an edge of its knots and
+// loses to the default shape there, though at its own best it fits exactly: next_member_edge extends it (a
+// step of 3x), and then the profile keeps it at the truth's strength.
+TEST(DiagnoseVerdict, AShapeProbedAtOneStrengthIsFittedAtItsOwnBest) {
+  const std::vector<double> fast = {0.0, 0.3, 1.0, 2.0, 3.0}, slow = {0.0, 0.0, 0.5, 1.5, 3.0};
+  const std::vector<Prediction> base(5, Prediction{30.0, 0.1});
+  const double u0 = std::log10(0.01) - 1.0;  // both members' anchor: a decade below the weakest probe
+  const auto slow_at = [&](double s) {
+    std::vector<Prediction> p;
+    for (double k : slow) p.push_back({30.0 + k * (std::log10(s) - u0), 0.1});
+    return p;
+  };
+  std::vector<double> y;
+  for (const Prediction& p : slow_at(0.2)) y.push_back(p.mean);
+  const std::vector<Cell> cells = cells_at(kPhi, y, 0.3);
+  std::vector<Response> rs = {linear("absorption", {0.01, 0.05, 0.2}, fast, 30.0),
+                              Response{"absorption", {}, {}}};
+  add_knot(rs[1], 0.01, slow_at(0.01));  // the slow rate at the capacity the fast one fits first (~0.01)
+  const auto ems = [&] { return std::vector<Emulator>{Emulator(base, rs[0]), Emulator(base, rs[1])}; };
+  const ProfileFit before = fit_profile(cells, ems());
+  ASSERT_EQ(before.member, 0u) << "at its one knot the slow rate loses to the fast one";
+  EXPECT_TRUE(fit_strength(cells, ems()[1]).at_hi);
+  // The stage's order (fit_stage.cpp): the best member's own edge first, then another member's.
+  const auto fast_at = [&](double s) {
+    std::vector<Prediction> p;
+    for (double k : fast) p.push_back({30.0 + k * (std::log10(s) - u0), 0.1});
+    return p;
+  };
+  std::vector<std::pair<size_t, double>> asked;  // (member, strength), from next_member_edge
+  for (int round = 0; round < 8; ++round) {
+    const std::vector<Emulator> e = ems();
+    const ProfileFit pf = fit_profile(cells, e);
+    if (const double up = next_edge_knot(pf.fit, rs[pf.member], 1e-3, 0.3); up > 0) {
+      add_knot(rs[pf.member], up, pf.member == 0 ? fast_at(up) : slow_at(up));
+      continue;
+    }
+    const MemberEdge m = next_member_edge(cells, e, {&rs[0], &rs[1]}, pf.member, 1e-3, 0.3);
+    if (m.member == MemberEdge::npos) break;
+    asked.push_back({m.member, m.strength});
+    add_knot(rs[m.member], m.strength, m.member == 0 ? fast_at(m.strength) : slow_at(m.strength));
+  }
+  ASSERT_FALSE(asked.empty());
+  EXPECT_EQ(asked[0].first, 1u);
+  EXPECT_NEAR(asked[0].second, 0.03, 1e-12) << "a step of 3x past its one knot";
+  const ProfileFit after = fit_profile(cells, ems());
+  EXPECT_EQ(after.member, 1u) << "the slow rate, at its own best";
+  EXPECT_NEAR(std::log10(after.fit.strength), std::log10(0.2), 0.02);
+  EXPECT_LT(after.fit.chi2, 0.1 * before.fit.chi2);
+  // The physical range bounds it: with the upper end at 0.05 the slow rate stops there.
+  Response capped{"absorption", {}, {}};
+  add_knot(capped, 0.05, slow_at(0.05));
+  const std::vector<Emulator> ec = {Emulator(base, rs[0]), Emulator(base, capped)};
+  EXPECT_EQ(next_member_edge(cells, ec, {&rs[0], &capped}, 0, 1e-3, 0.05).member, MemberEdge::npos);
+}
