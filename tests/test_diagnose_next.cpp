@@ -25,13 +25,21 @@ TEST(DiagnoseVerdict, NextExperimentProposesConditionsBeyondTheTable) {
   const std::vector<Condition> p = propose_conditions(table, table[2], 30.0, 3.0, 10);
   std::vector<std::string> labels;
   for (const Condition& c : p) labels.push_back(c.label);
-  ASSERT_GE(labels.size(), 5u);
+  ASSERT_EQ(labels.size(), 7u);
   EXPECT_EQ(labels[0], "liquid.content=15 %");
   EXPECT_EQ(labels[1], "drum.rpm=60, liquid.content=10 %");
   EXPECT_EQ(labels[2], "drum.rpm=15, liquid.content=10 %");
   EXPECT_EQ(labels[3], "liquid.content=10 %, run.duration=12 s");
-  EXPECT_EQ(labels[4], "liquid.content=2.5 %");
+  EXPECT_EQ(labels[4], "liquid.content=20 %") << "two steps past, before the midpoints";
+  EXPECT_EQ(labels[5], "liquid.content=2.5 %");
+  EXPECT_EQ(labels[6], "liquid.content=7.5 %");
   EXPECT_EQ(propose_conditions(table, table[2], 30.0, 3.0, 2).size(), 2u);
+  // Uneven steps: the step is the gap between the two largest values (10 - 4), in the table's unit.
+  const std::vector<Condition> uneven = {cond("0 %", 0.0), cond("4 %", 0.04), cond("10 %", 0.10)};
+  const std::vector<Condition> pu = propose_conditions(uneven, uneven[2], 30.0, 3.0, 10);
+  ASSERT_GE(pu.size(), 5u);
+  EXPECT_EQ(pu[0].label, "liquid.content=16 %");
+  EXPECT_EQ(pu[4].label, "liquid.content=22 %");
   // Around a second base (the camera's best condition when an assay moved the first): the conditions the
   // first lacks, at most the count asked, after the first's.
   const std::vector<Condition> around_low = propose_conditions(table, table[1], 30.0, 3.0, 10);

@@ -255,7 +255,7 @@ void add_refit_separations(Procedure& p, const FreshCheck& a, const FreshCheck& 
 
 std::vector<Condition> propose_conditions(const std::vector<Condition>& table, const Condition& base,
                                           double model_rpm, double model_duration_s, size_t max) {
-  std::vector<Condition> beyond, between;
+  std::vector<Condition> beyond, further, between;
   std::set<std::string> keys;
   for (const Condition& c : table)
     for (const auto& v : c.values) keys.insert(v.key);
@@ -275,7 +275,11 @@ std::vector<Condition> propose_conditions(const std::vector<Condition>& table, c
     std::vector<double> si;
     for (const auto& [x, w] : vals) si.push_back(x);
     const auto written = [&](double x) { return fmt::format("{:.4g}{}", x * per_si, unit); };
-    beyond.push_back(with_value(base, key, written(si.back() + (si.back() - si[si.size() - 2]))));
+    const double step = si.back() - si[si.size() - 2];
+    beyond.push_back(with_value(base, key, written(si.back() + step)));
+    // Two steps past: a fingerprint that grows with the key may part two models only there, and a pair of
+    // measurements one and two steps past lets the re-fit see the trend (evaporation-strong: 15 % then 20 %).
+    further.push_back(with_value(base, key, written(si.back() + 2.0 * step)));
     for (size_t i = 0; i + 1 < si.size(); ++i)
       between.push_back(with_value(base, key, written(0.5 * (si[i] + si[i + 1]))));
   }
@@ -289,6 +293,7 @@ std::vector<Condition> propose_conditions(const std::vector<Condition>& table, c
   // noise.
   if (!keys.count("run.duration") && model_duration_s > 0)
     out.push_back(with_value(base, "run.duration", fmt::format("{:.4g} s", 4.0 * model_duration_s)));
+  out.insert(out.end(), further.begin(), further.end());
   out.insert(out.end(), between.begin(), between.end());
   std::vector<Condition> unique;
   for (const Condition& c : out) {

@@ -17,10 +17,11 @@ namespace wetdem::diagnose {
 // Fills Procedure::next (nothing when there is no tie, or next_conditions = 0).
 void run_next_experiment(Procedure& p);
 
-// The conditions proposed beyond the table, at most `max`: each is `base` with one key changed. For each
-// condition key of the table, the midpoints between its measured values and one step past the largest; then
-// the drum speed x2 and x1/2 and the run x4 longer when they are not condition keys. Values are written in
-// the unit the table uses for the key. Pure (tests).
+// The conditions proposed beyond the table, at most `max`: each is `base` with one key changed. In order:
+// for each condition key of the table one step past its largest value; the drum speed x2 and x1/2 and the run
+// x4 longer when they are not condition keys; each key two steps past its largest; the midpoints between its
+// measured values. A step is the gap between the two largest values. Values are written in the unit the
+// table uses for the key. Pure (tests).
 std::vector<Condition> propose_conditions(const std::vector<Condition>& table, const Condition& base,
                                           double model_rpm, double model_duration_s, size_t max);
 

@@ -29,6 +29,9 @@ expect "$D/d/diagnosis.json" "[(a['observable'], a['conditions'] >= 2, abs(a['se
 expect_text "$D/d/report.md" "aor_deg_std (assay, not in the table)" "the report does not mark the assay"
 expect "$D/d/diagnosis.json" "any('run.duration=1.2 s' in q['condition'] for q in $P)" \
   "no run four times as long (0.3 s -> 1.2 s) among the conditions"
+# Two steps past the table's largest content (0-5-10 % -> 20 %), run or noted as not runnable.
+expect "$D/d/diagnosis.json" "any(q['condition'] == 'liquid.content=20 %' for q in $P) or any('liquid.content=20 %' in n for n in j.get('notes', []))" \
+  "the content two steps past the table (20 %) was neither proposed nor noted"
 # The separation once each model re-fits its strength (refit_rise): at the table's conditions from the probes'
 # runs, and at the best conditions beyond it from the runs at every probed strength; at most the plain
 # separation up to the probes' noise (a re-fit can only help the rival), and the proposals rank by it.
