@@ -56,7 +56,7 @@ TEST(DiagnoseFiles, ShippedFilesParse) {
   ASSERT_EQ(r.refit.size(), 1u);
   EXPECT_EQ(refit_settings(r.refit).size(), 3u);
   EXPECT_TRUE(d.second_effect) << "a partial verdict fits a second effect unless the file says not";
-  EXPECT_EQ(d.reach_conditions, 3u) << "a candidate the table cannot see is tried beyond it by default";
+  EXPECT_EQ(d.reach_conditions, 5u) << "a candidate the table cannot see is tried beyond it by default";
   EXPECT_EQ(d.next_refit, 3u)
       << "the next experiment re-fits both tied models at three conditions by default";
   EXPECT_FALSE(

@@ -35,15 +35,17 @@ struct DiagnosisSpec {
   int extend = 3;
   int confirm = 1;             // re-fits of the chosen effect with its fresh runs as a knot (0-3, shrink.h)
   double max_cost = 10;        // a run needing more than this many times a baseline run's steps is not run
-  size_t next_conditions = 6;  // conditions the next-experiment stage may propose and run (0: none)
+  size_t next_conditions = 8;  // conditions the next-experiment stage may propose and run (0: none)
   // Of them, the best conditions at which both tied models also run at every strength they were probed at,
   // so that each can re-fit to the other's value there (next_experiment.h, refit_rise; 0: none).
   size_t next_refit = 3;
   // [assays]: observables the laboratory could add to the table (a washing assay of the free liquid), each
   // with the sd of one measurement. The next-experiment stage may propose them; nothing else reads them.
   std::map<std::string, double> assays;
-  size_t reach_conditions =
-      3;               // conditions beyond the table where a candidate it cannot see is run (power.h)
+  // Conditions beyond the table where a candidate it cannot see is run (power.h): 5 reaches two steps past
+  // the largest content and speed of a two-key table, where an effect that grows with them (lubrication with
+  // speed, hysteresis with the liquid) may first show.
+  size_t reach_conditions = 5;
   int replicates = 2;  // baseline and shrink seeds
   // Seeds per probe knot (1..replicates): the baseline's first seeds, as common random numbers. One seed is
   // enough where an effect shifts a mean; an effect that widens the run-to-run scatter (lubrication on the
