@@ -148,6 +148,31 @@ TEST(DiagnoseParagraph, ATieNamesBothAndAddsNeither) {
   EXPECT_NE(series.find("Made on every sample of the table (3 conditions), it separates them by 4.2 σ."),
             std::string::npos)
       << series;
+  // A pair when no single measurement is enough: whether it reaches what the verdict needs (the seed luck's
+  // 4.0 sigma after re-fit) is said either way.
+  r.next.series.clear();
+  r.next.proposals[0].refit_separation = 2.0;
+  r.next.needed = 4.0;
+  ProposalPair w;
+  w.first = r.next.proposals[0];
+  w.second = r.next.proposals[0];
+  w.second.condition = "drum.rpm=30, liquid.content=2.5 %";
+  w.refit_separation = 4.6;
+  r.next.pairs = {w};
+  const std::string enough = verdict_paragraph(r);
+  EXPECT_NE(enough.find("on its own this measurement may not decide"), std::string::npos) << enough;
+  EXPECT_NE(enough.find("**Better, two measurements together:**"), std::string::npos) << enough;
+  EXPECT_NE(enough.find("4.6 σ after re-fit (more than the single one made twice, √2 × 2.0)"),
+            std::string::npos)
+      << enough;
+  EXPECT_NE(enough.find("enough for the 4.0 σ the verdict needs"), std::string::npos) << enough;
+  r.next.pairs[0].refit_separation = 3.0;
+  const std::string short_pair = verdict_paragraph(r);
+  EXPECT_NE(short_pair.find("Even the pair is short of the 4.0 σ the verdict needs"), std::string::npos)
+      << short_pair;
+  EXPECT_EQ(short_pair.find("enough for"), std::string::npos) << short_pair;
+  r.next.pairs[0].refit_separation = 2.5;  // not above sqrt(2) x 2.0: the single measurement twice is as good
+  EXPECT_EQ(verdict_paragraph(r).find("two measurements together"), std::string::npos);
   r.next = {};
 
   // Three tied: all named, and "either" no longer fits.

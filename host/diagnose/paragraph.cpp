@@ -145,7 +145,7 @@ std::string tie_sentence(const Report& r) {
                     ". Even the pair is short of the {:.1f} σ the verdict needs: with more replicates the "
                     "seed luck, and so that need, falls",
                     needed)
-              : "");
+              : fmt::format(", enough for the {:.1f} σ the verdict needs", needed));
     }
     // The assay on every sample, only when that is the stronger experiment.
     if (!r.next.series.empty() && judged_separation(r.next.series.front().refit_separation,
