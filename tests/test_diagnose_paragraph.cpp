@@ -376,3 +376,46 @@ TEST(DiagnoseParagraph, ACandidatePassedOverOnItsFreshRunsIsSaid) {
       std::string::npos)
       << p;
 }
+
+// What the table cannot see past the file's probes (power.h, extend_reach): a candidate that shows only at a
+// strength stepped past the file's strongest probe is said with that strength, so the verdict's silence on it
+// is bounded; one still unseen says why its steps stopped (the end of the range, the cost guard).
+TEST(DiagnoseParagraph, TheReachPastTheProbesBoundsWhatTheVerdictIsSilentOn) {
+  Report r = unexplained(0.05);
+  r.verdict.kind = "no_gap";
+  r.cell_condition = {"0 %, 30 rpm", "10 %, 30 rpm", "10 %, 60 rpm"};
+  r.cells[2].observable = "surface_velocity_mps";
+  r.cells[0].observable = "aor_deg_std";
+  Reach v;
+  v.effect = "viscous";
+  v.strongest = 0.09, v.extended_from = 0.03, v.visible_from = 0.09;
+  v.max_z = 3.4, v.at = 0.09, v.cell = 2, v.by_probes = v.visible = true;
+  Reach h;
+  h.effect = "hysteresis";
+  h.strongest = 30, h.extended_from = 28, h.max_z = 1.2, h.cell = 0;
+  h.extension_stop = "physical limit";
+  Reach e;
+  e.effect = "evaporation";
+  e.strongest = 0.3, e.max_z = 0.8, e.cell = 0;
+  e.extension_stop = "max_cost";
+  r.reach = {v, h, e};
+  const std::string s = verdict_paragraph(r);
+  EXPECT_NE(s.find("**Seen only when strong:** `viscous` moves no cell by 3 σ up to the file's strongest "
+                   "probe, eta (Pa s) = 0.03, but does at 0.09 (3.4 σ on surface_velocity_mps at 10 %, 60 "
+                   "rpm)"),
+            std::string::npos)
+      << s;
+  EXPECT_NE(s.find("up to theta - theta_r (deg) = 30, the end of its physical range (closest"),
+            std::string::npos)
+      << s;
+  EXPECT_NE(s.find("up to 1/tau (1/s) = 0.3, the strongest max_cost lets run (closest"), std::string::npos)
+      << s;
+  // viscous shows, so it is not among what the table cannot see.
+  const std::string blind =
+      s.substr(s.find("cannot see:**"), s.find("**Seen only") - s.find("cannot see:**"));
+  EXPECT_EQ(blind.find("`viscous`"), std::string::npos) << blind;
+  EXPECT_NE(blind.find("`hysteresis`"), std::string::npos) << blind;
+  // Without a step past the probes there is no such sentence.
+  r.reach = {h, e};
+  EXPECT_EQ(verdict_paragraph(r).find("Seen only when strong"), std::string::npos);
+}

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "diagnose/baseline.h"
+#include "diagnose/effects.h"
 #include "diagnose/power.h"
 
 namespace wetdem::diagnose {
@@ -157,3 +158,27 @@ TEST(DiagnosePower, ThePairScreenCatchesWhatTheSeedsWouldConfirm) {
 
 }  // namespace
 }  // namespace wetdem::diagnose
+
+// The reach steps past the file's strongest probe (power.h, next_reach_strength) by the probes' ratio, at
+// least 3x, to the end of the range the model can realise, and stops where less than a quarter more is left.
+TEST(DiagnosePower, TheReachStepsPastTheProbesToTheEndOfTheRange) {
+  const std::vector<double> viscous = {0.003, 0.01, 0.03};
+  EXPECT_DOUBLE_EQ(next_reach_strength(0.03, viscous, 1.0), 0.1) << "x3.33, the probes' 0.003 -> 0.01";
+  EXPECT_DOUBLE_EQ(next_reach_strength(0.1, viscous, 1.0), 0.333);
+  EXPECT_DOUBLE_EQ(next_reach_strength(0.03, {0.01, 0.02, 0.03}, 1.0), 0.09) << "at least 3x";
+  EXPECT_DOUBLE_EQ(next_reach_strength(0.5, viscous, 1.0), 1.0) << "capped at the end of the range";
+  EXPECT_DOUBLE_EQ(next_reach_strength(0.9, viscous, 1.0), 0.0) << "1.0 is less than a quarter more";
+  EXPECT_DOUBLE_EQ(next_reach_strength(0.05, {0.01, 0.05}, 1.0), 0.25) << "the probes' own ratio, 5x";
+  EXPECT_DOUBLE_EQ(next_reach_strength(0.01, {0.01}, 1.0), 0.03) << "one probe: 3x";
+  EXPECT_DOUBLE_EQ(next_reach_strength(0.0, viscous, 1.0), 0.0) << "nothing ran";
+  // Hysteresis (θ - θ_r) cannot pass the model's θ: θ_r is floored at 0 (effects.cpp).
+  ModelFacts m;
+  m.theta_rad = 30.0 * 3.14159265358979323846 / 180.0;
+  const EffectSpec& h = effect_spec("hysteresis");
+  EXPECT_NEAR(h.realisable_hi(m), 30.0, 1e-9);
+  EXPECT_DOUBLE_EQ(next_reach_strength(28.0, h.probes, h.realisable_hi(m)), 0.0)
+      << "30 is not a quarter more";
+  EXPECT_NEAR(next_reach_strength(10.0, h.probes, h.realisable_hi(m)), 30.0, 1e-9)
+      << "x3.33 (the probes' 3 -> 10) is 33.3, capped at θ";
+  EXPECT_DOUBLE_EQ(effect_spec("viscous").realisable_hi(m), 1.0);
+}

@@ -96,6 +96,11 @@ std::string EffectSpec::not_applicable(const ModelFacts& m) const {
   return "";
 }
 
+double EffectSpec::realisable_hi(const ModelFacts& m) const {
+  if (name == "hysteresis" && m.theta_rad > 0) return std::min(phys_hi, m.theta_rad * 180.0 / kPi);
+  return phys_hi;
+}
+
 std::string EffectSpec::range_text() const {
   return fmt::format("{:g}-{:g}", phys_lo, phys_hi);
 }

@@ -39,6 +39,9 @@ struct EffectSpec {
   // The effect's overrides at its default (middle) shape.
   std::vector<std::string> overrides(double s, const ModelFacts& m) const;
   double default_shape() const { return shapes.empty() ? 0.0 : shapes[shapes.size() / 2]; }
+  // The strongest strength the model m can realise inside the physical range: phys_hi, except where the
+  // override saturates before it (hysteresis: θ_r is floored at 0, so θ - θ_r stops at the model's θ).
+  double realisable_hi(const ModelFacts& m) const;
   // Why the effect cannot act in the model m ("" when it can): plates in a periodic slice.
   std::string not_applicable(const ModelFacts& m) const;
   // The physical range of the strength and of the shape, for messages: "1e-4-1".

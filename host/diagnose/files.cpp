@@ -96,6 +96,7 @@ DiagnosisSpec parse_diagnosis_file(const std::string& path_in) {
                   "next_refit",
                   "assays",
                   "reach_conditions",
+                  "reach_steps",
                   "second_effect",
                   "set",
                   "probes",
@@ -224,6 +225,12 @@ DiagnosisSpec parse_diagnosis_file(const std::string& path_in) {
     if (!r || *r < 0 || *r > 20)
       throw DiagnoseError(fmt::format("{}: reach_conditions: an integer in [0, 20]", path));
     d.reach_conditions = size_t(*r);
+  }
+  if (root.contains("reach_steps")) {
+    const auto r = root["reach_steps"].value<int64_t>();
+    if (!r || *r < 0 || *r > 10)
+      throw DiagnoseError(fmt::format("{}: reach_steps: an integer in [0, 10]", path));
+    d.reach_steps = int(*r);
   }
   if (const auto* t = root["set"].as_table()) d.set = overrides_of(*t, path, "set");
   // [probes] (strengths) and [shapes] (second parameters): positive, ascending, inside the physical range

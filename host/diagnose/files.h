@@ -46,6 +46,10 @@ struct DiagnosisSpec {
   // the largest content and speed of a two-key table, where an effect that grows with them (lubrication with
   // speed, hysteresis with the liquid) may first show.
   size_t reach_conditions = 5;
+  // Steps past the file's strongest probe for a candidate that does not show even there (power.h,
+  // extend_reach): each one run per condition at the probes' step (x3), up to the physical range and
+  // max_cost, until it shows. "Unseen up to 0.03 Pa s" says little when the range goes to 1.
+  int reach_steps = 2;
   int replicates = 2;  // baseline and shrink seeds
   // Seeds per probe knot (1..replicates): the baseline's first seeds, as common random numbers. One seed is
   // enough where an effect shifts a mean; an effect that widens the run-to-run scatter (lubrication on the

@@ -212,10 +212,13 @@ std::string blind_sentence(const Report& r) {
                 ? fmt::format("`{}` (no probe of it could run)", x.effect)
                 : fmt::format(
                       "`{}` moves no cell by more than {:.1f} σ and the whole table by a χ² of {:.0f} "
-                      "(visible from {:.0f}) up to {} = {:.3g} (closest: {} at {}){}",
+                      "(visible from {:.0f}) up to {} = {:.3g}{} (closest: {} at {}){}",
                       x.effect, x.max_z, std::max(0.0, x.chi2_excess), visible_chi2_excess(r.cells.size()),
-                      effect_spec(x.effect).strength, x.strongest, r.cells[x.cell].observable,
-                      r.cell_condition[x.cell], beyond_clause(x));
+                      effect_spec(x.effect).strength, x.strongest,
+                      x.extension_stop.empty() || x.extension_stop == "reach_steps"
+                          ? std::string()
+                          : ", " + reach_stop_words(x.extension_stop),
+                      r.cells[x.cell].observable, r.cell_condition[x.cell], beyond_clause(x));
     ++n;
   }
   if (n == 0) return "";
@@ -224,6 +227,26 @@ std::string blind_sentence(const Report& r) {
       "{} "
       "would move by 3 σ or more is what could.",
       list, n == 1 ? "it" : "them", n == 1 ? "it" : "each");
+}
+
+// The candidates the table shows only past the file's strongest probe (power.h, extend_reach): the verdict's
+// silence on each holds only below the strength from which it would have moved a cell.
+std::string strong_only_sentence(const Report& r) {
+  std::string list;
+  for (const Reach& x : r.reach) {
+    if (!(x.visible_from > 0) || x.strongest <= 0) continue;
+    list += list.empty() ? "" : "; ";
+    list += fmt::format(
+        "`{}` moves no cell by 3 σ up to the file's strongest probe, {} = {:.3g}, but does "
+        "at {:.3g} ({:.1f} σ on {} at {})",
+        x.effect, effect_spec(x.effect).strength, x.extended_from, x.visible_from, x.max_z,
+        r.cells[x.cell].observable, r.cell_condition[x.cell]);
+  }
+  if (list.empty()) return "";
+  return fmt::format(
+      " **Seen only when strong:** {}. What the verdict says of such a candidate holds for strengths from "
+      "about there; below, this table cannot tell it from the model.",
+      list);
 }
 
 std::string verdict_core(const Report& r);
@@ -318,7 +341,7 @@ std::string passed_over_sentence(const Report& r) {
 
 std::string verdict_paragraph(const Report& r) {
   return verdict_core(r) + passed_over_sentence(r) + seen_sentence(r) + escalation_sentence(r) +
-         luck_sentence(r) + blind_sentence(r);
+         luck_sentence(r) + blind_sentence(r) + strong_only_sentence(r);
 }
 
 namespace {

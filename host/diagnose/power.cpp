@@ -74,6 +74,8 @@ std::vector<Reach> table_reach(const Procedure& p) {
     std::vector<double> shapes = {std::nan("")};  // NaN: the effect's default shape (not in a std::set)
     if (auto it = p.d.probes.find(e); it != p.d.probes.end())
       strengths.insert(it->second.begin(), it->second.end());
+    if (auto it = p.reach_strengths.find(e); it != p.reach_strengths.end())
+      strengths.insert(it->second.begin(), it->second.end());
     for (const std::vector<CandidateRuns>* list : {&p.fitted, &p.second.fitted})
       for (const CandidateRuns& c : *list) {
         if (c.effect != e) continue;
@@ -136,7 +138,80 @@ double reach_screen_z(size_t replicates, size_t probe_seeds) {
   return kVisibleZ * std::sqrt(double(np) / double(std::max(np, replicates)));
 }
 
+double next_reach_strength(double strongest, const std::vector<double>& probes, double hi) {
+  if (!(strongest > 0) || !(hi > 0)) return 0.0;
+  double step = 3.0;
+  for (size_t i = 1; i < probes.size(); ++i)
+    if (probes[i - 1] > 0) step = std::max(step, probes[i] / probes[i - 1]);
+  const double s = std::min(hi, std::stod(fmt::format("{:.3g}", strongest * step)));
+  return s >= 1.25 * strongest ? s : 0.0;
+}
+
 namespace {
+
+// Past the file's strongest probe (run_reach, between its two parts; power.h). Each step runs, for every
+// candidate still not shown, one strength more (one run per condition, the probe seeds), then re-reads the
+// reach. A step the cost guard refuses is tried once at the geometric middle (the damper's time step limits
+// viscous somewhere inside the range); a failed run ends the candidate's steps there, as in the fit stage.
+void extend_reach(Procedure& p) {
+  if (p.d.reach_steps <= 0) return;
+  std::map<std::string, double> from;
+  std::map<std::string, std::string> stop;
+  for (int step = 0; step < p.d.reach_steps; ++step) {
+    std::vector<Variant> asked;
+    std::vector<std::string> who;
+    for (const Reach& r : p.reach) {
+      if (r.visible || r.strongest <= 0 || stop.count(r.effect)) continue;
+      const EffectSpec& spec = effect_spec(r.effect);
+      const auto it = p.d.probes.find(r.effect);
+      const std::vector<double>& probes = it != p.d.probes.end() ? it->second : spec.probes;
+      double s = next_reach_strength(r.strongest, probes, spec.realisable_hi(p.models[0]));
+      if (s <= 0) {
+        stop[r.effect] = "physical limit";
+        continue;
+      }
+      std::string why;
+      for (int attempt = 0; attempt < 2 && s > 0; ++attempt) {
+        const Variant v = p.variant(r.effect, s);
+        if (const std::string f = p.failure(v, p.probe_seeds); !f.empty()) {
+          why = "failed";
+          p.notes.push_back(fmt::format("reach: {} failed before ({}); it is not stepped past {:.3g}",
+                                        v.label(), f, r.strongest));
+          break;
+        }
+        why = p.want(v, p.probe_seeds);
+        if (why.empty()) {
+          from.emplace(r.effect, r.strongest);
+          p.reach_strengths[r.effect].insert(s);
+          asked.push_back(v);
+          who.push_back(r.effect);
+          break;
+        }
+        p.notes.push_back(fmt::format("reach: {} {}", v.label(), why));
+        const double mid = std::stod(fmt::format("{:.3g}", std::sqrt(s * r.strongest)));
+        s = mid >= 1.25 * r.strongest ? mid : 0.0;
+      }
+      if (!why.empty()) stop[r.effect] = why == "failed" ? why : "max_cost";
+    }
+    if (asked.empty()) break;
+    p.run();
+    for (size_t i = 0; i < asked.size(); ++i)
+      if (const std::string why = p.failure(asked[i], p.probe_seeds); !why.empty()) {
+        p.notes.push_back(
+            fmt::format("reach: {} failed ({}); the reach is that of a weaker probe", asked[i].label(), why));
+        stop[who[i]] = "failed";
+      }
+    p.reach = table_reach(p);
+  }
+  for (Reach& r : p.reach) {
+    const auto f = from.find(r.effect);
+    if (f != from.end()) r.extended_from = f->second;
+    if (f != from.end() && r.by_probes)  // unseen up to `from`: the strongest step that ran is the one
+      r.visible_from = r.strongest;
+    else if (!r.visible && r.strongest > 0)
+      r.extension_stop = stop.count(r.effect) ? stop[r.effect] : "reach_steps";
+  }
+}
 
 // Where a candidate the table cannot see would show (run_reach, second part).
 void run_beyond(Procedure& p) {
@@ -283,6 +358,7 @@ void run_reach(Procedure& p) {
             fmt::format("reach: {} failed ({}); the reach is that of a weaker probe", v.label(), why));
     p.reach = table_reach(p);
   }
+  extend_reach(p);
   run_beyond(p);
 }
 

@@ -89,7 +89,18 @@ struct Reach {
   double fresh_at = 0.0, fresh_max_z = 0.0, fresh_chi2_excess = 0.0;
   size_t fresh_cell = 0;
   bool seen_on_fresh = false;  // shows(fresh shift), whatever the probes showed
+  // Past the file's strongest probe (extend_reach): the strongest strength that had run before (0: not
+  // extended), the strength from which the probes show it (0: they never do), and why the steps stopped
+  // while it did not show ("physical limit", "max_cost", "failed", "reach_steps").
+  double extended_from = 0.0;
+  double visible_from = 0.0;
+  std::string extension_stop;
 };
+
+// The next strength past `strongest` for a candidate the table does not show (extend_reach): one step of the
+// probes' largest ratio (at least 3x, as the fit extends its range: fit.h, next_edge_knot), to 3 digits,
+// capped at `hi`; 0 when what is left below `hi` is less than a quarter more (nothing worth a run).
+double next_reach_strength(double strongest, const std::vector<double>& probes, double hi);
 
 // Before the verdict (stage 5): the fitted candidates whose runs so far (every strength the fit ran, its
 // extended range included) move no cell by kVisibleZ and the table's χ² by less than visible_chi2_excess go
@@ -115,6 +126,10 @@ std::vector<Reach> table_reach(const Procedure& p);
 // stage's proposals around its closest cell: one step past the largest measured value of each condition key,
 // the midpoints, another drum speed, a longer run) with its strongest probe and the baseline, seed 1 each
 // (common random numbers): the measurement that could show it. Fills p.reach.
+// Between the two, extend_reach: a candidate that does not show even at the file's strongest probe steps on
+// (next_reach_strength, one run per condition, up to `reach_steps` steps), to the realisable end of its
+// physical range or the strongest max_cost allows, until it shows. The report then says from which strength
+// the table would show it, or that it stays unseen over the whole range that can be run.
 void run_reach(Procedure& p);
 
 }  // namespace wetdem::diagnose

@@ -6,6 +6,7 @@
 
 #include <limits>
 #include <map>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -152,7 +153,8 @@ class Procedure {
   std::vector<FreshCheck> confirmations;  // the chosen one's fresh check at every strength the rounds ran
   NextExperiment next;
   SecondRound second;
-  std::vector<Reach> reach;                  // what the table can see of every candidate (power.h)
+  std::vector<Reach> reach;  // what the table can see of every candidate (power.h)
+  std::map<std::string, std::set<double>> reach_strengths;  // per effect: strengths run past its probes
   std::vector<std::string> unseen;           // fitted candidates whose runs the table cannot see (power.h)
   std::vector<std::string> unseen_rejected;  // of them, tied held out but clearly worse on fresh runs
   std::vector<std::string> seen_on_fresh;    // of them, shown by their fresh runs (power.h, fresh_shift)

@@ -92,6 +92,8 @@ std::string strength_text(const Candidate& c, const CandidateRuns* runs);
 // What the table can see of each candidate (power.h, every candidate's largest shift over its probe runs and
 // its fresh runs): report.md's section and diagnosis.json's "reach" (report_reach.cpp).
 std::string reach_markdown(const Report& r);
+// Why a candidate's reach stopped where it still does not show (Reach::extension_stop), in words.
+std::string reach_stop_words(const std::string& stop);
 nlohmann::json reach_json(const Report& r);
 
 // The measurement that would separate two tied effects (next_experiment.h): report.md's section (empty when

@@ -20,6 +20,14 @@ std::string inflation_text(const std::map<std::string, double>& f) {
 
 }  // namespace
 
+std::string reach_stop_words(const std::string& stop) {
+  if (stop == "physical limit") return "the end of its physical range";
+  if (stop == "max_cost") return "the strongest max_cost lets run";
+  if (stop == "failed") return "stronger runs failed";
+  if (stop == "reach_steps") return "reach_steps taken";
+  return stop;
+}
+
 std::string reach_markdown(const Report& r) {
   if (r.reach.empty()) return "";
   std::string md = fmt::format(
@@ -29,9 +37,11 @@ std::string reach_markdown(const Report& r) {
       "reaches "
       "{:g} σ or the excess reaches {:.1f} (the 1 % excess of a χ² over {} cells); one that is not, even at "
       "the "
-      "strongest strength probed, is one this table cannot show, and the verdict says nothing about it. Such "
-      "a "
-      "candidate was also run beside the baseline at conditions beyond the table ({} each, and the "
+      "strongest strength probed, is one this table cannot show, and the verdict says nothing about it. One "
+      "that does not show at the file's strongest probe is first stepped past it (one run per condition a "
+      "step, the probes' ratio, up to {} steps, the end of its physical range or the strongest max_cost lets "
+      "run). Such a candidate was also run beside the baseline at conditions beyond the table ({} each, and "
+      "the "
       "baseline's other seeds too where they differ by {:.2f} σ, {:g} σ √(P/R); noise the "
       "table's median σ of the observable, each run's own error scaled to the seed spread of the baseline's "
       "replicates: {}): where it would show. The fresh runs of a fitted candidate (R seeds at its fitted "
@@ -39,7 +49,7 @@ std::string reach_markdown(const Report& r) {
       "+ se_f² + se_c²): a candidate they show is seen, whatever its single probe runs showed.\n\n"
       "| effect | strongest probed | largest shift (σ) | at strength | cell | χ² excess | fresh runs | "
       "visible | beyond the table |\n|---|---|---|---|---|---|---|---|---|\n",
-      kVisibleZ, visible_chi2_excess(r.cells.size()), r.cells.size(),
+      kVisibleZ, visible_chi2_excess(r.cells.size()), r.cells.size(), r.spec->reach_steps,
       r.spec->probe_seeds == 1 ? std::string("one run") : fmt::format("{} runs", r.spec->probe_seeds),
       reach_screen_z(size_t(r.spec->replicates), size_t(r.spec->probe_seeds)), kVisibleZ,
       inflation_text(r.within_inflation));
@@ -60,8 +70,13 @@ std::string reach_markdown(const Report& r) {
                 : std::string();
     // Visible on the fresh runs alone: say so, the probes' columns show no shift.
     const char* visible = !x.visible ? "**no**" : x.by_probes ? "yes" : "yes (fresh runs)";
-    md += fmt::format("| {} | {:.3g} | {:.1f} | {:.3g} | {} at {} | {:.1f} | {} | {} | {} |\n", x.effect,
-                      x.strongest, x.max_z, x.at, r.cells[x.cell].observable, r.cell_condition[x.cell],
+    // Past the file's probes (extend_reach): from where, and why it stopped where it still does not show.
+    std::string strongest = fmt::format("{:.3g}", x.strongest);
+    if (x.extended_from > 0) strongest += fmt::format(" (stepped past the file's {:.3g})", x.extended_from);
+    if (!x.visible && !x.extension_stop.empty())
+      strongest += fmt::format("; {}", reach_stop_words(x.extension_stop));
+    md += fmt::format("| {} | {} | {:.1f} | {:.3g} | {} at {} | {:.1f} | {} | {} | {} |\n", x.effect,
+                      strongest, x.max_z, x.at, r.cells[x.cell].observable, r.cell_condition[x.cell],
                       x.chi2_excess, fresh, visible, beyond);
   }
   return md + "\n";
@@ -80,6 +95,9 @@ nlohmann::json reach_json(const Report& r) {
                    {"chi2_excess_at_strength", x.chi2_at},
                    {"chi2_excess_visible_from", visible_chi2_excess(r.cells.size())},
                    {"visible", x.visible},
+                   {"extended_from", x.extended_from},
+                   {"visible_from", x.visible_from},
+                   {"extension_stop", x.extension_stop},
                    {"beyond_tried", x.beyond_tried},
                    {"beyond_condition", x.beyond_condition},
                    {"beyond_observable", x.beyond_observable},

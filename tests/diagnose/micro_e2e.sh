@@ -38,6 +38,14 @@ expect "$D/dn/diagnosis.json" 'j["verdict"] != "effect"' "a null twin got an eff
 # A candidate the table cannot see was run beyond the table (power.h, reach_conditions), and the verdict says so.
 expect "$D/dn/diagnosis.json" 'all(r["visible"] or r["beyond_tried"] for r in j["reach"] if r["strongest_probed"] > 0)' \
   "a candidate the table cannot see was not tried beyond it" "$D/dn/report.md"
+# One that does not show at the file's strongest probe is stepped past it (power.h, extend_reach) up to the
+# end of the range it can run: a strength beyond the file's probes, or the reason it stopped, for each.
+expect "$D/dn/diagnosis.json" 'all(r["visible"] or r["extension_stop"] for r in j["reach"] if r["strongest_probed"] > 0)' \
+  "an unseen candidate's reach does not say why it stopped" "$D/dn/report.md"
+expect "$D/dn/diagnosis.json" 'all(r["strongest_probed"] > r["extended_from"] for r in j["reach"] if r["extended_from"] > 0)' \
+  "a reach stepped past the probes without a stronger run"
+expect "$D/dn/diagnosis.json" 'any(r["extended_from"] > 0 for r in j["reach"])' \
+  "no unseen candidate was stepped past the file's strongest probe" "$D/dn/report.md"
 # A candidate the table cannot see is never the one named (power.h, mark_unseen).
 expect "$D/ds/diagnosis.json" 'j["effect"] not in j["not_named_unseen"]' "an effect the table cannot see was named"
 # "To see it, measure O at C" is never said on one run pair: a 3 sigma shift beyond the table is confirmed on
