@@ -228,10 +228,12 @@ def next_experiment(j, out):
         where = "table" if q["in_table"] else "new"
         tag = f" [assay, {where}]" if q["assay"] else f" [{where}]"
         rows.append((f"{q['observable']} at {q['condition']}{tag}", q["separation"], q.get("refit_separation")))
+    groups = [len(rows)]  # where the pairs start, then the series: a line between the groups
     for w in (nx.get("pairs") or [])[:3]:
         rows.append((f"pair: {w['first']['observable']} at {w['first']['condition']}\n"
                      f"   + {w['second']['observable']} at {w['second']['condition']}",
                      w["separation"], w["refit_separation"]))
+    groups.append(len(rows))
     for s in nx.get("assay_series") or []:
         rows.append((f"{s['observable']} on every sample ({s['conditions']} conditions)", s["separation"],
                      s.get("refit_separation")))
@@ -240,16 +242,22 @@ def next_experiment(j, out):
     ax.barh(y, [r[1] for r in rows], color="lightsteelblue", label=f"the fitted models ({a}, {b}) apart")
     ax.barh(y, [r[2] if r[2] is not None else 0 for r in rows], height=0.45, color="tab:blue",
             label="left once each re-fits its strength")
+    for g in sorted(set(groups)):
+        if 0 < g < len(rows):
+            ax.axhline(g - 0.5, color="0.6", lw=0.8, ls="--")
     for i, r in enumerate(rows):
-        ax.text(r[1], i, f" {r[1]:.2g}" + (f" / {r[2]:.2g}" if r[2] is not None else " / not re-fitted"),
+        # After the longer of the two bars: a re-fit can leave more apart than the plain fit (a rival that
+        # cannot follow the other's value there), and the label must not sit on its bar.
+        ax.text(max(r[1], r[2] or 0.0), i, f" {r[1]:.2g}" + (f" / {r[2]:.2g}" if r[2] is not None else " / not re-fitted"),
                 va="center", fontsize=7)
     need = max(2.0, nx.get("needed_separation") or 0.0)
     ax.axvline(need, color="tab:red", ls=":", lw=1.2, label=f"what the verdict needs: {need:.2g} σ")
     ax.set_yticks(list(y), [r[0] for r in rows], fontsize=7)
     ax.invert_yaxis()
-    ax.set_xlim(right=max(max(r[1] for r in rows), need) * 1.3)
+    ax.set_xlim(right=max(max(max(r[1], r[2] or 0.0) for r in rows), need) * 1.3)
     ax.set_xlabel("separation (σ of the measurement and both models' errors)")
-    ax.set_title(f"Next experiment: {a} or {b}? (best first, by what is left after the re-fit)", fontsize=9)
+    ax.set_title(f"Next experiment: {a} or {b}? (single measurements, pairs, series; each best first by what is left after the re-fit)",
+                 fontsize=9)
     ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.07 - 0.35 / len(rows)), ncol=3, frameon=False)
     fig.tight_layout()
     fig.savefig(os.path.join(out, "next_experiment.png"), dpi=120, bbox_inches="tight")
