@@ -191,7 +191,10 @@ void extend_reach(Procedure& p) {
         const double mid = std::stod(fmt::format("{:.3g}", std::sqrt(s * r.strongest)));
         s = mid >= 1.25 * r.strongest ? mid : 0.0;
       }
-      if (!why.empty()) stop[r.effect] = why == "failed" ? why : "max_cost";
+      if (!why.empty())
+        stop[r.effect] = why == "failed"                             ? why
+                         : why.find("max_cost") != std::string::npos ? "max_cost"
+                                                                     : "cannot run";
     }
     if (asked.empty()) break;
     p.run();

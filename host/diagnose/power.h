@@ -91,7 +91,7 @@ struct Reach {
   bool seen_on_fresh = false;  // shows(fresh shift), whatever the probes showed
   // Past the file's strongest probe (extend_reach): the strongest strength that had run before (0: not
   // extended), the strength from which the probes show it (0: they never do), and why the steps stopped
-  // while it did not show ("physical limit", "max_cost", "failed", "reach_steps").
+  // while it did not show ("physical limit", "max_cost", "failed", "cannot run", "reach_steps").
   double extended_from = 0.0;
   double visible_from = 0.0;
   std::string extension_stop;

@@ -24,6 +24,7 @@ std::string reach_stop_words(const std::string& stop) {
   if (stop == "physical limit") return "the end of its physical range";
   if (stop == "max_cost") return "the strongest max_cost lets run";
   if (stop == "failed") return "stronger runs failed";
+  if (stop == "cannot run") return "stronger runs cannot be set up (see the notes)";
   if (stop == "reach_steps") return "reach_steps taken";
   return stop;
 }
