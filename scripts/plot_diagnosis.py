@@ -7,6 +7,9 @@ observables.png  each observable against its condition: observations with error 
 ranking.png      held-out chi^2 of every fitted candidate against the null model (with refit: each one's setting),
                  each runner-up's near-tie zone (run fresh when its bar ends in it) and what the fresh runs made of
                  it (named, tied, or dropped with its fresh chi^2)
+reach.png        what the table can see: each candidate's largest shift (sigma) in the table at the strongest
+                 strength that ran (stepped past the file's probes where it showed nothing), beyond the table,
+                 and on its fresh runs, against the 3 sigma from which a cell shows it
 next_experiment.png  when two effects tie: the best measurements that would separate them (and pairs of them,
                  and an assay on every sample), each as the fitted models' separation and what is left once each
                  model re-fits its strength to the other's value, against the separation the verdict needs
@@ -214,6 +217,45 @@ def main(d):
     fig.savefig(os.path.join(out, "ranking.png"), dpi=120, bbox_inches="tight")
     plt.close(fig)
     next_experiment(j, out)
+    reach(j, out)
+
+
+def reach(j, out):
+    """What the table can see of each candidate (diagnosis.md, stage 8; power.h)."""
+    rows = [r for r in (j.get("reach") or []) if r.get("strongest_probed", 0) > 0]
+    if not rows:
+        return
+    fig, ax = plt.subplots(figsize=(9.5, 1.3 + 0.5 * len(rows)))
+    y = list(range(len(rows)))
+    table = [r["max_abs_z"] for r in rows]
+    beyond = [r.get("beyond_max_abs_z", 0.0) if r.get("beyond_condition") else 0.0 for r in rows]
+    ax.barh(y, table, color="lightsteelblue", label="in the table (probe runs, strongest that ran)")
+    ax.barh(y, beyond, height=0.4, color="tab:orange", label="beyond the table (where it comes closest)")
+    fresh = [(i, r["fresh"]["max_abs_z"]) for i, r in enumerate(rows) if r.get("fresh")]
+    if fresh:
+        ax.plot([f[1] for f in fresh], [f[0] for f in fresh], "k^", ms=6, label="fresh runs at the fitted strength")
+    labels = []
+    for i, r in enumerate(rows):
+        top = max(table[i], beyond[i], r["fresh"]["max_abs_z"] if r.get("fresh") else 0.0)
+        where = (f"table: {r['cell']}" if table[i] >= beyond[i]
+                 else f"beyond: {r['beyond_observable']} at {r['beyond_condition']}")
+        ax.text(top, i, f"  {where}", va="center", fontsize=6.5)
+        lab = f"{r['effect']} up to {r['strongest_probed']:.3g}"
+        if r.get("extended_from", 0) > 0:
+            lab += f"\n(stepped past the file's {r['extended_from']:.3g})"
+        labels.append(lab + ("" if r["visible"] else "  [unseen]"))
+    ax.axvline(3.0, color="tab:red", ls=":", lw=1.2, label="3 σ: a cell shows it")
+    ax.set_yticks(y, labels, fontsize=7)
+    ax.invert_yaxis()
+    right = max(max(table), max(beyond), max((f[1] for f in fresh), default=0.0), 3.0)
+    ax.set_xlim(0, right * 1.9)
+    ax.set_xlabel("largest shift of one cell (σ of the cell's noise and the runs' own)")
+    ax.set_title("What this table can see: each candidate against the model without it", fontsize=9)
+    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.1 - 0.4 / len(rows)), ncol=2,
+              frameon=False)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "reach.png"), dpi=120, bbox_inches="tight")
+    plt.close(fig)
 
 
 def next_experiment(j, out):

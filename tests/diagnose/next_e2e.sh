@@ -46,4 +46,5 @@ expect_text "$D/d/report.md" "after re-fit (σ)" "the report has no separation a
 # The figure of the next experiment (plot_diagnosis.py), drawn from this diagnosis.json.
 /usr/bin/python3 "$SRC/scripts/plot_diagnosis.py" "$D/d" > "$D/plot.log" 2>&1 || { cat "$D/plot.log"; echo "FAIL: plot_diagnosis.py"; exit 1; }
 [ -s "$D/d/figures/next_experiment.png" ] || { echo "FAIL: no figures/next_experiment.png for a tie"; exit 1; }
+[ -s "$D/d/figures/reach.png" ] || { echo "FAIL: no figures/reach.png (what the table can see)"; exit 1; }
 echo "next-experiment e2e: $(($(date +%s) - t0)) s"
