@@ -244,8 +244,8 @@ std::string strong_only_sentence(const Report& r) {
   }
   if (list.empty()) return "";
   return fmt::format(
-      " **Seen only when strong:** {}. What the verdict says of such a candidate holds for strengths from "
-      "about there; below, this table cannot tell it from the model.",
+      " **Seen only when strong:** {}. Below that strength this table cannot tell it from the model, so "
+      "the verdict neither finds nor excludes it there; stronger, it would have moved a cell.",
       list);
 }
 
