@@ -242,7 +242,7 @@ def reach(j, out):
         ax.text(top, i, f"  {where}", va="center", fontsize=6.5)
         lab = f"{r['effect']} up to {r['strongest_probed']:.3g}"
         if r.get("extended_from", 0) > 0:
-            lab += f"\n(stepped past the file's {r['extended_from']:.3g})"
+            lab += f"\n(stepped past {r['extended_from']:.3g})"
         labels.append(lab + ("" if r["visible"] else "  [unseen]"))
     ax.axvline(3.0, color="tab:red", ls=":", lw=1.2, label="3 σ: a cell shows it")
     ax.set_yticks(y, labels, fontsize=7)

@@ -400,8 +400,9 @@ TEST(DiagnoseParagraph, TheReachPastTheProbesBoundsWhatTheVerdictIsSilentOn) {
   e.extension_stop = "max_cost";
   r.reach = {v, h, e};
   const std::string s = verdict_paragraph(r);
-  EXPECT_NE(s.find("**Seen only when strong:** `viscous` moves no cell by 3 σ up to the file's strongest "
-                   "probe, eta (Pa s) = 0.03, but does at 0.09 (3.4 σ on surface_velocity_mps at 10 %, 60 "
+  EXPECT_NE(s.find("**Seen only when strong:** `viscous` moves no cell by 3 σ up to the strongest "
+                   "strength probed before, eta (Pa s) = 0.03, but does at 0.09 (3.4 σ on "
+                   "surface_velocity_mps at 10 %, 60 "
                    "rpm)"),
             std::string::npos)
       << s;

@@ -237,7 +237,7 @@ std::string strong_only_sentence(const Report& r) {
     if (!(x.visible_from > 0) || x.strongest <= 0) continue;
     list += list.empty() ? "" : "; ";
     list += fmt::format(
-        "`{}` moves no cell by 3 σ up to the file's strongest probe, {} = {:.3g}, but does "
+        "`{}` moves no cell by 3 σ up to the strongest strength probed before, {} = {:.3g}, but does "
         "at {:.3g} ({:.1f} σ on {} at {})",
         x.effect, effect_spec(x.effect).strength, x.extended_from, x.visible_from, x.max_z,
         r.cells[x.cell].observable, r.cell_condition[x.cell]);

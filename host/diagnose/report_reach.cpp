@@ -73,7 +73,7 @@ std::string reach_markdown(const Report& r) {
     const char* visible = !x.visible ? "**no**" : x.by_probes ? "yes" : "yes (fresh runs)";
     // Past the file's probes (extend_reach): from where, and why it stopped where it still does not show.
     std::string strongest = fmt::format("{:.3g}", x.strongest);
-    if (x.extended_from > 0) strongest += fmt::format(" (stepped past the file's {:.3g})", x.extended_from);
+    if (x.extended_from > 0) strongest += fmt::format(" (stepped past {:.3g})", x.extended_from);
     if (!x.visible && !x.extension_stop.empty())
       strongest += fmt::format("; {}", reach_stop_words(x.extension_stop));
     md += fmt::format("| {} | {} | {:.1f} | {:.3g} | {} at {} | {:.1f} | {} | {} | {} |\n", x.effect,
