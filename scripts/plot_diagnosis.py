@@ -290,16 +290,16 @@ def next_experiment(j, out):
     for i, r in enumerate(rows):
         # After the longer of the two bars: a re-fit can leave more apart than the plain fit (a rival that
         # cannot follow the other's value there), and the label must not sit on its bar.
-        ax.text(max(r[1], r[2] or 0.0), i, f" {r[1]:.2g}" + (f" / {r[2]:.2g}" if r[2] is not None else " / not re-fitted"),
-                va="center", fontsize=7)
+        value = f" {r[1]:.2g}" + (f" / {r[2]:.2g}" if r[2] is not None else " / not re-fitted")
+        ax.text(max(r[1], r[2] or 0.0), i, value, va="center", fontsize=7)
     need = max(2.0, nx.get("needed_separation") or 0.0)
     ax.axvline(need, color="tab:red", ls=":", lw=1.2, label=f"what the verdict needs: {need:.2g} σ")
     ax.set_yticks(list(y), [r[0] for r in rows], fontsize=7)
     ax.invert_yaxis()
     ax.set_xlim(right=max(max(max(r[1], r[2] or 0.0) for r in rows), need) * 1.3)
     ax.set_xlabel("separation (σ of the measurement and both models' errors)")
-    ax.set_title(f"Next experiment: {a} or {b}? (single measurements, pairs, series; each best first by what is left after the re-fit)",
-                 fontsize=9)
+    ax.set_title(f"Next experiment: {a} or {b}? (single measurements, pairs, series; "
+                 "each best first by what is left after the re-fit)", fontsize=9)
     ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.07 - 0.35 / len(rows)), ncol=3, frameon=False)
     fig.tight_layout()
     fig.savefig(os.path.join(out, "next_experiment.png"), dpi=120, bbox_inches="tight")

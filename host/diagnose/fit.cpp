@@ -323,12 +323,18 @@ double next_knot(const std::vector<Cell>& cells, const std::vector<Prediction>& 
   return s;
 }
 
+double probe_step(const std::vector<double>& strengths) {
+  double step = 3.0;
+  for (size_t i = 1; i < strengths.size(); ++i)
+    if (strengths[i - 1] > 0) step = std::max(step, strengths[i] / strengths[i - 1]);
+  return step;
+}
+
 double next_edge_knot(const StrengthFit& f, const Response& r, double phys_lo, double phys_hi,
                       int* at_limit) {
   if (at_limit) *at_limit = 0;
   if (r.strengths.empty()) return 0.0;
-  double step = 3.0;  // the probes' largest ratio, at least 3x
-  for (size_t i = 1; i < r.strengths.size(); ++i) step = std::max(step, r.strengths[i] / r.strengths[i - 1]);
+  const double step = probe_step(r.strengths);
   const auto round3 = [](double s) { return std::stod(fmt::format("{:.3g}", s)); };
   if (f.at_hi || f.open_hi) {
     const double top = r.strengths.back();

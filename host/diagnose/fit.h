@@ -141,6 +141,9 @@ double next_knot(const std::vector<Cell>& cells, const std::vector<Prediction>& 
 // exhausted (then `*at_limit` says which end: -1 low, +1 high).
 double next_edge_knot(const StrengthFit& f, const Response& r, double phys_lo, double phys_hi,
                       int* at_limit = nullptr);
+// The step by which a probed range is extended past its end: the strengths' largest ratio, at least 3x
+// (next_edge_knot; the reach past the file's probes, power.h).
+double probe_step(const std::vector<double>& strengths);
 
 // The profile (fit_profile) compares the members at their own best strengths. A member probed at one strength
 // only (a shape added at the strength fitted at the default shape) has its best beyond its knots when its

@@ -6,8 +6,10 @@
 #include <cmath>
 #include <set>
 
+#include "diagnose/fit.h"
 #include "diagnose/next_experiment.h"
 #include "diagnose/procedure.h"
+#include "diagnose/shrink.h"
 #include "diagnose/where.h"
 
 namespace wetdem::diagnose {
@@ -140,10 +142,7 @@ double reach_screen_z(size_t replicates, size_t probe_seeds) {
 
 double next_reach_strength(double strongest, const std::vector<double>& probes, double hi) {
   if (!(strongest > 0) || !(hi > 0)) return 0.0;
-  double step = 3.0;
-  for (size_t i = 1; i < probes.size(); ++i)
-    if (probes[i - 1] > 0) step = std::max(step, probes[i] / probes[i - 1]);
-  const double s = std::min(hi, std::stod(fmt::format("{:.3g}", strongest * step)));
+  const double s = std::min(hi, rounded_strength(strongest * probe_step(probes)));
   return s >= 1.25 * strongest ? s : 0.0;
 }
 
@@ -179,6 +178,7 @@ void extend_reach(Procedure& p) {
                                         v.label(), f, r.strongest));
           break;
         }
+        const bool costly = p.cost(v) > p.d.max_cost;
         why = p.want(v, p.probe_seeds);
         if (why.empty()) {
           from.emplace(r.effect, r.strongest);
@@ -188,13 +188,11 @@ void extend_reach(Procedure& p) {
           break;
         }
         p.notes.push_back(fmt::format("reach: {} {}", v.label(), why));
-        const double mid = std::stod(fmt::format("{:.3g}", std::sqrt(s * r.strongest)));
+        why = costly ? "max_cost" : "cannot run";
+        const double mid = rounded_strength(std::sqrt(s * r.strongest));
         s = mid >= 1.25 * r.strongest ? mid : 0.0;
       }
-      if (!why.empty())
-        stop[r.effect] = why == "failed"                             ? why
-                         : why.find("max_cost") != std::string::npos ? "max_cost"
-                                                                     : "cannot run";
+      if (!why.empty()) stop[r.effect] = why;
     }
     if (asked.empty()) break;
     p.run();

@@ -156,16 +156,21 @@ Variant Procedure::variant(const std::string& effect, double s, size_t j, double
   return v;
 }
 
+double Procedure::cost(const Variant& v) const {
+  if (!(base_steps > 0)) return 0.0;
+  double worst = 0;
+  for (const Condition& c : tab.conditions) worst = std::max(worst, book.steps(c, v));
+  return worst / base_steps;
+}
+
 std::string Procedure::want(const Variant& v, const std::vector<uint64_t>& seeds) {
   // The cost guard: a variant whose time step is far below the baseline's (the lubrication damper's limit at
   // a high viscosity) is not run; the stage cuts the candidate's range there.
-  double worst = 0;
-  for (const Condition& c : tab.conditions) worst = std::max(worst, book.steps(c, v));
-  if (base_steps > 0 && worst > d.max_cost * base_steps)
+  if (const double x = cost(v); x > d.max_cost)
     return fmt::format(
         "not run: {:.3g}x the steps of a baseline run (max_cost = {:g}; its time step is limited "
         "by the lubrication damper or a finer scaling)",
-        worst / base_steps, d.max_cost);
+        x, d.max_cost);
   try {
     for (Condition& c : tab.conditions) book.want(c, v, seeds);
   } catch (const study::StudyError& e) {

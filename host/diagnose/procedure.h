@@ -164,6 +164,9 @@ class Procedure {
   // The effect (none: "") at strength s, refit setting j, shape value (NaN: the effect's default shape).
   Variant variant(const std::string& effect, double s, size_t j = 0,
                   double shape = std::numeric_limits<double>::quiet_NaN()) const;
+  // The most steps v needs at any condition of the table, in baseline runs (0 when unknown): the cost guard's
+  // measure (want refuses above max_cost).
+  double cost(const Variant& v) const;
   // Every condition of the table, with these seeds. "" when wanted; else why it will not run (its cost).
   std::string want(const Variant& v, const std::vector<uint64_t>& seeds);
   // The fitted candidates' families (one emulator per member), the unseen included (decide_seen).
