@@ -385,12 +385,20 @@ std::string verdict_core(const Report& r) {
       const FreshCheck* f2 = r.second_fresh();
       const EffectSpec& eb = effect_spec(b->effect);
       const std::string left2 = f2 ? left_text(r, f2->gaps_after) : std::string();
+      // Taken on through the joint fit (pair_fit.h): the pair's held-out χ² has both strengths re-fitted.
+      const SecondRound& s2 = r.second;
+      const std::string joint = s2.joint ? fmt::format(" (fitted jointly: `{}` re-fitted to {:.3g} with it)",
+                                                       c.effect, s2.pair_first)
+                                         : "";
+      const double held = s2.joint ? s2.joint_loco : b->loco;
       const std::string pair = fmt::format(
-          "`{}` alone left cells significant, so the other candidates were fitted on top of it: `{}` ({}) "
+          "`{}` alone left cells significant, so the other candidates were fitted on top of it{}: `{}` ({}) "
           "with "
           "{} = {} explains what it leaves (held-out χ² {:.1f} against {:.1f} for `{}` alone){}",
-          c.effect, b->effect, eb.fingerprint, eb.strength, strength_text(*b, r.second_runs_of(b->effect)),
-          b->loco, r.second.verdict.null_loco, c.effect,
+          c.effect, joint, b->effect, eb.fingerprint, eb.strength,
+          s2.joint ? fmt::format("{:.3g}", s2.fresh.strength)
+                   : strength_text(*b, r.second_runs_of(b->effect)),
+          held, r.second.verdict.null_loco, c.effect,
           f2 ? fmt::format(", and fresh runs of both bring χ² to {:.1f}", chi2_of(f2->gaps_after)) : "");
       if (r.verdict.kind == "effect")
         return fmt::format(

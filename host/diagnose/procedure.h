@@ -111,6 +111,18 @@ struct SecondRound {
   FreshCheck fresh;                   // the pair at the fitted strength, fresh seeds (effect: the second)
   std::string outcome;                // second_outcome(); "" when the round did not run
   std::vector<std::string> notes;
+  // The joint re-fit (pair_fit.h) of the best second candidate with the first: the pair's optimum on the
+  // additive emulator of the first alone and the second on top of it (0: not computed), χ² there and at the
+  // stepwise fit, and the pair's held-out χ² with both strengths re-fitted in every fold (loco_pair).
+  std::string joint_effect;
+  double joint_first = 0.0, joint_second = 0.0, joint_chi2 = 0.0, stepwise_chi2 = 0.0;
+  double joint_loco = 0.0;
+  // The second was taken on through the joint fit (it failed the rule with the first held at its own fit,
+  // and the pair's held-out χ² passes it): the pair's fresh runs have the first at joint_first (rounded).
+  bool joint = false;
+  double pair_first = 0.0;  // the first's strength in the pair's fresh runs (base_strength unless joint)
+  // The comparison of the pair's fresh runs with the first alone was decided by the seed luck alone.
+  bool held_by_luck = false;
 };
 
 // The first pass of an escalated diagnosis (DiagnosisSpec::escalate_replicates; driver.cpp): at `from` seeds

@@ -4,10 +4,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <set>
 
 #include "diagnose/effects.h"
 #include "diagnose/fit.h"
+#include "diagnose/pair_fit.h"
 #include "diagnose/screen.h"
 #include "diagnose/shrink.h"
 #include "diagnose/verdict.h"
@@ -93,6 +95,19 @@ Verdict decide_second(const Procedure& p) {
   return decide(p.tab.cells, std::vector<std::vector<Prediction>>{p.second.base}, fams, rule);
 }
 
+// The first effect's emulator alone, at the member (refit setting, shape) the first round fitted it at;
+// none when it has no runs of its own there.
+std::optional<Emulator> first_alone(const Procedure& p, const std::string& effect) {
+  for (const Candidate& c : p.verdict.ranking)
+    if (c.effect == effect)
+      for (const CandidateRuns& r : p.fitted)
+        if (r.effect == effect) {
+          const Family f = r.family(p.baselines);
+          if (c.member < f.ems.size()) return f.ems[c.member];
+        }
+  return std::nullopt;
+}
+
 }  // namespace
 
 void run_second_effect(Procedure& p) {
@@ -103,6 +118,7 @@ void run_second_effect(Procedure& p) {
   const FreshCheck& a = p.fresh.front();
   sr.base_effect = a.effect;
   sr.base_strength = a.strength;
+  sr.pair_first = a.strength;
   sr.base_shape = a.shape;
   sr.refit = a.refit;
   const Variant first = p.variant(a.effect, a.strength, a.refit, a.shape);
@@ -206,15 +222,52 @@ void run_second_effect(Procedure& p) {
       collect();
     }
   }
+  // 4b. The joint re-fit (pair_fit.h). Held at its own fit, the first has taken the second's share of any
+  // cells the two move, and the second's held-out score (the first held at its fit on every condition, the
+  // left-out one included) can then reject a pair that predicts the left-out conditions well once both may
+  // move. A second that fails the rule stepwise is taken on when the pair's held-out χ² with both
+  // re-fitted in every fold passes the same rule against the same null; its fresh runs (step 5) are then
+  // at the joint optimum, and settled and confirmed as a stepwise pair (steps 5-6). The joint second must
+  // be an effect, not the emulator's anchor: at least a third of its weakest probe.
+  if (const size_t ci = best(); ci < sr.fitted.size()) {
+    const Candidate& c = sr.verdict.ranking.front();
+    const Family fam = sr.fitted[ci].family({sr.base});
+    if (const std::optional<Emulator> alone = first_alone(p, a.effect); alone && c.member < fam.ems.size()) {
+      const PairFit f = fit_pair(p.tab.cells, *alone, a.strength, fam.ems[c.member]);
+      sr.joint_effect = c.effect;
+      sr.joint_first = f.first;
+      sr.joint_second = f.second;
+      sr.joint_chi2 = f.chi2;
+      sr.stepwise_chi2 = f.chi2_stepwise;
+      sr.joint_loco = loco_pair(p.tab.cells, *alone, a.strength, fam.ems[c.member]);
+      VerdictRule rule = p.d.rule;
+      rule.tie_noise = 0.0;
+      if (sr.verdict.kind == "unexplained" && passes_margin(sr.joint_loco, sr.verdict, rule) &&
+          std::log10(f.second) >= fam.ems[c.member].u_first() - 0.5) {
+        sr.joint = true;
+        sr.pair_first = rounded_strength(f.first);
+        sr.verdict.kind = "effect";
+        sr.verdict.effect = c.effect;
+        sr.notes.push_back(fmt::format(
+            "second effect: with {} held at its own fit, {} fails the rule (held-out χ² {:.1f} against "
+            "{:.1f}); fitted jointly, both strengths re-fitted in every fold, the pair predicts the left-out "
+            "conditions at χ² {:.1f}, so {} is taken on at {:.3g} with {} at {:.3g} (its own fit {:.3g}; "
+            "pair_fit)",
+            a.effect, c.effect, c.loco, sr.verdict.null_loco, sr.joint_loco, c.effect,
+            rounded_strength(f.second), a.effect, sr.pair_first, a.strength));
+      }
+    }
+  }
   // 5. The pair at the fitted strength and shape, fresh seeds.
   if (sr.verdict.kind == "effect") {
     const Candidate& b = sr.verdict.ranking.front();
     const CandidateRuns& cr = sr.fitted.at(best());
     sr.fresh.effect = b.effect;
-    sr.fresh.strength = rounded_strength(b.fit.strength);
+    sr.fresh.strength = rounded_strength(sr.joint ? sr.joint_second : b.fit.strength);
     sr.fresh.refit = sr.refit;
     sr.fresh.shape = cr.shapes.at(b.shape);
-    const Variant v = on_top(p, first, b.effect, sr.fresh.strength, sr.fresh.shape);
+    const Variant v = on_top(p, sr.joint ? p.variant(a.effect, sr.pair_first, a.refit, a.shape) : first,
+                             b.effect, sr.fresh.strength, sr.fresh.shape);
     sr.fresh.failure = p.want(v, p.fresh_seeds);
     if (sr.fresh.failure.empty()) {
       p.run();
@@ -233,8 +286,7 @@ void run_second_effect(Procedure& p) {
     const double before = chi2_of(a.gaps_after), after = chi2_of(sr.fresh.gaps_after);
     const std::string settled = confirm_second(sr.outcome, before, after, p.d.rule, p.verdict.seed_luck);
     if (settled == "unconfirmed") {
-      if (confirm_second(sr.outcome, before, after, p.d.rule, 0.0) != "unconfirmed")
-        hold_by_luck(p.verdict, sr.fresh.effect);
+      sr.held_by_luck = confirm_second(sr.outcome, before, after, p.d.rule, 0.0) != "unconfirmed";
       sr.notes.push_back(fmt::format(
           "second effect: the fresh runs of {} + {} at {:.3g} give χ² {:.1f} over the cells against {:.1f} "
           "for {} alone on the same fresh seeds: not lower by min_drop = {:g} or the model's own seed luck "
@@ -244,12 +296,13 @@ void run_second_effect(Procedure& p) {
     }
     sr.outcome = settled;
   }
-  if (sr.outcome == "closes") p.verdict.kind = "effect";
   if (sr.outcome == "noise")
     sr.notes.push_back(fmt::format(
         "second effect: with seeds 1..{} the model with {} leaves no cell significant; only its fresh seeds "
         "did, so nothing is left for a second effect",
         p.base_seeds.size(), a.effect));
+  if (sr.held_by_luck) hold_by_luck(p.verdict, sr.fresh.effect);
+  if (sr.outcome == "closes") p.verdict.kind = "effect";
 }
 
 }  // namespace wetdem::diagnose

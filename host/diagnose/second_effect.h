@@ -5,6 +5,11 @@
 // the verdict rule of step 5 decides whether one of them explains the rest. The pair is then run with fresh
 // seeds; the second is named only when those runs beat the first effect's own fresh runs by the seed luck
 // (confirm_second), and `effect` (both named) only when they also leave no cell significant.
+// Stepwise holds the first at its own fit, which took the second's share of any cells the two move, and the
+// second's held-out score holds it there in every fold. So the best second candidate is also fitted jointly
+// with the first (pair_fit.h); one that fails the rule stepwise is taken on when the pair's held-out χ², both
+// strengths re-fitted in every fold, passes it, and its fresh runs are then at the joint optimum (settled
+// and confirmed as above).
 #pragma once
 
 #include <limits>
