@@ -42,12 +42,18 @@ def main(d):
 
     # Gap map. Each panel's title carries the table's χ² against its 1 % point (diagnosis.md, "A gap spread
     # over the table"): a gap with no dark cell can still be one.
+    # The table's test goes on a line of its own: three panels' one-line titles ran into each other.
     def table(t):
-        return f" (χ² {t['chi2']:.1f} over {t['cells']}, p = {t['p']:.2g})" if t else ""
+        return f"\nχ² {t['chi2']:.1f} over {t['cells']} cells, p = {t['p']:.2g}" if t else ""
     panels = [("baseline" + table(j.get("table")), lambda c: c["z"])] + (
         [(f"with {name}, fresh seeds" + table(fresh[0].get("table_after")), lambda c: c["after"]["z"])] if after else [])
     if second:
-        panels.append((f"with {j['effect']} + {second}", lambda c: c["after_second"]["z"]))
+        s2 = j["second"]
+        chi2 = f"\nχ² {s2['chi2_after']:.1f} over {len(cells)} cells" if s2.get("chi2_after") is not None else ""
+        # Taken on through the joint fit (diagnosis.md, "A second effect", step 7): the first runs re-fitted.
+        joint = s2.get("joint") or {}
+        first = f"{j['effect']} at {joint['first_in_pair']:.3g}" if joint.get("named") else j["effect"]
+        panels.append((f"with {first} + {second}, fresh seeds{chi2}", lambda c: c["after_second"]["z"]))
     # The panels share the condition axis (labels on the first only); a cell without an observation is grey
     # with a dash, not white (white is z = 0); |z| > 3 is written in white on the dark colours.
     fig, axes = plt.subplots(1, len(panels), figsize=(4 + 2.2 * len(panels) * max(1, len(obs)) / 2, 1.2 + 0.45 * len(conds)),
@@ -67,7 +73,9 @@ def main(d):
                 z = m[i][k]
                 ax.text(k, i, "–" if z != z else f"{z:+.1f}", ha="center", va="center", fontsize=8,
                         color="white" if z == z and abs(z) > 3 else "black")
-        ax.set_title(f"z = (obs - model)/σ, {title}", fontsize=9)
+        ax.set_title(title, fontsize=9)
+    # Above the panels' two-line titles: ~0.5 inch over the axes, whatever the figure's height.
+    fig.suptitle("z = (obs − model) / √(σ² + SE²) per cell", fontsize=10, y=1.0 + 0.55 / fig.get_figheight())
     fig.colorbar(im, ax=axes[0].tolist(), shrink=0.8, label="z")
     fig.savefig(os.path.join(out, "gap_map.png"), dpi=120, bbox_inches="tight")
     plt.close(fig)
