@@ -156,13 +156,13 @@ TEST(DiagnoseSecond, TheJointRefitMovesAFirstEffectThatTookTheSecondsShare) {
     ASSERT_GT(s_a, 0.3) << "seed " << seed << ": fitted alone, the first takes the second's share";
     const std::vector<Prediction> first_model = shifted(base, kShared, s_a);
     const Emulator on_top(first_model, response_on("viscous", first_model, kB));
-    const PairFit f = fit_pair(cells, alone, s_a, on_top);
+    const PairFit f = fit_pair(cells, {alone}, 0, s_a, on_top);
     EXPECT_LT(f.second_stepwise, 0.06) << "seed " << seed << ": on top of it the second comes out weak";
     EXPECT_LT(f.chi2, f.chi2_stepwise - 4.0) << "seed " << seed;
     // Held out: with both re-fitted in every fold the pair passes the rule against the first alone, and
     // predicts the left-out conditions better than the stepwise second (the first held at its fit).
     const Verdict stepwise = decide(cells, first_model, {response_on("viscous", first_model, kB)}, {1.0});
-    const double pair_loco = loco_pair(cells, alone, s_a, on_top);
+    const double pair_loco = loco_pair(cells, {alone}, 0, s_a, on_top);
     EXPECT_TRUE(passes_margin(pair_loco, stepwise, VerdictRule{})) << "seed " << seed << ": " << pair_loco;
     EXPECT_LT(pair_loco, stepwise.ranking.front().loco) << "seed " << seed;
     recovered += std::fabs(std::log10(f.first / 0.1)) < std::log10(1.25) &&
@@ -172,11 +172,11 @@ TEST(DiagnoseSecond, TheJointRefitMovesAFirstEffectThatTookTheSecondsShare) {
     const double s_one = fit_strength(one, alone).strength;
     const std::vector<Prediction> one_model = shifted(base, kShared, s_one);
     const Emulator one_top(one_model, response_on("viscous", one_model, kB));
-    const PairFit g = fit_pair(one, alone, s_one, one_top);
+    const PairFit g = fit_pair(one, {alone}, 0, s_one, one_top);
     EXPECT_GT(g.chi2, g.chi2_stepwise - 4.0) << "seed " << seed << ": no second effect, no gain";
     EXPECT_LT(std::fabs(std::log10(g.first / s_one)), 0.05) << "seed " << seed;
     const Verdict none = decide(one, one_model, {response_on("viscous", one_model, kB)}, {1.0});
-    EXPECT_FALSE(passes_margin(loco_pair(one, alone, s_one, one_top), none, VerdictRule{}))
+    EXPECT_FALSE(passes_margin(loco_pair(one, {alone}, 0, s_one, one_top), none, VerdictRule{}))
         << "seed " << seed << ": nothing for a pair to explain held out";
   }
   EXPECT_GE(recovered, 9) << "both strengths within ±25 % of the truth";

@@ -387,9 +387,14 @@ std::string verdict_core(const Report& r) {
       const std::string left2 = f2 ? left_text(r, f2->gaps_after) : std::string();
       // Taken on through the joint fit (pair_fit.h): the pair's held-out χ² has both strengths re-fitted.
       const SecondRound& s2 = r.second;
-      const std::string joint = s2.joint ? fmt::format(" (fitted jointly: `{}` re-fitted to {:.3g} with it)",
-                                                       c.effect, s2.pair_first)
-                                         : "";
+      const std::string joint =
+          s2.joint
+              ? fmt::format(
+                    " (fitted jointly: `{}` re-fitted to {:.3g}{} with it)", c.effect, s2.pair_first,
+                    std::isnan(s2.pair_first_shape) || s2.pair_first_shape == s2.base_shape
+                        ? ""
+                        : fmt::format(" at {} = {:.3g}", effect_spec(c.effect).shape, s2.pair_first_shape))
+              : "";
       const double held = s2.joint ? s2.joint_loco : b->loco;
       const std::string pair = fmt::format(
           "`{}` alone left cells significant, so the other candidates were fitted on top of it{}: `{}` ({}) "

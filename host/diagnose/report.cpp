@@ -143,10 +143,16 @@ nlohmann::json second_json(const Report& r) {
   // runs at first_in_pair.
   j["joint"] = nullptr;
   if (s.joint_first > 0)
-    j["joint"] = {
-        {"second", s.joint_effect}, {"first_strength", s.joint_first},  {"second_strength", s.joint_second},
-        {"chi2", s.joint_chi2},     {"stepwise_chi2", s.stepwise_chi2}, {"loco_chi2", s.joint_loco},
-        {"named", s.joint},         {"first_in_pair", s.pair_first}};
+    j["joint"] = {{"second", s.joint_effect},
+                  {"first_strength", s.joint_first},
+                  {"second_strength", s.joint_second},
+                  {"chi2", s.joint_chi2},
+                  {"stepwise_chi2", s.stepwise_chi2},
+                  {"loco_chi2", s.joint_loco},
+                  {"named", s.joint},
+                  {"first_in_pair", s.pair_first},
+                  {"first_shape", num(s.joint_first_shape)},
+                  {"first_shape_in_pair", num(s.pair_first_shape)}};
   for (const Candidate& c : s.verdict.ranking) {
     const CandidateRuns* cr = r.second_runs_of(c.effect);
     j["ranking"].push_back({{"effect", c.effect},
@@ -234,11 +240,16 @@ std::string second_markdown(const Report& r) {
   // The joint re-fit (pair_fit.h): what the pair does when the first may move too.
   if (s.joint_first > 0)
     md += fmt::format(
-        "\n\nFitted jointly (the additive emulator of `{}` alone and `{}` on top of it): `{}` at {:.3g} and "
+        "\n\nFitted jointly (the additive emulator of `{}` alone and `{}` on top of it): `{}` at {:.3g}{} "
+        "and "
         "`{}` at {:.3g}, χ² {:.1f} against {:.1f} with `{}` held at its own fit; held out with both "
         "strengths re-fitted in every fold, χ² {:.1f} against {:.1f} for `{}` alone.{}",
-        s.base_effect, s.joint_effect, s.base_effect, s.joint_first, s.joint_effect, s.joint_second,
-        s.joint_chi2, s.stepwise_chi2, s.base_effect, s.joint_loco, s.verdict.null_loco, s.base_effect,
+        s.base_effect, s.joint_effect, s.base_effect, s.joint_first,
+        std::isnan(s.joint_first_shape)
+            ? ""
+            : fmt::format(" at {} = {:.3g}", effect_spec(s.base_effect).shape, s.joint_first_shape),
+        s.joint_effect, s.joint_second, s.joint_chi2, s.stepwise_chi2, s.base_effect, s.joint_loco,
+        s.verdict.null_loco, s.base_effect,
         s.joint ? fmt::format(" `{}` failed the rule held at its own fit and passes it jointly: the pair's "
                               "fresh runs are at the joint optimum.",
                               s.joint_effect)

@@ -95,16 +95,30 @@ Verdict decide_second(const Procedure& p) {
   return decide(p.tab.cells, std::vector<std::vector<Prediction>>{p.second.base}, fams, rule);
 }
 
-// The first effect's emulator alone, at the member (refit setting, shape) the first round fitted it at;
-// none when it has no runs of its own there.
-std::optional<Emulator> first_alone(const Procedure& p, const std::string& effect) {
-  for (const Candidate& c : p.verdict.ranking)
-    if (c.effect == effect)
-      for (const CandidateRuns& r : p.fitted)
-        if (r.effect == effect) {
-          const Family f = r.family(p.baselines);
-          if (c.member < f.ems.size()) return f.ems[c.member];
-        }
+// The first effect's emulators alone at the refit setting its fresh runs used, one per shape with runs, and
+// each one's shape: the first's side of the joint fit (pair_fit.h). `fitted` is the member of the shape this
+// round runs the first at (the fresh check's, which the ranking's may have left after the fresh knot was
+// added): the additive emulator is exact there only if it is the model of the round's null. None when that
+// member has no runs.
+struct FirstAlone {
+  std::vector<Emulator> ems;
+  std::vector<double> shapes;
+  size_t fitted = static_cast<size_t>(-1);
+};
+std::optional<FirstAlone> first_alone(const Procedure& p, const FreshCheck& a) {
+  for (const CandidateRuns& r : p.fitted) {
+    if (r.effect != a.effect) continue;
+    const Family f = r.family(p.baselines);
+    FirstAlone out;
+    for (size_t i = 0; i < f.ems.size(); ++i) {
+      if (f.refit_of[i] != a.refit) continue;
+      const double shape = r.shapes.at(f.shape_of[i]);
+      if (shape == a.shape || (std::isnan(shape) && std::isnan(a.shape))) out.fitted = out.ems.size();
+      out.ems.push_back(f.ems[i]);
+      out.shapes.push_back(shape);
+    }
+    if (out.fitted < out.ems.size()) return out;
+  }
   return std::nullopt;
 }
 
@@ -119,6 +133,7 @@ void run_second_effect(Procedure& p) {
   sr.base_effect = a.effect;
   sr.base_strength = a.strength;
   sr.pair_first = a.strength;
+  sr.pair_first_shape = a.shape;
   sr.base_shape = a.shape;
   sr.refit = a.refit;
   const Variant first = p.variant(a.effect, a.strength, a.refit, a.shape);
@@ -232,29 +247,37 @@ void run_second_effect(Procedure& p) {
   if (const size_t ci = best(); ci < sr.fitted.size()) {
     const Candidate& c = sr.verdict.ranking.front();
     const Family fam = sr.fitted[ci].family({sr.base});
-    if (const std::optional<Emulator> alone = first_alone(p, a.effect); alone && c.member < fam.ems.size()) {
-      const PairFit f = fit_pair(p.tab.cells, *alone, a.strength, fam.ems[c.member]);
+    if (const std::optional<FirstAlone> alone = first_alone(p, a); alone && c.member < fam.ems.size()) {
+      const Emulator& on = fam.ems[c.member];
+      const PairFit f = fit_pair(p.tab.cells, alone->ems, alone->fitted, a.strength, on);
       sr.joint_effect = c.effect;
       sr.joint_first = f.first;
+      sr.joint_first_shape = alone->shapes.at(f.member);
       sr.joint_second = f.second;
       sr.joint_chi2 = f.chi2;
       sr.stepwise_chi2 = f.chi2_stepwise;
-      sr.joint_loco = loco_pair(p.tab.cells, *alone, a.strength, fam.ems[c.member]);
+      sr.joint_loco = loco_pair(p.tab.cells, alone->ems, alone->fitted, a.strength, on);
       VerdictRule rule = p.d.rule;
       rule.tie_noise = 0.0;
       if (sr.verdict.kind == "unexplained" && passes_margin(sr.joint_loco, sr.verdict, rule) &&
-          std::log10(f.second) >= fam.ems[c.member].u_first() - 0.5) {
+          std::log10(f.second) >= on.u_first() - 0.5) {
         sr.joint = true;
         sr.pair_first = rounded_strength(f.first);
+        sr.pair_first_shape = sr.joint_first_shape;
         sr.verdict.kind = "effect";
         sr.verdict.effect = c.effect;
+        const std::string shape =
+            std::isnan(sr.pair_first_shape) || sr.pair_first_shape == a.shape
+                ? ""
+                : fmt::format(" at {} = {:.3g} (alone: {:.3g})", effect_spec(a.effect).shape,
+                              sr.pair_first_shape, a.shape);
         sr.notes.push_back(fmt::format(
             "second effect: with {} held at its own fit, {} fails the rule (held-out χ² {:.1f} against "
             "{:.1f}); fitted jointly, both strengths re-fitted in every fold, the pair predicts the left-out "
-            "conditions at χ² {:.1f}, so {} is taken on at {:.3g} with {} at {:.3g} (its own fit {:.3g}; "
+            "conditions at χ² {:.1f}, so {} is taken on at {:.3g} with {} at {:.3g}{} (its own fit {:.3g}; "
             "pair_fit)",
             a.effect, c.effect, c.loco, sr.verdict.null_loco, sr.joint_loco, c.effect,
-            rounded_strength(f.second), a.effect, sr.pair_first, a.strength));
+            rounded_strength(f.second), a.effect, sr.pair_first, shape, a.strength));
       }
     }
   }
@@ -266,8 +289,9 @@ void run_second_effect(Procedure& p) {
     sr.fresh.strength = rounded_strength(sr.joint ? sr.joint_second : b.fit.strength);
     sr.fresh.refit = sr.refit;
     sr.fresh.shape = cr.shapes.at(b.shape);
-    const Variant v = on_top(p, sr.joint ? p.variant(a.effect, sr.pair_first, a.refit, a.shape) : first,
-                             b.effect, sr.fresh.strength, sr.fresh.shape);
+    const Variant v =
+        on_top(p, sr.joint ? p.variant(a.effect, sr.pair_first, a.refit, sr.pair_first_shape) : first,
+               b.effect, sr.fresh.strength, sr.fresh.shape);
     sr.fresh.failure = p.want(v, p.fresh_seeds);
     if (sr.fresh.failure.empty()) {
       p.run();
