@@ -91,3 +91,17 @@ TEST(RunBook, AnotherBookUsesTheCompleteRunWithTheSamePhysics) {
 }
 
 }  // namespace
+
+// The cost guard's measure (Procedure::cost): a finer scaling has more particles as well as a smaller time
+// step, and its particle-steps count both. l -> 0.6 l is (1/0.6)³ = 4.6x the particles in the same drum.
+TEST(RunBook, AFinerScalingCostsItsParticlesAsWellAsItsSteps) {
+  Store s;
+  const RunBook b = s.book();
+  const Condition wet = at("5 %");
+  const Variant base, finer = probe("scale", 0.4, {"scaling=3"});
+  const double steps = b.steps(wet, finer) / b.steps(wet, base);
+  const double ps = b.particle_steps(wet, finer) / b.particle_steps(wet, base);
+  EXPECT_GT(steps, 1.0) << "a finer scaling takes a smaller time step";
+  EXPECT_GT(ps / steps, 3.5) << "particle-steps " << ps << "x against steps " << steps << "x";
+  EXPECT_LT(ps / steps, 6.0) << "particle-steps " << ps << "x against steps " << steps << "x";
+}

@@ -33,8 +33,8 @@ struct DiagnosisSpec {
   // Per fitted candidate: runs that extend the probed range past an edge of the best shape's fit (0-6), and
   // as many again for its other shapes' own fits (fit_stage.h).
   int extend = 3;
-  int confirm = 1;             // re-fits of the chosen effect with its fresh runs as a knot (0-3, shrink.h)
-  double max_cost = 10;        // a run needing more than this many times a baseline run's steps is not run
+  int confirm = 1;       // re-fits of the chosen effect with its fresh runs as a knot (0-3, shrink.h)
+  double max_cost = 10;  // a run needing more than this many times a baseline run's particle-steps is not run
   size_t next_conditions = 8;  // conditions the next-experiment stage may propose and run (0: none)
   // Of them, the best conditions at which both tied models also run at every strength they were probed at,
   // so that each can re-fit to the other's value there (next_experiment.h, refit_rise; 0: none).

@@ -141,7 +141,7 @@ Procedure::Procedure(const DiagnosisSpec& d_, const DiagnoseOptions& o_)
   }
   for (size_t k = 0; k < tab.cells.size(); ++k)
     tab.cells[k].condition = tab.conditions[tab.cell_condition[k]].si;
-  base_steps = book.steps(tab.conditions.front(), variant("", 0));
+  base_steps = book.particle_steps(tab.conditions.front(), variant("", 0));
 }
 
 Variant Procedure::variant(const std::string& effect, double s, size_t j, double shape) const {
@@ -159,17 +159,18 @@ Variant Procedure::variant(const std::string& effect, double s, size_t j, double
 double Procedure::cost(const Variant& v) const {
   if (!(base_steps > 0)) return 0.0;
   double worst = 0;
-  for (const Condition& c : tab.conditions) worst = std::max(worst, book.steps(c, v));
+  for (const Condition& c : tab.conditions) worst = std::max(worst, book.particle_steps(c, v));
   return worst / base_steps;
 }
 
 std::string Procedure::want(const Variant& v, const std::vector<uint64_t>& seeds) {
   // The cost guard: a variant whose time step is far below the baseline's (the lubrication damper's limit at
-  // a high viscosity) is not run; the stage cuts the candidate's range there.
+  // a high viscosity) or whose particles are many more (a finer scale) is not run; the stage cuts the
+  // candidate's range there.
   if (const double x = cost(v); x > d.max_cost)
     return fmt::format(
-        "not run: {:.3g}x the steps of a baseline run (max_cost = {:g}; its time step is limited "
-        "by the lubrication damper or a finer scaling)",
+        "not run: {:.3g}x the particle-steps of a baseline run (max_cost = {:g}; its time step is "
+        "limited by the lubrication damper, or a finer scaling has more particles)",
         x, d.max_cost);
   try {
     for (Condition& c : tab.conditions) book.want(c, v, seeds);

@@ -116,11 +116,13 @@ struct SecondRound {
   // stepwise fit, and the pair's held-out χ² with both strengths re-fitted in every fold (loco_pair).
   std::string joint_effect;
   double joint_first = 0.0, joint_second = 0.0, joint_chi2 = 0.0, stepwise_chi2 = 0.0;
+  double joint_first_shape = std::numeric_limits<double>::quiet_NaN();  // the first's shape there
   double joint_loco = 0.0;
   // The second was taken on through the joint fit (it failed the rule with the first held at its own fit,
   // and the pair's held-out χ² passes it): the pair's fresh runs have the first at joint_first (rounded).
   bool joint = false;
   double pair_first = 0.0;  // the first's strength in the pair's fresh runs (base_strength unless joint)
+  double pair_first_shape = std::numeric_limits<double>::quiet_NaN();  // ... and its shape
   // The comparison of the pair's fresh runs with the first alone was decided by the seed luck alone.
   bool held_by_luck = false;
 };
@@ -150,7 +152,7 @@ class Procedure {
   std::vector<ModelFacts> models;      // per setting
   std::vector<std::string> effects;    // the candidates that can act in the model
   std::vector<uint64_t> base_seeds, fresh_seeds, probe_seeds;
-  double base_steps = 0.0;  // steps of one baseline run (the cost unit of max_cost)
+  double base_steps = 0.0;  // particle-steps of one baseline run (the cost unit of max_cost)
 
   // Filled by the stages, in order.
   std::vector<std::vector<Prediction>> baselines, seed1;  // per refit setting: mean over the seeds, seed 1
@@ -176,8 +178,9 @@ class Procedure {
   // The effect (none: "") at strength s, refit setting j, shape value (NaN: the effect's default shape).
   Variant variant(const std::string& effect, double s, size_t j = 0,
                   double shape = std::numeric_limits<double>::quiet_NaN()) const;
-  // The most steps v needs at any condition of the table, in baseline runs (0 when unknown): the cost guard's
-  // measure (want refuses above max_cost).
+  // The most particle-steps v needs at any condition of the table, in baseline runs (0 when unknown): the
+  // cost guard's measure (want refuses above max_cost). Particle-steps, not steps: a finer scaling multiplies
+  // the particles as well as the steps (scale 0.4: 4.6x the particles), and counted in steps it ran as cheap.
   double cost(const Variant& v) const;
   // Every condition of the table, with these seeds. "" when wanted; else why it will not run (its cost).
   std::string want(const Variant& v, const std::vector<uint64_t>& seeds);

@@ -161,6 +161,11 @@ double RunBook::steps(const Condition& c, const Variant& v) const {
   return app::estimate_resources(r.front().resolved).steps;
 }
 
+double RunBook::particle_steps(const Condition& c, const Variant& v) const {
+  const std::vector<study::PlannedRun> r = study::expand(spec_of(c, v, {1}));
+  return app::estimate_resources(r.front().resolved).particle_steps;
+}
+
 const nlohmann::json& RunBook::summary(const std::string& hash) const {
   auto it = summaries_.find(hash);
   if (it != summaries_.end()) return it->second;

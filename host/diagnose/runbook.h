@@ -59,6 +59,8 @@ class RunBook {
                      const std::vector<uint64_t>& seeds) const;
   // Steps the run of v at c would take (settle + duration over its dt), from the case alone.
   double steps(const Condition& c, const Variant& v) const;
+  // Its particle-steps: the particles the case expects times those steps (app::estimate_resources).
+  double particle_steps(const Condition& c, const Variant& v) const;
   // Replicate mean and SE of `observable` (a summary.json key) over the seeds: SE = max(sd/√n, f √(mean own
   // SE²/n)), the runs' own window errors a floor under the spread of few seeds. f (>= 1) scales the own
   // errors up where they are known to understate the seed-to-seed spread (Procedure::within_inflation).
