@@ -82,6 +82,14 @@ double shape_of_fit(const Procedure& p, const std::string& effect) {
   return std::nan("");
 }
 
+// The second round's rule: the file's, but it reads no near tie, so the held-out noise (tie_noise) is not
+// drawn (decide_second and the joint route, step 4b).
+VerdictRule second_rule(const Procedure& p) {
+  VerdictRule rule = p.d.rule;
+  rule.tie_noise = 0.0;
+  return rule;
+}
+
 Verdict decide_second(const Procedure& p) {
   std::vector<Family> fams;
   for (const CandidateRuns& c : p.second.fitted) {
@@ -89,9 +97,7 @@ Verdict decide_second(const Procedure& p) {
     if (std::find(p.unseen.begin(), p.unseen.end(), c.effect) != p.unseen.end()) continue;
     if (Family f = c.family({p.second.base}); !f.ems.empty()) fams.push_back(f);
   }
-  // The second round reads no near tie, so the held-out noise (tie_noise) is not drawn.
-  VerdictRule rule = p.d.rule;
-  rule.tie_noise = 0.0;
+  const VerdictRule rule = second_rule(p);
   return decide(p.tab.cells, std::vector<std::vector<Prediction>>{p.second.base}, fams, rule);
 }
 
@@ -257,9 +263,7 @@ void run_second_effect(Procedure& p) {
       sr.joint_chi2 = f.chi2;
       sr.stepwise_chi2 = f.chi2_stepwise;
       sr.joint_loco = loco_pair(p.tab.cells, alone->ems, alone->fitted, a.strength, on);
-      VerdictRule rule = p.d.rule;
-      rule.tie_noise = 0.0;
-      if (sr.verdict.kind == "unexplained" && passes_margin(sr.joint_loco, sr.verdict, rule) &&
+      if (sr.verdict.kind == "unexplained" && passes_margin(sr.joint_loco, sr.verdict, second_rule(p)) &&
           std::log10(f.second) >= on.u_first() - 0.5) {
         sr.joint = true;
         sr.pair_first = rounded_strength(f.first);
