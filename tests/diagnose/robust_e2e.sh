@@ -6,6 +6,9 @@
 #  2. The same diagnosis again on the same store: the failed runs are not run again and do not poison it.
 #  3. dt lowered to the damper's limit (default) with max_cost = 3: the costly strengths are not run, the range
 #     is cut there, the diagnosis completes.
+#  4. The reach past the file's probes meets the same guard (robust_reach_cost.toml): viscous, unseen at 0.01 Pa s,
+#     is stepped to 0.0333; the next step and its geometric middle cost more than max_cost and are not run; the
+#     reach says it stopped at "the strongest max_cost lets run", and the diagnosis completes.
 # One replicate (the command line wins over the files' 2): what is tested is the listing and cutting of runs, not
 # the strength (27 Nov 2026: the three diagnoses 186 s -> 132 s, the same verdicts).
 # usage: robust_e2e.sh WETDEM SOURCE_DIR [STORE]
@@ -36,4 +39,13 @@ expect "$D/d3/diagnosis.json" 'any("not run" in n and "max_cost" in n for n in j
 expect "$D/d3/diagnosis.json" \
   'not any("failed" in n for n in j["notes"] if "viscous@0.01" in n or "viscous@0.003" in n)' \
   "a viscous run at the damper's limit failed" "$D/d3/report.md"
+diagnose robust_reach_cost.toml d4
+echo "reach cost cut: $(J "$D/d4/diagnosis.json" '[(r["effect"], r["strongest_probed"], r["extension_stop"]) for r in j["reach"]]')"
+expect "$D/d4/diagnosis.json" 'j["effect"] == "spread"' "effect (reach cost)" "$D/d4/report.md"
+expect "$D/d4/diagnosis.json" \
+  'any(r["effect"] == "viscous" and not r["visible"] and r["extension_stop"] == "max_cost" and r["extended_from"] == 0.01 and r["strongest_probed"] > 0.01 for r in j["reach"])' \
+  "viscous's reach was not stepped past its probes and then stopped by max_cost" "$D/d4/report.md"
+expect "$D/d4/diagnosis.json" 'sum("reach: viscous@" in n and "not run" in n and "max_cost" in n for n in j["notes"]) == 2' \
+  "the reach's refused step and its middle are not both listed" "$D/d4/report.md"
+expect_text "$D/d4/report.md" "the strongest max_cost lets run" "the report does not say where the cost guard stopped the reach"
 echo "robust runs e2e: $(($(date +%s) - t0)) s"
