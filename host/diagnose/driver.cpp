@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <string>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -21,23 +24,48 @@ namespace {
 
 // Where a diagnosis spends its time: each stage's wall time and the runs it computed (the store's runs that
 // other diagnoses already made cost nothing). The matrix and the cost notes in docs/diagnosis.md read it.
+// Unless quiet, each stage's end is also a progress line: a diagnosis on lavapipe is tens of minutes of runs,
+// and the runs' own progress lines count the book's runs, not the procedure's stages.
 class StageClock {
  public:
-  explicit StageClock(const Procedure& p) : p_(p), last_(std::chrono::steady_clock::now()) {}
-  void done(const char* stage) {
+  StageClock(const Procedure& p, std::string name, bool quiet)
+      : p_(p), name_(std::move(name)), quiet_(quiet), t0_(std::chrono::steady_clock::now()), last_(t0_) {}
+  void done(const char* stage, const std::string& what = "") {
     const auto now = std::chrono::steady_clock::now();
-    stages_.push_back(
-        {stage, std::chrono::duration<double>(now - last_).count(), p_.book.computed() - runs_});
+    const double s = std::chrono::duration<double>(now - last_).count();
+    const size_t n = p_.book.computed() - runs_;
+    stages_.push_back({stage, s, n});
     last_ = now, runs_ = p_.book.computed();
+    if (!quiet_)
+      fmt::print("diagnose {}: {} done in {} ({} runs computed; {} in all, {} elapsed){}{}\n", name_, stage,
+                 clock_text(s), n, runs_, clock_text(std::chrono::duration<double>(now - t0_).count()),
+                 what.empty() ? "" : ": ", what);
   }
   std::vector<StageCost> stages() const { return stages_; }
 
  private:
+  static std::string clock_text(double s) {
+    const long t = std::lround(s);
+    return t >= 3600 ? fmt::format("{}h{:02}m{:02}s", t / 3600, t / 60 % 60, t % 60)
+                     : fmt::format("{}m{:02}s", t / 60, t % 60);
+  }
   const Procedure& p_;
-  std::chrono::steady_clock::time_point last_;
+  std::string name_;
+  bool quiet_ = false;
+  std::chrono::steady_clock::time_point t0_, last_;
   size_t runs_ = 0;
   std::vector<StageCost> stages_;
 };
+
+// The progress line after the screen: the significant cells and the candidates best first.
+std::string screen_line(const Procedure& p, bool any_gap) {
+  std::string s = fmt::format("{} of {} cells significant", significant(p.gaps), p.gaps.size());
+  if (!any_gap) return s + ", the table within its noise: no gap";
+  s += "; screen";
+  for (size_t i = 0; i < p.screened.size() && i < 4; ++i)
+    s += fmt::format("{} {} {:.1f}", i ? "," : "", p.screened[i].effect, p.screened[i].score);
+  return p.screened.size() > 4 ? s + ", ..." : s;
+}
 
 // Stages 1-6b: baseline to the verdict, its fresh checks and a second effect.
 void run_to_verdict(Procedure& p, StageClock& clock) {
@@ -47,7 +75,7 @@ void run_to_verdict(Procedure& p, StageClock& clock) {
   p.gaps = where(p.tab.cells, p.baselines[0], p.d.rule.q);     // 2. where
   const bool any_gap = has_gap(p.gaps, p.d.rule.table_level);  // a cell, or the table as a whole
   run_screen(p);                                               // 3. screen
-  clock.done("where and screen");
+  clock.done("where and screen", screen_line(p, any_gap));
   if (!any_gap) {
     p.verdict.kind = "no_gap";
     p.verdict.null_loco = loco_null(p.tab.cells, p.baselines);
@@ -56,9 +84,9 @@ void run_to_verdict(Procedure& p, StageClock& clock) {
   run_fit(p);                  // 4. fit
   mark_unseen(p);              // 5. only what the table can see is named first
   p.verdict = decide_seen(p);  // 5. verdict
-  clock.done("fit and verdict");
+  clock.done("fit and verdict", verdict_line(p.verdict));
   run_shrink(p);  // 6. shrink (and the verdict settled)
-  clock.done("shrink");
+  clock.done("shrink", verdict_line(p.verdict));
   run_second_effect(p);  // 6b. a second effect, when partial
   clock.done("second effect");
 }
@@ -86,7 +114,7 @@ nlohmann::json run_diagnosis(const DiagnosisSpec& d, const DiagnoseOptions& o) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   };
   Procedure p(d, o);  // reads and checks the table and every run it may need; wants the baseline
-  StageClock clock(p);
+  StageClock clock(p, d.name, o.quiet);
   run_to_verdict(p, clock);
   // Sequential replication: when the first pass leaves its verdict undecided (a tie kept on fresh runs, or a
   // comparison only the model's seed luck decided), more seeds per condition lower the luck and the models'
@@ -114,7 +142,7 @@ nlohmann::json run_diagnosis(const DiagnosisSpec& d, const DiagnoseOptions& o) {
   more.replicates = d.escalate_replicates;
   Procedure q(more, o);
   q.escalation = e;
-  StageClock clock2(q);
+  StageClock clock2(q, d.name, o.quiet);
   run_to_verdict(q, clock2);
   run_after_verdict(q, clock2);
   std::vector<StageCost> stages;

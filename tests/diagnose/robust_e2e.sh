@@ -3,7 +3,8 @@
 # diagnosed with the viscous candidate probed far past what the bed or the budget allows.
 #  1. run.dt given (not lowered to the damper's limit): viscous probes blow the bed up; their runs fail, are
 #     listed in the report and cut the range; the diagnosis completes with the withheld effect found.
-#  2. The same diagnosis again on the same store: the failed runs are not run again and do not poison it.
+#  2. The same diagnosis again on the same store: the failed runs are not run again and do not poison it (not
+#     quiet: its progress lines name each stage).
 #  3. dt lowered to the damper's limit (default) with max_cost = 3: the costly strengths are not run, the range
 #     is cut there, the diagnosis completes.
 #  4. The reach past the file's probes meets the same guard (robust_reach_cost.toml): viscous, unseen at 0.01 Pa s,
@@ -26,7 +27,14 @@ expect "$D/d1/diagnosis.json" 'any("failed" in n and "viscous" in n for n in j["
   "the failed viscous runs are not listed" "$D/d1/report.md"
 grep -q "Runs that could not be made" "$D/d1/report.md" || { echo "FAIL: report section"; exit 1; }
 
-diagnose robust_dt.toml d2
+# Not quiet: the progress lines name each stage as it ends, with its runs and what it found.
+wd diagnose "$SRC/tests/diagnose/robust_dt.toml" --observations "$D/ts/observations.csv" --out "$D/d2" \
+  --store "$S" --no-figures --replicates 1 > "$D/d2.log"
+expect_text "$D/d2.log" "^diagnose robust-dt: where and screen done in .* cells significant; screen spread" \
+  "no progress line for the screen"
+expect_text "$D/d2.log" "^diagnose robust-dt: fit and verdict done in .*(0 runs computed; 0 in all, .*): effect (spread)" \
+  "no progress line for the verdict"
+[ "$(grep -c "^diagnose robust-dt: .* done in " "$D/d2.log")" -ge 6 ] || { echo "FAIL: stage lines"; cat "$D/d2.log"; exit 1; }
 expect "$D/d2/diagnosis.json" 'j["runs_computed"] == 0' "reran"
 expect "$D/d2/diagnosis.json" 'j["verdict"] == json.load(open(sys.argv[1].replace("d2", "d1")))["verdict"]' \
   "the second diagnosis on the same store differs"
