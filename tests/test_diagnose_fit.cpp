@@ -10,6 +10,7 @@
 
 #include "diagnose/emulator.h"
 #include "diagnose/fit.h"
+#include "diagnose/fit_stage.h"
 #include "support/synthetic_cells.h"
 
 using namespace wetdem::diagnose;
@@ -195,4 +196,27 @@ TEST(DiagnoseVerdict, AShapeProbedAtOneStrengthIsFittedAtItsOwnBest) {
   add_knot(capped, 0.05, slow_at(0.05));
   const std::vector<Emulator> ec = {Emulator(base, rs[0]), Emulator(base, capped)};
   EXPECT_EQ(next_member_edge(cells, ec, {&rs[0], &capped}, 0, 1e-3, 0.05).member, MemberEdge::npos);
+}
+
+// The widened fit (fit_stage.h): when the screen's top candidates leave the gap unexplained, the next ones
+// with a positive screen score are fitted too, at most screen_top more; a candidate whose probes could not
+// run (strength 0) or that moves the model away (score <= 0) is not. The scores are those of the flowing twin
+// withholding cohesion and pore absorption (docs/validation.md), where cohesion, the dry-bed gap's only
+// explanation, was screened fourth.
+TEST(DiagnoseFitStage, AnUnexplainedGapWidensTheFitToTheNextCandidatesThatPointTowardsIt) {
+  const std::vector<Screened> screened = {{5.67, "evaporation", 0.1}, {4.50, "absorption", 0.03},
+                                          {1.52, "spread", 0.3},      {0.82, "cohesion", 0.003},
+                                          {-0.65, "viscous", 0.01},   {-1.35, "hysteresis", 10},
+                                          {-4.09, "scale", 0.2}};
+  EXPECT_EQ(widened_top(screened, {"evaporation", "absorption", "spread"}, 3), 4u);  // cohesion only
+  // At most screen_top more, best first.
+  EXPECT_EQ(widened_top(screened, {"evaporation"}, 2), 3u);
+  // Nothing with a positive score left: no widening.
+  EXPECT_EQ(widened_top(screened, {"evaporation", "absorption", "spread", "cohesion"}, 3), 0u);
+  // A candidate none of whose probes could run is passed over, not counted.
+  std::vector<Screened> failed = screened;
+  failed[3].strength = 0.0;
+  EXPECT_EQ(widened_top(failed, {"evaporation", "absorption", "spread"}, 3), 0u);
+  failed[4] = {0.5, "viscous", 0.01};
+  EXPECT_EQ(widened_top(failed, {"evaporation", "absorption", "spread"}, 3), 4u);
 }

@@ -67,6 +67,30 @@ std::string screen_line(const Procedure& p, bool any_gap) {
   return p.screened.size() > 4 ? s + ", ..." : s;
 }
 
+// The widened fit (fit_stage.h, widened_top): a gap none of the screen's top candidates explains is not
+// called unexplained before the next candidates that move the model towards it have been fitted too.
+void widen_fit(Procedure& p) {
+  if (p.verdict.kind != "unexplained") return;
+  std::vector<std::string> fitted;
+  for (const CandidateRuns& c : p.fitted) fitted.push_back(c.effect);
+  const size_t top = widened_top(p.screened, fitted, p.d.screen_top);
+  if (top == 0) return;
+  std::string added;
+  for (size_t i = 0, n = 0; i < p.screened.size() && n < top - fitted.size(); ++i) {
+    const Screened& s = p.screened[i];
+    if (s.strength <= 0 || std::find(fitted.begin(), fitted.end(), s.effect) != fitted.end()) continue;
+    added += fmt::format("{}`{}` ({:.2f})", n++ ? ", " : "", s.effect, s.score);
+  }
+  p.notes.push_back(fmt::format(
+      "fit: none of the screen's top {} explains the gap (verdict unexplained, best {}); the next with a "
+      "positive screen score, {}, fitted as well",
+      fitted.size(),
+      p.verdict.ranking.empty() ? std::string("none") : "`" + p.verdict.ranking.front().effect + "`", added));
+  run_fit(p, top);
+  mark_unseen(p);
+  p.verdict = decide_seen(p);
+}
+
 // Stages 1-6b: baseline to the verdict, its fresh checks and a second effect.
 void run_to_verdict(Procedure& p, StageClock& clock) {
   want_screen(p);   // the screen's probes run together with the baseline
@@ -84,6 +108,7 @@ void run_to_verdict(Procedure& p, StageClock& clock) {
   run_fit(p);                  // 4. fit
   mark_unseen(p);              // 5. only what the table can see is named first
   p.verdict = decide_seen(p);  // 5. verdict
+  widen_fit(p);                // 4-5 again with the next candidates, when none explains the gap
   clock.done("fit and verdict", verdict_line(p.verdict));
   run_shrink(p);  // 6. shrink (and the verdict settled)
   clock.done("shrink", verdict_line(p.verdict));

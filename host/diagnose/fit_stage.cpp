@@ -172,10 +172,25 @@ void settle_limit(CandidateRuns& c, const Candidate& fitted) {
   set_limit_notes(c);
 }
 
+size_t widened_top(const std::vector<Screened>& screened, const std::vector<std::string>& fitted,
+                   size_t screen_top) {
+  size_t add = 0;
+  for (const Screened& s : screened) {
+    if (s.strength <= 0 || std::find(fitted.begin(), fitted.end(), s.effect) != fitted.end()) continue;
+    if (s.score <= 0 || add >= screen_top) break;  // best first: the rest move the model away
+    ++add;
+  }
+  return add > 0 ? fitted.size() + add : 0;
+}
+
 void run_fit(Procedure& p) {
+  run_fit(p, p.d.screen_top);
+}
+
+void run_fit(Procedure& p, size_t top) {
   std::vector<CandidateRuns> cands;
   for (const Screened& s : p.screened) {
-    if (cands.size() >= p.d.screen_top) break;
+    if (cands.size() >= top) break;
     if (s.strength <= 0) continue;  // no probe could run
     CandidateRuns c;
     c.effect = s.effect;
@@ -199,7 +214,7 @@ void run_fit(Procedure& p) {
       for (size_t j = 0; j < p.settings.size(); ++j) st.want({ci, j, m0, s, "probe"});
   }
   p.run();
-  for (size_t j = 1; j < p.settings.size(); ++j) {
+  for (size_t j = p.baselines.size(); j < p.settings.size(); ++j) {  // once: a widened fit has them
     const Variant b = p.variant("", 0, j);
     if (const std::string why = p.failure(b, p.base_seeds); !why.empty())
       throw std::runtime_error("the model at refit setting " + p.settings[j].label + " failed: " + why);

@@ -120,11 +120,13 @@ void mark_unseen(Procedure& p) {
                                     [&](const CandidateRuns& c) { return c.effect == r.effect; });
     if (!fitted || r.visible || r.strongest <= 0) continue;
     p.unseen.push_back(r.effect);
-    p.notes.push_back(fmt::format(
+    const std::string note = fmt::format(
         "verdict: `{}` cannot be seen by the table: its runs up to {:.3g} move no cell by more than {:.1f} σ "
         "and the table's χ² by {:.1f} (visible from {} σ or {:.1f}), so its held-out score may follow the "
         "runs' own noise; it is never named first on that score alone",
-        r.effect, r.strongest, r.max_z, r.chi2_excess, kVisibleZ, visible_chi2_excess(p.tab.cells.size())));
+        r.effect, r.strongest, r.max_z, r.chi2_excess, kVisibleZ, visible_chi2_excess(p.tab.cells.size()));
+    if (std::find(p.notes.begin(), p.notes.end(), note) == p.notes.end())
+      p.notes.push_back(note);  // widened fit
   }
 }
 
