@@ -115,6 +115,14 @@ std::vector<Reach> table_reach(const Procedure& p) {
 
 void mark_unseen(Procedure& p) {
   p.unseen.clear();
+  // Called again after a widened fit (driver.cpp), whose rounds may have run another candidate's range
+  // differently: the notes of the last call go, so the report states the reach the verdict was taken on.
+  p.notes.erase(std::remove_if(p.notes.begin(), p.notes.end(),
+                               [](const std::string& n) {
+                                 return n.rfind("verdict: `", 0) == 0 &&
+                                        n.find("` cannot be seen by the table: ") != std::string::npos;
+                               }),
+                p.notes.end());
   for (const Reach& r : table_reach(p)) {
     const bool fitted = std::any_of(p.fitted.begin(), p.fitted.end(),
                                     [&](const CandidateRuns& c) { return c.effect == r.effect; });
