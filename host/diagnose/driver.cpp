@@ -87,6 +87,10 @@ void widen_fit(Procedure& p) {
       fitted.size(),
       p.verdict.ranking.empty() ? std::string("none") : "`" + p.verdict.ranking.front().effect + "`", added));
   run_fit(p, top);
+  for (CandidateRuns& c : p.fitted)
+    if (std::find(fitted.begin(), fitted.end(), c.effect) == fitted.end())
+      c.notes.push_back(
+          fmt::format("widened fit: the screen's top {} left the gap unexplained", fitted.size()));
   mark_unseen(p);
   p.verdict = decide_seen(p);
 }
