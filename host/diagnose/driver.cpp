@@ -67,26 +67,23 @@ std::string screen_line(const Procedure& p, bool any_gap) {
   return p.screened.size() > 4 ? s + ", ..." : s;
 }
 
-// The widened fit (fit_stage.h, widened_top): a gap none of the screen's top candidates explains is not
-// called unexplained before the next candidates that move the model towards it have been fitted too.
+// The widened fit (fit_stage.h, widened_candidates): a gap none of the screen's top candidates explains is
+// not called unexplained before the next candidates that move the model towards it have been fitted too.
 void widen_fit(Procedure& p) {
   if (p.verdict.kind != "unexplained") return;
   std::vector<std::string> fitted;
   for (const CandidateRuns& c : p.fitted) fitted.push_back(c.effect);
-  const size_t top = widened_top(p.screened, fitted, p.d.screen_top);
-  if (top == 0) return;
+  const std::vector<Screened> add = widened_candidates(p.screened, fitted, p.d.screen_top);
+  if (add.empty()) return;
   std::string added;
-  for (size_t i = 0, n = 0; i < p.screened.size() && n < top - fitted.size(); ++i) {
-    const Screened& s = p.screened[i];
-    if (s.strength <= 0 || std::find(fitted.begin(), fitted.end(), s.effect) != fitted.end()) continue;
-    added += fmt::format("{}`{}` ({:.2f})", n++ ? ", " : "", s.effect, s.score);
-  }
+  for (const Screened& s : add)
+    added += fmt::format("{}`{}` ({:.2f})", added.empty() ? "" : ", ", s.effect, s.score);
   p.notes.push_back(fmt::format(
       "fit: none of the screen's top {} explains the gap (verdict unexplained, best {}); the next with a "
       "positive screen score, {}, fitted as well",
       fitted.size(),
       p.verdict.ranking.empty() ? std::string("none") : "`" + p.verdict.ranking.front().effect + "`", added));
-  run_fit(p, top);
+  run_fit(p, fitted.size() + add.size());
   for (CandidateRuns& c : p.fitted)
     if (std::find(fitted.begin(), fitted.end(), c.effect) == fitted.end())
       c.notes.push_back(

@@ -172,14 +172,20 @@ void settle_limit(CandidateRuns& c, const Candidate& fitted) {
   set_limit_notes(c);
 }
 
-size_t widened_top(const std::vector<Screened>& screened, const std::vector<std::string>& fitted,
-                   size_t screen_top) {
-  size_t add = 0;
+std::vector<Screened> widened_candidates(const std::vector<Screened>& screened,
+                                         const std::vector<std::string>& fitted, size_t screen_top) {
+  std::vector<Screened> add;
   for (const Screened& s : screened) {
     if (s.strength <= 0 || std::find(fitted.begin(), fitted.end(), s.effect) != fitted.end()) continue;
-    if (s.score <= 0 || add >= screen_top) break;  // best first: the rest move the model away
-    ++add;
+    if (s.score <= 0 || add.size() >= screen_top) break;  // best first: the rest move the model away
+    add.push_back(s);
   }
+  return add;
+}
+
+size_t widened_top(const std::vector<Screened>& screened, const std::vector<std::string>& fitted,
+                   size_t screen_top) {
+  const size_t add = widened_candidates(screened, fitted, screen_top).size();
   return add > 0 ? fitted.size() + add : 0;
 }
 

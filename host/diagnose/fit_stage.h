@@ -27,6 +27,9 @@ void run_fit(Procedure& p, size_t top);
 // candidate is left to add. `fitted`: the effects fitted so far (the first of the screen's order).
 size_t widened_top(const std::vector<Screened>& screened, const std::vector<std::string>& fitted,
                    size_t screen_top);
+// The candidates the widened fit adds, best first (widened_top's count of them).
+std::vector<Screened> widened_candidates(const std::vector<Screened>& screened,
+                                         const std::vector<std::string>& fitted, size_t screen_top);
 
 // The notes that say a fit runs into an end of the physical range (or the cut range), from c.at_limit;
 // replaces any such notes already there.
