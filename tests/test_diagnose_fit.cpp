@@ -5,12 +5,14 @@
 // DiagnoseVerdict.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
 #include "diagnose/emulator.h"
 #include "diagnose/fit.h"
 #include "diagnose/fit_stage.h"
+#include "diagnose/where.h"
 #include "support/synthetic_cells.h"
 
 using namespace wetdem::diagnose;
@@ -196,6 +198,54 @@ TEST(DiagnoseVerdict, AShapeProbedAtOneStrengthIsFittedAtItsOwnBest) {
   add_knot(capped, 0.05, slow_at(0.05));
   const std::vector<Emulator> ec = {Emulator(base, rs[0]), Emulator(base, capped)};
   EXPECT_EQ(next_member_edge(cells, ec, {&rs[0], &capped}, 0, 1e-3, 0.05).member, MemberEdge::npos);
+}
+
+// A rate between the listed ones (fit.h, next_shape_between). The pattern over the cells turns with the log
+// of the rate, from a slow sink's to a fast one's; the truth at 10 1/s lies between the shapes 3 and 30, and
+// at their own best strengths neither explains the table. Bisection in log rate proposes sqrt(3 x 30) = 9.49
+// (the side whose best is lower), and that member fits far better than either. No proposal once the best fit
+// explains the table, nor between shapes within the minimum ratio, nor for a family without shapes.
+TEST(DiagnoseVerdict, ARateBetweenTheListedOnesIsBisectedWhenNeitherNeighbourExplainsTheTable) {
+  const std::vector<double> fast = {0.0, 0.3, 1.0, 2.0, 3.0}, slow = {3.0, 2.0, 1.0, 0.3, 0.0};
+  const std::vector<Prediction> base(5, Prediction{30.0, 0.1});
+  const double u0 = std::log10(0.01) - 1.0;
+  const auto at = [&](double s, double k) {  // the response at strength s and rate k: slow at 0.3, fast at 30
+    const double w = std::clamp(std::log10(k / 0.3) / 2.0, 0.0, 1.0);
+    std::vector<Prediction> p;
+    for (size_t i = 0; i < 5; ++i)
+      p.push_back({30.0 + (w * fast[i] + (1 - w) * slow[i]) * (std::log10(s) - u0), 0.1});
+    return p;
+  };
+  const auto member = [&](double k) {
+    Response r{"absorption", {}, {}};
+    for (double s : {0.01, 0.03, 0.1, 0.3}) add_knot(r, s, at(s, k));
+    return r;
+  };
+  std::vector<double> y;
+  for (const Prediction& p : at(0.08, 10.0)) y.push_back(p.mean);
+  const std::vector<Cell> cells = cells_at(kPhi, y, 0.1);
+  const double level = chi2_upper_point(cells.size(), 0.01);
+  std::vector<Response> rs = {member(0.3), member(3.0), member(30.0)};
+  std::vector<double> shapes = {0.3, 3.0, 30.0};
+  const auto ems = [&] {
+    std::vector<Emulator> e;
+    for (const Response& r : rs) e.emplace_back(base, r);
+    return e;
+  };
+  const ProfileFit grid = fit_profile(cells, ems());
+  ASSERT_GT(grid.fit.chi2, level) << "no listed rate explains the table";
+  const double mid = next_shape_between(cells, ems(), shapes, grid.member, level);
+  EXPECT_DOUBLE_EQ(mid, 9.49) << "between the best (30 or 3) and its better neighbour";
+  rs.push_back(member(mid));
+  shapes.push_back(mid);
+  const ProfileFit refined = fit_profile(cells, ems());
+  EXPECT_EQ(refined.member, 3u);
+  EXPECT_LT(refined.fit.chi2, 0.05 * grid.fit.chi2);
+  EXPECT_NEAR(std::log10(refined.fit.strength), std::log10(0.08), 0.05);
+  // Explained: no more shapes. Neighbours within the minimum ratio: none. No shapes: none.
+  EXPECT_EQ(next_shape_between(cells, ems(), shapes, refined.member, refined.fit.chi2 + 1.0), 0.0);
+  EXPECT_EQ(next_shape_between(cells, ems(), shapes, grid.member, level, 20.0), 0.0);
+  EXPECT_EQ(next_shape_between(cells, ems(), std::vector<double>(4, NAN), grid.member, level), 0.0);
 }
 
 // The widened fit (fit_stage.h): when the screen's top candidates leave the gap unexplained, the next ones

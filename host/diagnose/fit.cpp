@@ -4,6 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
+#include <limits>
+#include <map>
 #include <random>
 #include <stdexcept>
 
@@ -368,6 +371,31 @@ MemberEdge next_member_edge(const std::vector<Cell>& cells, const std::vector<Em
     if (s > 0 && (e.member == MemberEdge::npos || f.chi2 < e.chi2)) e = {i, s, f.chi2};
   }
   return e;
+}
+
+double next_shape_between(const std::vector<Cell>& cells, const std::vector<Emulator>& ems,
+                          const std::vector<double>& shape_of, size_t best, double unexplained_above,
+                          double min_ratio) {
+  if (shape_of.size() != ems.size()) throw std::invalid_argument("next_shape_between: one shape per member");
+  if (best >= ems.size() || !(shape_of[best] > 0)) return 0.0;
+  const double v = shape_of[best];
+  if (!(fit_strength(cells, ems[best]).chi2 > unexplained_above)) return 0.0;
+  // Each listed shape's least χ² over its members (refit settings), each at its own best strength.
+  std::map<double, double> shape_chi2;
+  for (size_t i = 0; i < ems.size(); ++i) {
+    if (!(shape_of[i] > 0)) continue;
+    const double c = fit_strength(cells, ems[i]).chi2;
+    auto [it, fresh] = shape_chi2.emplace(shape_of[i], c);
+    if (!fresh) it->second = std::min(it->second, c);
+  }
+  const auto at = shape_chi2.find(v);
+  double other = 0.0, other_chi2 = std::numeric_limits<double>::infinity();
+  if (at != shape_chi2.begin()) other = std::prev(at)->first, other_chi2 = std::prev(at)->second;
+  if (std::next(at) != shape_chi2.end() && std::next(at)->second < other_chi2)
+    other = std::next(at)->first, other_chi2 = std::next(at)->second;
+  if (!(other > 0) || std::max(v, other) / std::min(v, other) <= min_ratio) return 0.0;
+  const double mid = std::stod(fmt::format("{:.3g}", std::sqrt(v * other)));
+  return shape_chi2.count(mid) ? 0.0 : mid;
 }
 
 }  // namespace wetdem::diagnose

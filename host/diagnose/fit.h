@@ -161,4 +161,20 @@ MemberEdge next_member_edge(const std::vector<Cell>& cells, const std::vector<Em
                             const std::vector<const Response*>& responses, size_t best, double phys_lo,
                             double phys_hi);
 
+// Refinement of the second parameter. The shapes are a decade apart (absorption's rate 0.3, 3, 30 1/s), and
+// the response bends between them: a pore sink filling at 10 1/s drains about half the films in the micro
+// drum's window, one at 3 1/s a third whatever its capacity, one at 30 1/s all of them up to its capacity, so
+// a truth at 10 1/s fits neither neighbour (measured: the micro absorption-strong twin, 0.08 at 10 1/s,
+// fitted at 0.2 at 3 1/s with f_wet still 8 sigma off and evaporation added on top to make up the rest). The
+// strengths are refined where the fit lands (next_knot); the shapes are refined the same way, by bisection in
+// log shape: when the best member's χ² is above `unexplained_above` (the candidate at its best listed shape
+// does not explain the table), the geometric middle between the best member's shape and its better neighbour
+// in the sorted list of shapes (of the two sides, the one whose best member has the lower χ², each member at
+// its own best strength; the one side there is at an end of the list), rounded to 3 digits. 0 when the χ² is
+// below, the neighbours are within `min_ratio` or the middle is listed already. `shape_of[i]` is member i's
+// shape value (NaN: a family without shapes, never refined).
+double next_shape_between(const std::vector<Cell>& cells, const std::vector<Emulator>& ems,
+                          const std::vector<double>& shape_of, size_t best, double unexplained_above,
+                          double min_ratio = 2.0);
+
 }  // namespace wetdem::diagnose

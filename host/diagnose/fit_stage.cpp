@@ -5,10 +5,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <stdexcept>
 
 #include "diagnose/fit.h"
 #include "diagnose/verdict.h"
+#include "diagnose/where.h"
 
 namespace wetdem::diagnose {
 
@@ -24,14 +26,15 @@ double searchable_hi(const CandidateRuns& c, const EffectSpec& spec) {
 struct Knot {
   size_t c = 0, j = 0, m = 0;
   double s = 0.0;
-  std::string why;  // "probe", "refine", "extend", "shape"
+  std::string why;  // "probe", "refine", "extend", "shape", "between"
 };
 
 struct Stage {
   Procedure& p;
   std::vector<CandidateRuns>& cands;
   std::vector<Knot> pending;
-  std::vector<int> refined, extended, members_extended;  // per candidate: rounds spent
+  std::vector<int> refined, extended, members_extended, shapes_between;  // per candidate: rounds spent
+  std::vector<std::map<size_t, int>> between_extended;  // per candidate: shape index -> its extensions
 
   Variant variant_of(const Knot& k) const {
     const CandidateRuns& c = cands[k.c];
@@ -72,6 +75,9 @@ struct Stage {
       }
       if (k.s >= c.cut) continue;
       add_knot(c.member(k.j, k.m), k.s, p.probe(v, k.j));
+      if (k.why == "between")
+        c.notes.push_back(
+            fmt::format("shape {:.3g} added between the listed shapes, at {:.3g}", c.shapes[k.m], k.s));
       if (k.why == "extend" || k.why == "shape")
         c.notes.push_back(
             fmt::format("{} {:.3g}{}", k.why == "extend" ? "range extended to" : "shape added at", k.s,
@@ -122,18 +128,46 @@ struct Stage {
     }
     // 3. Another member whose own fit runs into an edge of its knots (a shape probed at one strength): extend
     // it, so that the profile compares every shape at its own best strength, not at the strength that suited
-    // the default shape (fit.h, next_member_edge).
-    if (members_extended[ci] < p.d.extend) {
+    // the default shape (fit.h, next_member_edge). A shape added between the listed ones (step 4) has its own
+    // allowance, so that the listed shapes' extensions do not leave it at its one knot.
+    {
       std::vector<const Response*> rs;
-      for (size_t i = 0; i < fam.ems.size(); ++i) rs.push_back(&c.member(fam.refit_of[i], fam.shape_of[i]));
-      const MemberEdge e = next_member_edge(p.tab.cells, fam.ems, rs, pf.member, spec.phys_lo, hi);
+      bool any = false;
+      for (size_t i = 0; i < fam.ems.size(); ++i) {
+        const size_t m_i = fam.shape_of[i];
+        const bool between = between_extended[ci].count(m_i) > 0;
+        const bool open =
+            between ? between_extended[ci].at(m_i) < p.d.extend : members_extended[ci] < p.d.extend;
+        rs.push_back(open ? &c.member(fam.refit_of[i], m_i) : nullptr);
+        any = any || open;
+      }
+      const MemberEdge e =
+          any ? next_member_edge(p.tab.cells, fam.ems, rs, pf.member, spec.phys_lo, hi) : MemberEdge{};
       if (e.member != MemberEdge::npos) {
-        ++members_extended[ci];
-        want({ci, fam.refit_of[e.member], fam.shape_of[e.member], e.strength, "extend"});
+        const size_t m_e = fam.shape_of[e.member];
+        ++(between_extended[ci].count(m_e) ? between_extended[ci].at(m_e) : members_extended[ci]);
+        want({ci, fam.refit_of[e.member], m_e, e.strength, "extend"});
         return true;
       }
     }
-    // 4. Refinement: a knot at the fitted strength.
+    // 4. Between the shapes: the best listed shape leaves the table unexplained, and the response may bend
+    // between it and its better neighbour (fit.h, next_shape_between): the middle shape at the fitted
+    // strength; step 3 then takes it to its own best strength, and step 5 refines there once it is the best.
+    if (c.shapes.size() > 1 && shapes_between[ci] < p.d.refine) {
+      std::vector<double> shape_of;
+      for (size_t i = 0; i < fam.ems.size(); ++i) shape_of.push_back(c.shapes[fam.shape_of[i]]);
+      const double level = p.d.rule.table_level > 0 ? p.d.rule.table_level : 0.01;
+      const double mid = next_shape_between(p.tab.cells, fam.ems, shape_of, pf.member,
+                                            chi2_upper_point(p.tab.cells.size(), level));
+      if (mid > 0 && mid >= spec.shape_lo && mid <= spec.shape_hi) {
+        ++shapes_between[ci];
+        c.shapes.push_back(mid);
+        between_extended[ci][c.shapes.size() - 1] = 0;
+        want({ci, j, c.shapes.size() - 1, std::stod(fmt::format("{:.3g}", f.strength)), "between"});
+        return true;
+      }
+    }
+    // 5. Refinement: a knot at the fitted strength.
     if (refined[ci] < p.d.refine) {
       if (const double s = next_knot(p.tab.cells, p.baselines[j], r); s > 0) {
         ++refined[ci];
@@ -213,7 +247,9 @@ void run_fit(Procedure& p, size_t top) {
            {},
            std::vector<int>(cands.size(), 0),
            std::vector<int>(cands.size(), 0),
-           std::vector<int>(cands.size(), 0)};
+           std::vector<int>(cands.size(), 0),
+           std::vector<int>(cands.size(), 0),
+           std::vector<std::map<size_t, int>>(cands.size())};
   for (size_t ci = 0; ci < cands.size(); ++ci) {
     const size_t m0 = cands[ci].shapes.size() / 2;
     for (double s : p.d.probes.at(cands[ci].effect))
@@ -243,7 +279,8 @@ void run_fit(Procedure& p, size_t top) {
   // Rounds: each candidate in contention asks for at most one run per round; the rounds' runs go together.
   // In contention: the best by held-out score, and every candidate that passes the effect margin against the
   // null or is not clearly worse than the best (verdict.h): the runs go where they can change the verdict.
-  const int rounds = p.d.refine + 2 * p.d.extend + 2;
+  const int rounds = 2 * p.d.refine + 3 * p.d.extend +
+                     2;  // refine: strengths and shapes between; extend: ends, members, shapes between
   for (int round = 0; round < rounds; ++round) {
     std::vector<Family> fams;
     std::vector<size_t> of;
