@@ -8,6 +8,7 @@
 #include <limits>
 #include <map>
 #include <random>
+#include <set>
 #include <stdexcept>
 
 namespace wetdem::diagnose {
@@ -373,29 +374,35 @@ MemberEdge next_member_edge(const std::vector<Cell>& cells, const std::vector<Em
   return e;
 }
 
-double next_shape_between(const std::vector<Cell>& cells, const std::vector<Emulator>& ems,
-                          const std::vector<double>& shape_of, size_t best, double unexplained_above,
-                          double min_ratio) {
-  if (shape_of.size() != ems.size()) throw std::invalid_argument("next_shape_between: one shape per member");
-  if (best >= ems.size() || !(shape_of[best] > 0)) return 0.0;
+std::vector<double> next_shapes_between(const std::vector<Cell>& cells, const std::vector<Emulator>& ems,
+                                        const std::vector<double>& shape_of, size_t best,
+                                        double unexplained_above, double min_ratio) {
+  if (shape_of.size() != ems.size()) throw std::invalid_argument("next_shapes_between: one shape per member");
+  std::vector<double> out;
+  if (best >= ems.size() || !(shape_of[best] > 0)) return out;
   const double v = shape_of[best];
-  if (!(fit_strength(cells, ems[best]).chi2 > unexplained_above)) return 0.0;
-  // Each listed shape's least χ² over its members (refit settings), each at its own best strength.
-  std::map<double, double> shape_chi2;
-  for (size_t i = 0; i < ems.size(); ++i) {
-    if (!(shape_of[i] > 0)) continue;
-    const double c = fit_strength(cells, ems[i]).chi2;
-    auto [it, fresh] = shape_chi2.emplace(shape_of[i], c);
-    if (!fresh) it->second = std::min(it->second, c);
+  const auto unexplained = [&] {
+    if (fit_strength(cells, ems[best]).chi2 > unexplained_above) return true;
+    try {
+      return loco_score(cells, ems[best]) > unexplained_above;
+    } catch (const std::invalid_argument&) {
+      return false;  // one condition: nothing to hold out
+    }
+  };
+  if (!unexplained()) return out;
+  std::set<double> listed;
+  for (double s : shape_of)
+    if (s > 0) listed.insert(s);
+  const auto at = listed.find(v);
+  std::vector<double> sides;
+  if (at != listed.begin()) sides.push_back(*std::prev(at));
+  if (std::next(at) != listed.end()) sides.push_back(*std::next(at));
+  for (double other : sides) {
+    if (std::max(v, other) / std::min(v, other) <= min_ratio) continue;
+    const double mid = std::stod(fmt::format("{:.3g}", std::sqrt(v * other)));
+    if (!listed.count(mid)) out.push_back(mid);
   }
-  const auto at = shape_chi2.find(v);
-  double other = 0.0, other_chi2 = std::numeric_limits<double>::infinity();
-  if (at != shape_chi2.begin()) other = std::prev(at)->first, other_chi2 = std::prev(at)->second;
-  if (std::next(at) != shape_chi2.end() && std::next(at)->second < other_chi2)
-    other = std::next(at)->first, other_chi2 = std::next(at)->second;
-  if (!(other > 0) || std::max(v, other) / std::min(v, other) <= min_ratio) return 0.0;
-  const double mid = std::stod(fmt::format("{:.3g}", std::sqrt(v * other)));
-  return shape_chi2.count(mid) ? 0.0 : mid;
+  return out;
 }
 
 }  // namespace wetdem::diagnose

@@ -150,20 +150,25 @@ struct Stage {
         return true;
       }
     }
-    // 4. Between the shapes: the best listed shape leaves the table unexplained, and the response may bend
-    // between it and its better neighbour (fit.h, next_shape_between): the middle shape at the fitted
-    // strength; step 3 then takes it to its own best strength, and step 5 refines there once it is the best.
+    // 4. Between the shapes: the best listed shape leaves the table unexplained, in sample or held out, and
+    // the response may bend between it and its neighbours (fit.h, next_shapes_between): the middle shapes on
+    // both sides, at the fitted strength; step 3 then takes each to its own best strength, and step 5
+    // refines there once it is the best.
     if (c.shapes.size() > 1 && shapes_between[ci] < p.d.refine) {
       std::vector<double> shape_of;
       for (size_t i = 0; i < fam.ems.size(); ++i) shape_of.push_back(c.shapes[fam.shape_of[i]]);
       const double level = p.d.rule.table_level > 0 ? p.d.rule.table_level : 0.01;
-      const double mid = next_shape_between(p.tab.cells, fam.ems, shape_of, pf.member,
-                                            chi2_upper_point(p.tab.cells.size(), level));
-      if (mid > 0 && mid >= spec.shape_lo && mid <= spec.shape_hi) {
-        ++shapes_between[ci];
+      bool added = false;
+      for (double mid : next_shapes_between(p.tab.cells, fam.ems, shape_of, pf.member,
+                                            chi2_upper_point(p.tab.cells.size(), level))) {
+        if (mid < spec.shape_lo || mid > spec.shape_hi) continue;
         c.shapes.push_back(mid);
         between_extended[ci][c.shapes.size() - 1] = 0;
         want({ci, j, c.shapes.size() - 1, std::stod(fmt::format("{:.3g}", f.strength)), "between"});
+        added = true;
+      }
+      if (added) {
+        ++shapes_between[ci];
         return true;
       }
     }
@@ -279,8 +284,8 @@ void run_fit(Procedure& p, size_t top) {
   // Rounds: each candidate in contention asks for at most one run per round; the rounds' runs go together.
   // In contention: the best by held-out score, and every candidate that passes the effect margin against the
   // null or is not clearly worse than the best (verdict.h): the runs go where they can change the verdict.
-  const int rounds = 2 * p.d.refine + 3 * p.d.extend +
-                     2;  // refine: strengths and shapes between; extend: ends, members, shapes between
+  // refine: strengths and shapes between (two a round); extend: ends, members, each shape between
+  const int rounds = 2 * p.d.refine + (3 + 2 * p.d.refine) * p.d.extend + 2;
   for (int round = 0; round < rounds; ++round) {
     std::vector<Family> fams;
     std::vector<size_t> of;
