@@ -1,7 +1,8 @@
 // The fit behind the verdict (fit.h), on synthetic cells with known answers: an interval widened by the
 // scatter the fit leaves, open ends, extension past an edge within the physical range, a second parameter
 // fitted as a profile (absorption at another rate is still absorption) and its interval over every shape that
-// fits as well, and a shape probed at one strength extended to its own best. Suite names stay
+// fits as well, a shape probed at one strength extended to its own best, and a family held out as the mixture
+// of its members. Suite names stay
 // DiagnoseVerdict.
 #include <gtest/gtest.h>
 
@@ -346,4 +347,31 @@ TEST(DiagnoseFitStage, AnUnexplainedGapWidensTheFitToTheNextCandidatesThatPointT
   EXPECT_EQ(widened_top(failed, {"evaporation", "absorption", "spread"}, 3), 0u);
   failed[4] = {0.5, "viscous", 0.01};
   EXPECT_EQ(widened_top(failed, {"evaporation", "absorption", "spread"}, 3), 4u);
+}
+
+// Held out, a family predicts by the mixture of its members (loco_cells). Two shapes explain the table alike
+// in sample, and with one wet condition left in a fold they also fit it alike: A ([0, 1, 1] per decade)
+// predicts the left-out condition, B ([0, 1, 3]) misses it by 28 σ. The single best member would take B
+// or A by the order of the list (a tie); the mixture gives each the weight of its fit and scores 2 ln 2
+// per ambiguous fold whatever the order. A member every fold's cells reject (C misses two of the three)
+// weighs nothing, and the family then scores as A alone.
+TEST(DiagnoseVerdict, HeldOutAFamilyPredictsByTheMixtureOfItsMembers) {
+  const std::vector<double> phi = {0.0, 0.05, 0.10}, s = {0.01, 0.1, 1.0};
+  const std::vector<Prediction> base(3, Prediction{30.0, 0.1});
+  const Emulator a(base, linear("absorption", s, {0.0, 1.0, 1.0}, 30.0));
+  const Emulator b(base, linear("absorption", s, {0.0, 1.0, 3.0}, 30.0));
+  const Emulator c(base, linear("absorption", s, {3.0, 1.0, 3.0}, 30.0));
+  const std::vector<Cell> cells = cells_at(phi, {30.0, 32.0, 32.0}, 0.1);  // A two decades up
+  const double alone = loco_score(cells, a);
+  EXPECT_LT(alone, 1e-3);
+  const double ab = loco_score(cells, {a, b}), ba = loco_score(cells, {b, a});
+  EXPECT_NEAR(ab, ba, 1e-9) << "the order of the members does not matter";
+  EXPECT_NEAR(ba, alone + 2 * 2 * std::log(2.0), 0.05) << "two folds where A and B tie: 2 ln 2 each";
+  EXPECT_NEAR(loco_score(cells, {c, a}), alone, 1e-6);
+  std::vector<double> folds;
+  const std::vector<double> per_cell = loco_cells(cells, {b, a}, &folds);
+  double sum = 0;
+  for (double x : per_cell) sum += x;
+  EXPECT_NEAR(sum, ba, 1e-9);
+  EXPECT_EQ(folds.size(), 3u) << "one strength per fold: the best member's";
 }

@@ -233,22 +233,73 @@ std::vector<double> loco_strengths(const std::vector<Cell>& cells, const std::ve
   return s;
 }
 
+namespace {
+
+// The held-out score of a condition predicted by a family's mixture (fit.h, loco_cells): member m has χ²
+// `train_chi2[m]` on the fold's cells and held-out cell scores `test[m][i]` (-2 log density, up to a constant
+// shared by the members). Its weight after the fold is w_m ∝ exp(-χ²_m/2) (a uniform prior over members);
+// the mixture's score is -2 ln Σ_m w_m exp(-S_m/2), S_m = Σ_i test[m][i]. Writes one score per held-out
+// cell into out[cells[i]]: each member's cell score weighted by its share of the mixture's density at the
+// held-out observation, plus an equal part of the remainder, so the cells sum to the mixture's score.
+void mixture_fold(const std::vector<double>& train_chi2, const std::vector<std::vector<double>>& test,
+                  const std::vector<size_t>& cells, std::vector<double>& out) {
+  const size_t n = train_chi2.size();
+  auto lse = [](const std::vector<double>& v) {
+    const double mx = *std::max_element(v.begin(), v.end());
+    double acc = 0;
+    for (double x : v) acc += std::exp(x - mx);
+    return mx + std::log(acc);
+  };
+  std::vector<double> lw(n), la(n), tot(n, 0.0);
+  for (size_t m = 0; m < n; ++m) {
+    for (double x : test[m])
+      if (std::isfinite(x)) tot[m] += x;
+    lw[m] = -0.5 * train_chi2[m];
+    la[m] = lw[m] - 0.5 * tot[m];
+  }
+  const double la_all = lse(la), score = -2.0 * (la_all - lse(lw));
+  std::vector<double> r(n);
+  double shared = 0;
+  for (size_t m = 0; m < n; ++m) r[m] = std::exp(la[m] - la_all), shared += r[m] * tot[m];
+  for (size_t i = 0; i < cells.size(); ++i) {
+    double x = 0;
+    for (size_t m = 0; m < n; ++m)
+      if (std::isfinite(test[m][i])) x += r[m] * test[m][i];
+    out[cells[i]] = x + (score - shared) / double(cells.size());
+  }
+}
+
+}  // namespace
+
 std::vector<double> loco_cells(const std::vector<Cell>& cells, const std::vector<Emulator>& ems,
                                std::vector<double>* fold_strengths, const std::vector<double>* null_se) {
   std::vector<double> out(cells.size(), 0.0);
   if (fold_strengths) fold_strengths->clear();
+  // One held-out cell's score under member m at log strength u: z² (+ the log-variance ratio with null_se).
+  auto cell_score = [&](size_t m, size_t k, double u) {
+    const Prediction p = ems[m].at(k, u);
+    const double z = z_score(cells[k], p);
+    const double z2 = z * z;
+    if (!null_se || !std::isfinite(z) || k >= null_se->size() || !std::isfinite((*null_se)[k])) return z2;
+    const double s2 = cells[k].sigma * cells[k].sigma;
+    return z2 + std::log((s2 + p.se * p.se) / (s2 + (*null_se)[k] * (*null_se)[k]));
+  };
   for (const auto& [train, test] : loco_folds(cells, "loco_score")) {
     const ProfileFit f = fit_profile(cells, ems, train);
     if (fold_strengths) fold_strengths->push_back(f.fit.strength);
-    const double u = std::log10(f.fit.strength);
-    for (size_t k : test) {
-      const Prediction p = ems[f.member].at(k, u);
-      const double z = z_score(cells[k], p);
-      out[k] = z * z;
-      if (!null_se || !std::isfinite(z) || k >= null_se->size() || !std::isfinite((*null_se)[k])) continue;
-      const double s2 = cells[k].sigma * cells[k].sigma;
-      out[k] += std::log((s2 + p.se * p.se) / (s2 + (*null_se)[k] * (*null_se)[k]));
+    if (ems.size() == 1) {
+      const double u = std::log10(f.fit.strength);
+      for (size_t k : test) out[k] = cell_score(f.member, k, u);
+      continue;
     }
+    std::vector<double> train_chi2;
+    std::vector<std::vector<double>> scores(ems.size());
+    for (size_t m = 0; m < ems.size(); ++m) {
+      const StrengthFit g = fit_strength(cells, ems[m], train);
+      train_chi2.push_back(g.chi2);
+      for (size_t k : test) scores[m].push_back(cell_score(m, k, std::log10(g.strength)));
+    }
+    mixture_fold(train_chi2, scores, test, out);
   }
   return out;
 }
@@ -302,12 +353,19 @@ std::vector<double> loco_null_cells(const std::vector<Cell>& cells,
     }
     return out;
   }
+  // The refit settings are the null's members: mixed as a candidate's are (loco_cells), so the two scores
+  // treat their nuisance parameters alike.
   for (const auto& [train, test] : loco_folds(cells, "loco_null")) {
-    const std::vector<Prediction>& b = baselines[fit_null_refit(cells, baselines, train)];
-    for (size_t k : test) {
-      const double z = z_score(cells[k], b[k]);
-      out[k] = z * z;
+    std::vector<double> train_chi2;
+    std::vector<std::vector<double>> scores(baselines.size());
+    for (size_t j = 0; j < baselines.size(); ++j) {
+      train_chi2.push_back(chi2(cells, baselines[j], train));
+      for (size_t k : test) {
+        const double z = z_score(cells[k], baselines[j][k]);
+        scores[j].push_back(z * z);
+      }
     }
+    mixture_fold(train_chi2, scores, test, out);
   }
   return out;
 }
