@@ -49,6 +49,24 @@ TEST(DiagnoseParagraph, UnexplainedNamesALeadOnlyWhenTheBestCandidateHelps) {
   EXPECT_NE(none.find("outside the candidates"), std::string::npos) << none;
 }
 
+// A lead that passes the held-out rule but that its own probes cannot show (the micro twin with cohesion
+// 0.06 J/m²: 1.4 held out against the model's 14.1, probes at most 2.6 σ) is not named for that reason, and
+// the paragraph says so instead of "short of the rule".
+TEST(DiagnoseParagraph, ALeadThatPassesButCannotBeSeenSaysWhy) {
+  Report r = unexplained(1.0);
+  r.verdict.null_loco = 14.1;
+  r.verdict.floor = 2.7;
+  r.verdict.ranking[0].loco = 1.4;
+  const std::string seen = verdict_paragraph(r);
+  r.unseen = {"cohesion"};
+  const std::string unseen = verdict_paragraph(r);
+  EXPECT_NE(unseen.find("a lead: `cohesion`"), std::string::npos) << unseen;
+  EXPECT_NE(unseen.find("passes the held-out rule"), std::string::npos) << unseen;
+  EXPECT_NE(unseen.find("move no cell of this table by 3 σ"), std::string::npos) << unseen;
+  EXPECT_EQ(unseen.find("short of the rule"), std::string::npos) << unseen;
+  EXPECT_EQ(seen.find("passes the held-out rule"), std::string::npos) << seen;
+}
+
 // With refit the paragraph names the value each model was fitted with, and says when re-fitting alone, with
 // no added effect, closes the gap.
 TEST(DiagnoseParagraph, RefitNamesTheFittedValues) {
