@@ -285,19 +285,20 @@ std::vector<double> loco_cells(const std::vector<Cell>& cells, const std::vector
     return z2 + std::log((s2 + p.se * p.se) / (s2 + (*null_se)[k] * (*null_se)[k]));
   };
   for (const auto& [train, test] : loco_folds(cells, "loco_score")) {
-    const ProfileFit f = fit_profile(cells, ems, train);
-    if (fold_strengths) fold_strengths->push_back(f.fit.strength);
-    if (ems.size() == 1) {
-      const double u = std::log10(f.fit.strength);
-      for (size_t k : test) out[k] = cell_score(f.member, k, u);
-      continue;
-    }
     std::vector<double> train_chi2;
     std::vector<std::vector<double>> scores(ems.size());
+    size_t best = 0;
+    double best_strength = 0;
     for (size_t m = 0; m < ems.size(); ++m) {
       const StrengthFit g = fit_strength(cells, ems[m], train);
+      if (m == 0 || g.chi2 < train_chi2[best]) best = m, best_strength = g.strength;  // fit_profile's choice
       train_chi2.push_back(g.chi2);
       for (size_t k : test) scores[m].push_back(cell_score(m, k, std::log10(g.strength)));
+    }
+    if (fold_strengths) fold_strengths->push_back(best_strength);
+    if (ems.size() == 1) {
+      for (size_t i = 0; i < test.size(); ++i) out[test[i]] = scores[0][i];
+      continue;
     }
     mixture_fold(train_chi2, scores, test, out);
   }
