@@ -5,8 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
-#include <limits>
-#include <map>
 #include <random>
 #include <set>
 #include <stdexcept>
@@ -225,16 +223,6 @@ double sum(const std::vector<double>& v) {
   return s;
 }
 
-}  // namespace
-
-std::vector<double> loco_strengths(const std::vector<Cell>& cells, const std::vector<Emulator>& ems) {
-  std::vector<double> s;
-  loco_cells(cells, ems, &s);
-  return s;
-}
-
-namespace {
-
 // The held-out score of a condition predicted by a family's mixture (fit.h, loco_cells): member m has χ²
 // `train_chi2[m]` on the fold's cells and held-out cell scores `test[m][i]` (-2 log density, up to a constant
 // shared by the members). Its weight after the fold is w_m ∝ exp(-χ²_m/2) (a uniform prior over members);
@@ -270,6 +258,12 @@ void mixture_fold(const std::vector<double>& train_chi2, const std::vector<std::
 }
 
 }  // namespace
+
+std::vector<double> loco_strengths(const std::vector<Cell>& cells, const std::vector<Emulator>& ems) {
+  std::vector<double> s;
+  loco_cells(cells, ems, &s);
+  return s;
+}
 
 std::vector<double> loco_cells(const std::vector<Cell>& cells, const std::vector<Emulator>& ems,
                                std::vector<double>* fold_strengths, const std::vector<double>* null_se) {
