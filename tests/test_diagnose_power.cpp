@@ -98,6 +98,39 @@ TEST(DiagnosePower, FreshRunsAgainstTheControlCountBothSidesNoise) {
   EXPECT_EQ(fresh_shift(cells, control, control).max_z, 0.0);
 }
 
+TEST(DiagnosePower, AnUnseenLeadIsNamedOnlyWhenItsFreshRunsShowItAndConfirmTheFit) {
+  // Two cells of sigma 1, the control (the model without the lead, the fresh seeds) 4 sigma below the data in
+  // cell 0: chi2 16 + 0 against the data. Fresh runs of the lead that close cell 0 show it (4 sigma against
+  // the control, more than kVisibleZ) and drop chi2 from 16 to 0: named.
+  const std::vector<Cell> cells = {cell(1.0), cell(1.0)};
+  const std::vector<Prediction> control = {{6.0, 0.0}, {5.0, 0.0}};
+  const double data0 = 10.0, data1 = 5.0;
+  const auto chi2 = [&](const std::vector<Prediction>& m) {
+    return (m[0].mean - data0) * (m[0].mean - data0) + (m[1].mean - data1) * (m[1].mean - data1);
+  };
+  const VerdictRule rule;  // min_drop 4
+  const std::vector<Prediction> closes = {{10.0, 0.0}, {5.0, 0.0}};
+  const Shift s = fresh_shift(cells, control, closes);
+  EXPECT_TRUE(names_unseen_lead(s, cells.size(), chi2(control), chi2(closes), rule, 0.0));
+  // The same drop within the model's own seed luck (16 < 20) is not confirmed.
+  EXPECT_FALSE(names_unseen_lead(s, cells.size(), chi2(control), chi2(closes), rule, 20.0));
+  // A shift as large the wrong way (away from the data) shows but raises chi2: not named.
+  const std::vector<Prediction> away = {{2.0, 0.0}, {5.0, 0.0}};
+  const Shift a = fresh_shift(cells, control, away);
+  EXPECT_TRUE(shows(a, cells.size()));
+  EXPECT_FALSE(names_unseen_lead(a, cells.size(), chi2(control), chi2(away), rule, 0.0));
+  // A drop the runs' own noise hides: the lead moves cell 0 by 1.5 against sqrt(1 + 1 + 1) (the cell's sigma,
+  // the fresh runs' se and the control's), 0.87 sigma, though chi2 against the data falls from 16 to 6.25 by
+  // the cells' sigma alone. The table cannot tell that shift from noise: not named, whatever the drop.
+  const std::vector<Prediction> noisy_control = {{6.0, 1.0}, {5.0, 0.0}};
+  const std::vector<Prediction> noisy = {{7.5, 1.0}, {5.0, 0.0}};
+  const Shift n = fresh_shift(cells, noisy_control, noisy);
+  EXPECT_LT(n.max_z, kVisibleZ);
+  EXPECT_FALSE(shows(n, cells.size()));
+  EXPECT_GE(chi2(noisy_control) - chi2(noisy), rule.min_drop) << "the drop alone would confirm";
+  EXPECT_FALSE(names_unseen_lead(n, cells.size(), chi2(noisy_control), chi2(noisy), rule, 0.0));
+}
+
 TEST(DiagnoseWithinInflation, SeedSpreadOverOwnErrorPooledPerObservable) {
   // Two seeds at two conditions of each observable. Clumps: the seeds differ by 4 and 2 (sample variances
   // 8 and 2) with own SEs 1 (mean SE² 1 and 1): f² = (8 + 2) / (1 + 1) = 5. AoR: the seeds differ by 1 and 0

@@ -9,6 +9,7 @@
 #include "diagnose/effects.h"
 #include "diagnose/next_experiment.h"
 #include "diagnose/observables.h"
+#include "diagnose/power.h"
 #include "diagnose/report.h"
 
 namespace wetdem::diagnose {
@@ -509,16 +510,32 @@ std::string verdict_core(const Report& r) {
     // table (verdict.h, name_only_seen): the paragraph says so, not "short of the rule"; the section on what
     // the table cannot see follows with the measurement that would show it.
     if (passes_margin(c.loco, r.verdict, r.spec->rule) &&
-        std::find(r.unseen.begin(), r.unseen.end(), c.effect) != r.unseen.end())
+        std::find(r.unseen.begin(), r.unseen.end(), c.effect) != r.unseen.end()) {
+      // Its fresh runs against the control (shrink.cpp, try_unseen_lead), when they were made.
+      std::string fresh;
+      if (const FreshCheck* f = r.fresh_of(c.effect); f && !f->after.empty() && !r.null_fresh.after.empty()) {
+        const Shift sh = fresh_shift(r.cells, r.null_fresh.after, f->after);
+        const double before = chi2_of(r.null_fresh.gaps_after), after = chi2_of(f->gaps_after);
+        fresh = fmt::format(
+            " Its fresh runs at that strength ({} seeds at every condition) move {} at {} by {:.1f} σ at "
+            "most "
+            "against the model without it on the same seeds, and give χ² {:.1f} against {:.1f}: {}.",
+            r.spec->replicates, r.cells[sh.cell].observable, r.cell_condition[sh.cell], sh.max_z, after,
+            before,
+            shows(sh, r.cells.size())
+                ? "they show it but do not lower χ² by the margin (min_drop or the model's own seed luck)"
+                : "they cannot show it either");
+      }
       return fmt::format(
           "**Gap not explained (a lead: `{}`).** The model departs from the observations {}. The best "
           "candidate, `{}` ({}), passes the held-out rule (at {} = {:.3g}; held-out χ² {:.1f} against the "
           "model's {:.1f}, noise floor {:.1f}), but its own probe runs move no cell of this table by 3 σ "
           "even at the strongest strength probed, so a held-out score that good may be their seed noise "
-          "and it is not named. The data point to it; a measurement where it would show (below) can "
+          "and it is not named.{} The data point to it; a measurement where it would show (below) can "
           "confirm or exclude it.{}",
           c.effect, departs, c.effect, effect_spec(c.effect).fingerprint, effect_spec(c.effect).strength,
-          c.fit.strength, c.loco, r.verdict.null_loco, r.verdict.floor, null_refit_sentence(r));
+          c.fit.strength, c.loco, r.verdict.null_loco, r.verdict.floor, fresh, null_refit_sentence(r));
+    }
     return fmt::format(
         "**Gap not explained (a lead: `{}`).** The model departs from the observations {}. The best "
         "candidate, `{}` ({}), removes {:.0f} % of the gap in the held-out predictions (at {} "

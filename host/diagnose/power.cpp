@@ -53,6 +53,11 @@ Shift fresh_shift(const std::vector<Cell>& cells, const std::vector<Prediction>&
   return shift_between(cells, control, fresh, true);
 }
 
+bool names_unseen_lead(const Shift& sh, size_t n, double chi2_control, double chi2_fresh,
+                       const VerdictRule& rule, double luck) {
+  return shows(sh, n) && fresh_confirms(chi2_control, chi2_fresh, rule, luck);
+}
+
 bool fresh_shift_of(const Procedure& p, const std::string& effect, Shift* out, double* strength) {
   if (p.null_fresh.after.empty()) return false;
   for (const FreshCheck& f : p.fresh) {

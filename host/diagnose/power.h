@@ -61,6 +61,15 @@ bool shows(const Shift& s, size_t cells);
 Shift fresh_shift(const std::vector<Cell>& cells, const std::vector<Prediction>& control,
                   const std::vector<Prediction>& fresh);
 
+// An unseen candidate that alone passes the held-out rule (shrink.cpp, try_unseen_lead), judged on its fresh
+// runs at the fitted strength against the control on the same seeds over n cells: named only when they show
+// it (shows(sh, n): what its probes could not) and confirm the fit (fresh_confirms: χ² below the control's by
+// min_drop or the model's own seed luck, where that is larger). Either alone is not enough: a shift that does
+// not lower χ² moves the model away from the data, and a drop the table cannot tell from noise is what the
+// probes' held-out score may already have followed.
+bool names_unseen_lead(const Shift& sh, size_t n, double chi2_control, double chi2_fresh,
+                       const VerdictRule& rule, double luck);
+
 // The fresh shift of `effect` (its first fresh check in p.fresh) against p.null_fresh, when both ran and
 // share the refit setting; false otherwise.
 bool fresh_shift_of(const Procedure& p, const std::string& effect, Shift* out, double* strength);

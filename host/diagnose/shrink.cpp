@@ -160,6 +160,16 @@ Verdict redecide(Procedure& p) {
   return decide_seen(p);
 }
 
+// The control: the model without an effect (at the candidate's refit setting) with the same fresh seeds, so
+// that an effect's fresh runs are judged against runs that differ from them in the effect alone, not in their
+// seeds' luck. Shared by every diagnosis of the model in the store.
+void want_control(Procedure& p, size_t refit) {
+  if (!p.null_fresh.gaps_after.empty() && p.null_fresh.refit == refit) return;
+  p.null_fresh = {};
+  p.null_fresh.refit = refit;
+  p.null_fresh.failure = p.want(p.variant("", 0.0, refit), p.fresh_seeds);
+}
+
 // Fresh checks of the chosen effect and every tied one, reusing those already made at the same strength.
 void fresh_all(Procedure& p) {
   std::vector<FreshCheck> next;
@@ -176,15 +186,7 @@ void fresh_all(Procedure& p) {
         f = old;
     next.push_back(f);
   }
-  // The control: the model without an effect (at the chosen one's refit setting) with the same fresh seeds,
-  // so that the effect's fresh runs are judged against runs that differ from them in the effect alone, not in
-  // their seeds' luck. Shared by every diagnosis of the model in the store.
-  if (const Candidate* c = ranked(p, p.verdict.effect);
-      c && (p.null_fresh.gaps_after.empty() || p.null_fresh.refit != c->refit)) {
-    p.null_fresh = {};
-    p.null_fresh.refit = c->refit;
-    p.null_fresh.failure = p.want(p.variant("", 0.0, c->refit), p.fresh_seeds);
-  }
+  if (const Candidate* c = ranked(p, p.verdict.effect)) want_control(p, c->refit);
   p.run();
   for (FreshCheck& f : next)
     if (f.after.empty()) collect_fresh(p, f);
@@ -356,6 +358,65 @@ void judge_unseen_on_fresh(Procedure& p) {
                 p.fresh.end());
 }
 
+// An unseen candidate that alone passes the held-out rule: name_only_seen left the verdict unexplained, since
+// no candidate the table can see passes beside it. Its probes (P seeds, one run each side per knot) cannot
+// show it, but its fresh runs at the fitted strength (R seeds at every condition, against the control on the
+// same seeds) carry no probe's seed noise and no emulator. When they show it (shows(fresh_shift), the rule
+// see_on_fresh applies to an unseen tie) and lower χ² below the control's by min_drop and the model's own
+// seed luck (fresh_confirms, the rule every named effect meets), the table sees it after all: it leaves
+// p.unseen and the verdict is decided again, naming it as it would any seen candidate, and the shrink goes on
+// from its fresh check. Otherwise the verdict stays unexplained, with the fresh runs kept for the report
+// (what they showed), and a note. A null's lead fails one of the two on its own runs: the fit followed its
+// probes' noise.
+void try_unseen_lead(Procedure& p) {
+  const Verdict& v = p.verdict;
+  if (v.kind != "unexplained" || v.fresh_rejected || v.ranking.empty()) return;
+  const Candidate c = v.ranking.front();
+  if (!passes_margin(c.loco, v, p.d.rule) || !listed(p.unseen, c.effect) ||
+      listed(p.unseen_rejected, c.effect))
+    return;
+  FreshCheck f = want_fresh(p, c);
+  want_control(p, c.refit);
+  p.run();
+  collect_fresh(p, f);
+  if (p.null_fresh.after.empty()) collect_fresh(p, p.null_fresh);
+  p.fresh = {f};
+  if (!f.failure.empty() || f.after.empty() || p.null_fresh.after.empty()) {
+    p.notes.push_back(
+        fmt::format("shrink: the fresh runs of {} (unseen, the only candidate passing the held-out "
+                    "rule) or of the model without it failed: {}; unexplained",
+                    c.effect, f.failure.empty() ? p.null_fresh.failure : f.failure));
+    return;
+  }
+  const double luck = seed_luck(p), before = chi2_of(p.null_fresh.gaps_after), after = chi2_of(f.gaps_after);
+  p.verdict.seed_luck = luck;
+  Shift sh;
+  double at = 0.0;
+  const size_t n = p.tab.cells.size();
+  const bool ran = fresh_shift_of(p, c.effect, &sh, &at);
+  const std::string moved = fmt::format(
+      "at {:.3g} they move {} at {} by {:.1f} σ and the table's χ² by {:.1f} against the model without it on "
+      "the same seeds (visible from {} σ or {:.1f}), and give χ² {:.1f} against its {:.1f} (a drop of "
+      "min_drop = {:g} or the model's own seed luck {:.1f} confirms)",
+      f.strength, p.tab.cells[sh.cell].observable, p.tab.conditions[p.tab.cell_condition[sh.cell]].label,
+      sh.max_z, sh.chi2_excess, kVisibleZ, visible_chi2_excess(n), after, before, p.d.rule.min_drop, luck);
+  if (!ran || !names_unseen_lead(sh, n, before, after, p.d.rule, luck)) {
+    p.notes.push_back(fmt::format(
+        "shrink: {} passes the held-out rule alone but its probes cannot show it; its "
+        "fresh runs {}: {}, so it is not named and the verdict stays unexplained",
+        c.effect, moved,
+        !ran || !shows(sh, n) ? "they do not show it either" : "they show it but do not confirm the fit"));
+    return;
+  }
+  p.unseen.erase(std::find(p.unseen.begin(), p.unseen.end(), c.effect));
+  p.seen_on_fresh.push_back(c.effect);
+  p.notes.push_back(
+      fmt::format("shrink: {} passes the held-out rule alone and is seen on its fresh runs: {}; "
+                  "its probes alone could not show it, so it is named as any seen candidate is",
+                  c.effect, moved));
+  p.verdict = redecide(p);
+}
+
 // The chosen effect's fresh runs do not confirm it against the control (fresh_confirms). A candidate the
 // held-out score did not separate from it (tied, or a near tie: fresh_all ran both) and the table can see,
 // whose own fresh runs on the same seeds do confirm it, is the answer the least approximate evidence
@@ -419,6 +480,7 @@ double split_luck(const std::vector<uint64_t>& seeds,
 void run_shrink(Procedure& p) {
   p.fresh.clear();
   p.confirmations.clear();
+  try_unseen_lead(p);
   if (p.verdict.kind != "effect") return;
   fresh_all(p);
   // Confirmation: when cells stay significant, the fresh runs become a knot (R seeds, no common-random-number
