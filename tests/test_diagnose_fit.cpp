@@ -1,9 +1,8 @@
 // The fit behind the verdict (fit.h), on synthetic cells with known answers: an interval widened by the
 // scatter the fit leaves, open ends, extension past an edge within the physical range, a second parameter
 // fitted as a profile (absorption at another rate is still absorption) and its interval over every shape that
-// fits as well, a shape probed at one strength extended to its own best, and a family held out as the mixture
-// of its members. Suite names stay
-// DiagnoseVerdict.
+// fits as well, a shape probed at one strength extended to its own best and bracketed, and a family held out
+// as the mixture of its members. Suite names stay DiagnoseVerdict.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -374,4 +373,60 @@ TEST(DiagnoseVerdict, HeldOutAFamilyPredictsByTheMixtureOfItsMembers) {
   for (double x : per_cell) sum += x;
   EXPECT_NEAR(sum, ba, 1e-9);
   EXPECT_EQ(folds.size(), 3u) << "one strength per fold: the best member's";
+}
+
+// A member probed at one strength only, the best: its interval is a point at the edge (interpolated from its
+// one knot down to the baseline anchor), and the fit stage brackets it with a knot one probe step down and
+// one up (fit.h, one_knot_bracket). A saturating response (a capacity the films fill at a fast rate: the
+// cells move quickly at first, then level off), data at 0.03, the member's one knot at 0.031 (micro
+// u-absorption-fast: "0.031 (0.0305 and above)", the truth 0.03 outside).
+TEST(DiagnoseVerdict, AMemberProbedAtOneStrengthIsBracketedSoItsIntervalIsNoPointAtTheEdge) {
+  // What the bracket is: one step (the listed probes' 5x) each side, within the physical range.
+  Response one;
+  one.effect = "absorption";
+  one.strengths = {0.031};
+  one.pred = {std::vector<Prediction>(5, Prediction{30.0, 0.1})};
+  const std::vector<double> b = one_knot_bracket(one, 5.0, 0.001, 0.3);
+  ASSERT_EQ(b.size(), 2u);
+  EXPECT_NEAR(b[0], 0.0062, 1e-12);
+  EXPECT_NEAR(b[1], 0.155, 1e-12);
+  one.strengths = {0.3};
+  EXPECT_EQ(one_knot_bracket(one, 5.0, 0.001, 0.3), std::vector<double>{0.06})
+      << "at the upper limit: below only";
+  one.strengths = {0.0011};
+  EXPECT_EQ(one_knot_bracket(one, 5.0, 0.001, 0.3), std::vector<double>{0.0055})
+      << "the lower limit within a quarter of the knot: above only";
+  one.strengths = {0.01, 0.05};
+  one.pred.push_back(one.pred.front());
+  EXPECT_TRUE(one_knot_bracket(one, 5.0, 0.001, 0.3).empty()) << "two knots: an interval of its own";
+
+  // The interval before and after the bracket, on a response that saturates in log strength.
+  const double u_anchor = std::log10(0.031) - 1.0;
+  const auto truth_at = [&](double s) {
+    std::vector<Prediction> p;
+    const double x = std::log10(s) - u_anchor;
+    for (double k : kSlope) p.push_back({30.0 + 4.0 * k * (1.0 - std::exp(-x / 0.4)), 0.05});
+    return p;
+  };
+  std::vector<double> y;
+  for (const Prediction& p : truth_at(0.03)) y.push_back(p.mean);
+  const std::vector<Cell> cells = cells_at(kPhi, y, 0.1);
+  const std::vector<Prediction> base(5, Prediction{30.0, 0.05});
+  Response r;
+  r.effect = "absorption";
+  add_knot(r, 0.031, truth_at(0.031));
+  const StrengthFit before = fit_strength(cells, Emulator(base, r));
+  EXPECT_TRUE(before.open_hi) << "one knot: the interval runs into it";
+  EXPECT_NEAR(before.hi, 0.031, 1e-12);
+  EXPECT_GT(before.lo, 0.03) << "and, a point at the edge, it excludes the truth";
+  for (double s : one_knot_bracket(r, 5.0, 0.001, 0.3)) add_knot(r, s, truth_at(s));
+  const StrengthFit after = fit_strength(cells, Emulator(base, r));
+  EXPECT_FALSE(after.open_hi) << "bounded by runs on both sides";
+  EXPECT_FALSE(after.open_lo);
+  EXPECT_GT(after.hi, 0.031);
+  EXPECT_LT(after.lo, before.lo);
+  // On this response the bracketed interval (0.02999-0.0340) reaches the truth; in general the emulator's
+  // interpolation between knots 5x apart can still miss it (the refinement knot at the fit follows in the
+  // stage).
+  EXPECT_LE(after.lo, 0.03);
 }

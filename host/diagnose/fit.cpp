@@ -387,6 +387,16 @@ double probe_step(const std::vector<double>& strengths) {
   return step;
 }
 
+std::vector<double> one_knot_bracket(const Response& r, double step, double phys_lo, double phys_hi) {
+  if (r.strengths.size() != 1 || !(step > 1.0)) return {};
+  const double s = r.strengths.front();
+  const auto round3 = [](double x) { return std::stod(fmt::format("{:.3g}", x)); };
+  std::vector<double> out;
+  if (const double lo = std::max(phys_lo, round3(s / step)); lo * 1.25 <= s) out.push_back(lo);
+  if (const double hi = std::min(phys_hi, round3(s * step)); hi >= 1.25 * s) out.push_back(hi);
+  return out;
+}
+
 double next_edge_knot(const StrengthFit& f, const Response& r, double phys_lo, double phys_hi,
                       int* at_limit) {
   if (at_limit) *at_limit = 0;

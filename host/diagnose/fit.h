@@ -149,6 +149,15 @@ double next_knot(const std::vector<Cell>& cells, const std::vector<Prediction>& 
 // exhausted (then `*at_limit` says which end: -1 low, +1 high).
 double next_edge_knot(const StrengthFit& f, const Response& r, double phys_lo, double phys_hi,
                       int* at_limit = nullptr);
+// A member probed at one strength only (a shape added at the strength fitted at another shape: fit_stage
+// steps 2 and 4) has no knot on either side of its fit, so its interval is a point at the edge: interpolated
+// from its one knot down to the baseline anchor, it bounds nothing the runs have measured (micro
+// u-absorption-fast: 0.031 at 300 1/s, "0.0305 and above", the truth 0.03 outside). Its bracket: one step
+// `step` down and one up (the listed probes' step, probe_step), each within [phys_lo, phys_hi] and dropped
+// where it would be within a quarter of the knot (at a physical limit); empty for a member with two knots or
+// more.
+std::vector<double> one_knot_bracket(const Response& r, double step, double phys_lo, double phys_hi);
+
 // The step by which a probed range is extended past its end: the strengths' largest ratio, at least 3x
 // (next_edge_knot; the reach past the file's probes, power.h).
 double probe_step(const std::vector<double>& strengths);

@@ -6,7 +6,9 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <set>
 #include <stdexcept>
+#include <utility>
 
 #include "diagnose/fit.h"
 #include "diagnose/verdict.h"
@@ -26,7 +28,7 @@ double searchable_hi(const CandidateRuns& c, const EffectSpec& spec) {
 struct Knot {
   size_t c = 0, j = 0, m = 0;
   double s = 0.0;
-  std::string why;  // "probe", "refine", "extend", "shape", "between"
+  std::string why;  // "probe", "refine", "extend", "shape", "between", "bracket"
 };
 
 struct Stage {
@@ -34,7 +36,8 @@ struct Stage {
   std::vector<CandidateRuns>& cands;
   std::vector<Knot> pending;
   std::vector<int> refined, extended, members_extended, shapes_between;  // per candidate: rounds spent
-  std::vector<std::map<size_t, int>> between_extended;  // per candidate: shape index -> its extensions
+  std::vector<std::map<size_t, int>> between_extended;         // per candidate: shape index -> its extensions
+  std::vector<std::set<std::pair<size_t, size_t>>> bracketed;  // per candidate: members (j, m) bracketed
 
   Variant variant_of(const Knot& k) const {
     const CandidateRuns& c = cands[k.c];
@@ -78,6 +81,10 @@ struct Stage {
       if (k.why == "between")
         c.notes.push_back(
             fmt::format("shape {:.3g} added between the listed shapes, at {:.3g}", c.shapes[k.m], k.s));
+      if (k.why == "bracket")
+        c.notes.push_back(
+            fmt::format("bracketed at {:.3g}{}", k.s,
+                        std::isnan(c.shapes[k.m]) ? "" : fmt::format(", shape {:.3g}", c.shapes[k.m])));
       if (k.why == "extend" || k.why == "shape")
         c.notes.push_back(
             fmt::format("{} {:.3g}{}", k.why == "extend" ? "range extended to" : "shape added at", k.s,
@@ -98,8 +105,18 @@ struct Stage {
     // Runs are spent only on a candidate that explains something: its fit beats the null at its setting.
     if (!(f.chi2 < chi2(p.tab.cells, p.baselines[j]) - 1.0)) return false;
     const Response& r = c.member(j, m);
-    // 1. An edge of the probed range: extend within the physical range and below the cut.
     const double hi = searchable_hi(c, spec);
+    // 0. The best member probed at one strength only (a shape added in steps 2 or 4): a knot on each side
+    // (fit.h, one_knot_bracket), once per member and whatever the `extend` allowance, since an interval may
+    // not be reported as a point at the edge (issue 18, 3b).
+    if (bracketed[ci].insert({j, m}).second) {
+      const auto it = p.d.probes.find(c.effect);
+      const std::vector<double> b = one_knot_bracket(
+          r, probe_step(it != p.d.probes.end() ? it->second : spec.probes), spec.phys_lo, hi);
+      for (double s : b) want({ci, j, m, s, "bracket"});
+      if (!b.empty()) return true;
+    }
+    // 1. An edge of the probed range: extend within the physical range and below the cut.
     int limit = 0;
     const double edge = next_edge_knot(f, r, spec.phys_lo, hi, &limit);
     if (edge > 0 && extended[ci] < p.d.extend) {
@@ -254,7 +271,8 @@ void run_fit(Procedure& p, size_t top) {
            std::vector<int>(cands.size(), 0),
            std::vector<int>(cands.size(), 0),
            std::vector<int>(cands.size(), 0),
-           std::vector<std::map<size_t, int>>(cands.size())};
+           std::vector<std::map<size_t, int>>(cands.size()),
+           std::vector<std::set<std::pair<size_t, size_t>>>(cands.size())};
   for (size_t ci = 0; ci < cands.size(); ++ci) {
     const size_t m0 = cands[ci].shapes.size() / 2;
     for (double s : p.d.probes.at(cands[ci].effect))

@@ -2,8 +2,9 @@
 // strength (seed 1), at every refit setting; for an effect with a second parameter, at its other shapes; then
 // rounds that refine the fit (a run at the fitted strength), extend the probed range past an edge the fit
 // runs into (within the physical range), extend the shapes past an end, and extend another shape whose own
-// fit runs into an edge of its knots (each shape compared at its own best strength). The statistics are
-// fit.h.
+// fit runs into an edge of its knots (each shape compared at its own best strength), add shapes between the
+// listed ones, and bracket a best shape probed at one strength only (a knot each side: its interval is then
+// bounded by runs, not a point at the edge). The statistics are fit.h.
 #pragma once
 
 #include "diagnose/procedure.h"
