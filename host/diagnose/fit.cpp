@@ -373,8 +373,18 @@ double loco_null(const std::vector<Cell>& cells, const std::vector<Prediction>& 
   return chi2(cells, baseline);
 }
 
+namespace {
+
+// Strengths the stage asks for are kept to 3 significant digits (the store's run names and the report's
+// text).
+double round3(double x) {
+  return std::stod(fmt::format("{:.3g}", x));
+}
+
+}  // namespace
+
 double next_knot(const std::vector<Cell>& cells, const std::vector<Prediction>& baseline, const Response& r) {
-  const double s = std::stod(fmt::format("{:.3g}", fit_strength(cells, Emulator(baseline, r)).strength));
+  const double s = round3(fit_strength(cells, Emulator(baseline, r)).strength);
   for (double k : r.strengths)
     if (std::fabs(std::log(s / k)) < 0.02) return 0.0;
   return s;
@@ -390,7 +400,6 @@ double probe_step(const std::vector<double>& strengths) {
 std::vector<double> one_knot_bracket(const Response& r, double step, double phys_lo, double phys_hi) {
   if (r.strengths.size() != 1 || !(step > 1.0)) return {};
   const double s = r.strengths.front();
-  const auto round3 = [](double x) { return std::stod(fmt::format("{:.3g}", x)); };
   std::vector<double> out;
   if (const double lo = std::max(phys_lo, round3(s / step)); lo * 1.25 <= s) out.push_back(lo);
   if (const double hi = std::min(phys_hi, round3(s * step)); hi >= 1.25 * s) out.push_back(hi);
@@ -402,7 +411,6 @@ double next_edge_knot(const StrengthFit& f, const Response& r, double phys_lo, d
   if (at_limit) *at_limit = 0;
   if (r.strengths.empty()) return 0.0;
   const double step = probe_step(r.strengths);
-  const auto round3 = [](double s) { return std::stod(fmt::format("{:.3g}", s)); };
   if (f.at_hi || f.open_hi) {
     const double top = r.strengths.back();
     if (top >= phys_hi * (1.0 - 1e-9)) {
@@ -462,7 +470,7 @@ std::vector<double> next_shapes_between(const std::vector<Cell>& cells, const st
   if (std::next(at) != listed.end()) sides.push_back(*std::next(at));
   for (double other : sides) {
     if (std::max(v, other) / std::min(v, other) <= min_ratio) continue;
-    const double mid = std::stod(fmt::format("{:.3g}", std::sqrt(v * other)));
+    const double mid = round3(std::sqrt(v * other));
     if (!listed.count(mid)) out.push_back(mid);
   }
   return out;
