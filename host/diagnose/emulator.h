@@ -18,11 +18,14 @@ struct Response {
   std::vector<std::vector<Prediction>> pred;  // [strength][cell]
 };
 
-// The response of every cell over u = log10(strength): piecewise-linear interpolation through the baseline
-// (placed at u_lo = log10 of a tenth of the weakest strength probed, where the effect is taken as absent) and
-// the probes, in mean and in SE. Interpolation, not a smoothing fit: with three or four points per cell a
-// polynomial overshoots steep responses (f_wet against a wetted fraction), and an emulator that misplaces the
-// response misplaces the fitted strength. Outside [u_lo, u_hi] the end values hold (no extrapolation).
+// The response of every cell over u = log10(strength): a piecewise cubic through the baseline (placed at
+// u_lo = log10 of a tenth of the weakest strength probed, where the effect is taken as absent) and the
+// probes, with each knot's slope that of the parabola through it and its neighbours, limited where the knots
+// are monotone (emulator.cpp); the SE of the interpolated mean from the knots' SEs. Interpolation, not a
+// smoothing fit: with three or four points per cell a polynomial overshoots steep responses (f_wet against a
+// wetted fraction), and an emulator that misplaces the response misplaces the fitted strength; straight lines
+// between the knots misplace a response that bends between them. Outside [u_lo, u_hi] the end values hold (no
+// extrapolation).
 class Emulator {
  public:
   Emulator(const std::vector<Prediction>& baseline, const Response& r);
@@ -42,8 +45,16 @@ class Emulator {
   Emulator redrawn(std::mt19937_64& rng, const std::vector<double>& anchor_z) const;
 
  private:
+  // A knot's slope as weights over three neighbouring knots a, a+1, a+2 (emulator.cpp, set_slopes).
+  struct Slope {
+    size_t a = 0;
+    double w[3] = {0, 0, 0};
+  };
+  void set_slopes();  // from the means: the parabola's, limited where the knots are monotone
+
   std::vector<double> u_;                       // knots: anchor, then log10 of every probe
   std::vector<std::vector<double>> mean_, se_;  // per cell, per knot
+  std::vector<std::vector<Slope>> slope_;       // per cell, per knot (three knots or more)
 };
 
 // Inserts a run's predictions at `strength` into the response (kept ascending).
