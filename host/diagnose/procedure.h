@@ -118,9 +118,11 @@ struct SecondRound {
   double joint_first = 0.0, joint_second = 0.0, joint_chi2 = 0.0, stepwise_chi2 = 0.0;
   double joint_first_shape = std::numeric_limits<double>::quiet_NaN();  // the first's shape there
   double joint_loco = 0.0;
-  // The second was taken on through the joint fit (it failed the rule with the first held at its own fit,
-  // and the pair's held-out χ² passes it): the pair's fresh runs have the first at joint_first (rounded).
+  // The pair's fresh runs are at the joint optimum, the first at joint_first (rounded): the second failed the
+  // rule with the first held at its own fit and the pair's held-out χ² passes it (`joint_rescued`), or it
+  // passed stepwise and the pair fitted jointly predicts the left-out conditions better.
   bool joint = false;
+  bool joint_rescued = false;
   double pair_first = 0.0;  // the first's strength in the pair's fresh runs (base_strength unless joint)
   double pair_first_shape = std::numeric_limits<double>::quiet_NaN();  // ... and its shape
   // The comparison of the pair's fresh runs with the first alone was decided by the seed luck alone.

@@ -139,8 +139,8 @@ nlohmann::json second_json(const Report& r) {
       {"screen", json::array()},
       {"ranking", json::array()}};
   for (const Screened& x : s.screened) j["screen"].push_back({{"effect", x.effect}, {"score", x.score}});
-  // The joint re-fit of the pair (pair_fit.h); `named`: the second taken on through it, the pair's fresh
-  // runs at first_in_pair.
+  // The joint re-fit of the pair (pair_fit.h); `named`: the pair's fresh runs at the joint optimum (the
+  // first at first_in_pair); `rescued`: the second failed the rule stepwise and was taken on through it.
   j["joint"] = nullptr;
   if (s.joint_first > 0)
     j["joint"] = {{"second", s.joint_effect},
@@ -150,6 +150,7 @@ nlohmann::json second_json(const Report& r) {
                   {"stepwise_chi2", s.stepwise_chi2},
                   {"loco_chi2", s.joint_loco},
                   {"named", s.joint},
+                  {"rescued", s.joint_rescued},
                   {"first_in_pair", s.pair_first},
                   {"first_shape", num(s.joint_first_shape)},
                   {"first_shape_in_pair", num(s.pair_first_shape)}};
@@ -250,10 +251,15 @@ std::string second_markdown(const Report& r) {
             : fmt::format(" at {} = {:.3g}", effect_spec(s.base_effect).shape, s.joint_first_shape),
         s.joint_effect, s.joint_second, s.joint_chi2, s.stepwise_chi2, s.base_effect, s.joint_loco,
         s.verdict.null_loco, s.base_effect,
-        s.joint ? fmt::format(" `{}` failed the rule held at its own fit and passes it jointly: the pair's "
-                              "fresh runs are at the joint optimum.",
-                              s.joint_effect)
-                : "");
+        !s.joint ? ""
+        : s.joint_rescued
+            ? fmt::format(
+                  " `{}` failed the rule held at its own fit and passes it jointly: the pair's fresh runs "
+                  "are at the joint optimum.",
+                  s.joint_effect)
+            : fmt::format(" `{}` passes the rule held at its own fit too, but jointly the pair predicts the "
+                          "left-out conditions better: its fresh runs are at the joint optimum.",
+                          s.joint_effect));
   return md + "\n\n";
 }
 

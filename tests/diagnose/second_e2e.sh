@@ -28,18 +28,19 @@ grep -q "\`spread\` alone on the same seeds: " "$D/d/report.md" ||
 grep -q "Gap explained by \`spread\` and \`absorption\` together" "$D/d/report.md" ||
   { echo "FAIL: the paragraph does not name both"; cat "$D/d/report.md"; exit 1; }
 
-# The joint re-fit (pair_fit.h): with cohesion's screen probe lower (micro_joint_ci.toml) absorption comes first;
-# spread, fitted on top of it held at its own fit, fails the rule held out, and the pair fitted jointly (both
-# strengths re-fitted in every fold) passes it. Both are named, and the pair's fresh runs, at the joint optimum,
-# beat absorption alone by the seed luck. The stepwise rule alone left `partial (absorption)` with f_wet at 10 %
-# at z = -8.3 (docs/validation.md).
+# The joint re-fit (pair_fit.h): with cohesion's screen probe lower (micro_joint_ci.toml) absorption comes first.
+# Spread fitted on top of it held at its own fit predicts the left-out conditions worse than the pair fitted
+# jointly (both strengths re-fitted in every fold), so the pair's fresh runs are at the joint optimum; both are
+# named, and those runs beat absorption alone by the seed luck. (On the straight-line emulator the stepwise
+# second failed the rule outright and the stepwise rule alone left `partial (absorption)` with f_wet at 10 % at
+# z = -8.3; on the cubic it passes, 10.6 against 51.5, and the joint fit does better, 5.2: docs/validation.md.)
 wd diagnose "$SRC/tests/diagnose/micro_joint_ci.toml" --observations "$D/t/observations.csv" --out "$D/dj" \
   --store "$S" --quiet --no-figures
 echo "joint: $(J "$D/dj/diagnosis.json" 'j["verdict"], j["effects"], j["second"]["joint"]')"
 expect "$D/dj/diagnosis.json" 'j["effects"] == ["absorption", "spread"] and j["second"]["joint"]["named"]' \
   "absorption then spread not named through the joint fit" "$D/dj/report.md"
-expect "$D/dj/diagnosis.json" 'j["second"]["joint"]["loco_chi2"] < j["second"]["null_loco_chi2"] / 2 < j["second"]["ranking"][0]["loco_chi2"]' \
-  "the pair held out jointly does not pass where the stepwise second fails"
+expect "$D/dj/diagnosis.json" 'j["second"]["joint"]["loco_chi2"] < j["second"]["null_loco_chi2"] / 2 and j["second"]["joint"]["loco_chi2"] < j["second"]["ranking"][0]["loco_chi2"]' \
+  "the pair held out jointly does not pass, or does not predict better than the stepwise second"
 expect "$D/dj/diagnosis.json" 'j["second"]["first_fresh_chi2"] - j["second"]["pair_fresh_chi2"] >= max(4, j["seed_luck_chi2"])' \
   "the jointly fitted pair was named without beating the seed luck on fresh seeds"
 expect "$D/dj/diagnosis.json" 'j["second"]["joint"]["first_in_pair"] != j["second"]["first"]["strength"]' \
