@@ -118,11 +118,15 @@ size_t locate(const std::vector<double>& x, double& u, double& t) {
 }  // namespace
 
 Prediction Emulator::at(size_t cell, double u) const {
-  const std::vector<double>& y = mean_[cell];
-  const std::vector<double>& e = se_[cell];
-  if (u_.size() < 2) return {y[0], e[0]};
+  if (u_.size() < 2) return {mean_[cell][0], se_[cell][0]};
   double t = 0.0;
   const size_t i = locate(u_, u, t);
+  return at(cell, i, t);
+}
+
+Prediction Emulator::at(size_t cell, size_t i, double t) const {
+  const std::vector<double>& y = mean_[cell];
+  const std::vector<double>& e = se_[cell];
   Weights w;
   if (u_.size() < 3) {  // two knots: the straight line
     w.lo = 0, w.n = 2, w.w[0] = 1.0 - t, w.w[1] = t;
@@ -167,7 +171,13 @@ Emulator Emulator::redrawn(std::mt19937_64& rng, const std::vector<double>& anch
 std::vector<Prediction> Emulator::at(double u) const {
   std::vector<Prediction> p;
   p.reserve(mean_.size());
-  for (size_t k = 0; k < mean_.size(); ++k) p.push_back(at(k, u));
+  if (u_.size() < 2) {
+    for (size_t k = 0; k < mean_.size(); ++k) p.push_back({mean_[k][0], se_[k][0]});
+    return p;
+  }
+  double t = 0.0;
+  const size_t i = locate(u_, u, t);  // once for every cell: the knots are shared
+  for (size_t k = 0; k < mean_.size(); ++k) p.push_back(at(k, i, t));
   return p;
 }
 

@@ -51,6 +51,7 @@ class Emulator {
     double w[3] = {0, 0, 0};
   };
   void set_slopes();  // from the means: the parabola's, limited where the knots are monotone
+  Prediction at(size_t cell, size_t i, double t) const;  // in interval i (knots i, i+1), at t in [0, 1]
 
   std::vector<double> u_;                       // knots: anchor, then log10 of every probe
   std::vector<std::vector<double>> mean_, se_;  // per cell, per knot
