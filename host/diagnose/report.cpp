@@ -22,13 +22,13 @@ bool has_refit(const Report& r) {
 
 namespace {
 
-nlohmann::json num(double x) {
-  return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
-}
-
 // The whole table's χ² test (where.h); critical is null when the test is off.
 nlohmann::json table_json(const TableFit& t) {
-  return {{"chi2", t.chi2}, {"cells", t.n}, {"p", t.p}, {"critical", num(t.critical)}, {"beyond", t.beyond}};
+  return {{"chi2", t.chi2},
+          {"cells", t.n},
+          {"p", t.p},
+          {"critical", app::number_or_null(t.critical)},
+          {"beyond", t.beyond}};
 }
 
 }  // namespace
@@ -295,7 +295,7 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
   j["dof"] = r.cells.size();
   j["fresh"] = json::array();
   for (const FreshCheck& f : r.fresh) {
-    json x = {{"effect", f.effect}, {"strength", f.strength}, {"shape", num(f.shape)}};
+    json x = {{"effect", f.effect}, {"strength", f.strength}, {"shape", app::number_or_null(f.shape)}};
     if (refit) x["refit"] = setting_json(f.refit);
     if (!f.failure.empty()) x["failure"] = f.failure;
     if (!f.after.empty()) {
@@ -309,12 +309,12 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
   for (const FreshCheck& f : r.confirmations)
     j["confirmations"].push_back({{"effect", f.effect},
                                   {"strength", f.strength},
-                                  {"shape", num(f.shape)},
+                                  {"shape", app::number_or_null(f.shape)},
                                   {"chi2_after", chi2_of(f.gaps_after)},
                                   {"significant_cells", significant(f.gaps_after)}});
   if (after) {
     j["chosen_strength"] = chosen->strength;
-    j["chosen_shape"] = num(chosen->shape);
+    j["chosen_shape"] = app::number_or_null(chosen->shape);
     if (refit) j["chosen_refit"] = setting_json(chosen->refit);
     j["chi2_after"] = chi2_of(chosen->gaps_after);
     j["shrink"] = 1.0 - chi2_of(chosen->gaps_after) / std::max(1e-300, chi2_of(r.gaps));

@@ -6,6 +6,7 @@
 #include <set>
 #include <string>
 
+#include "app/output/summary.h"
 #include "diagnose/report.h"
 
 namespace wetdem::diagnose {
@@ -14,11 +15,6 @@ namespace {
 
 std::string refit_text(double x) {
   return std::isfinite(x) ? fmt::format("{:.2f}", x) : "";
-}
-
-// NaN as null (JSON has no NaN).
-nlohmann::json number_or_null(double x) {
-  return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json();
 }
 
 }  // namespace
@@ -86,7 +82,7 @@ nlohmann::json next_json(const Report& r) {
                      {"se_b", q.se_b},
                      {"sigma", q.sigma},
                      {"separation", q.separation},
-                     {"refit_separation", number_or_null(q.refit_separation)},
+                     {"refit_separation", app::number_or_null(q.refit_separation)},
                      {"in_table", q.in_table},
                      {"assay", q.assay},
                      {"seeds", q.seeds}});
@@ -95,7 +91,7 @@ nlohmann::json next_json(const Report& r) {
     series.push_back({{"observable", a.observable},
                       {"conditions", a.conditions},
                       {"separation", a.separation},
-                      {"refit_separation", number_or_null(a.refit_separation)}});
+                      {"refit_separation", app::number_or_null(a.refit_separation)}});
   json pairs = json::array();
   for (const ProposalPair& q : r.next.pairs)
     pairs.push_back({{"first", {{"condition", q.first.condition}, {"observable", q.first.observable}}},

@@ -7,19 +7,11 @@
 #include <map>
 #include <string>
 
+#include "app/output/summary.h"
 #include "diagnose/effects.h"
 #include "diagnose/report.h"
 
 namespace wetdem::diagnose {
-
-namespace {
-
-// NaN as null (JSON has no NaN).
-nlohmann::json second_num(double x) {
-  return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
-}
-
-}  // namespace
 
 nlohmann::json second_json(const Report& r) {
   using nlohmann::json;
@@ -27,7 +19,9 @@ nlohmann::json second_json(const Report& r) {
   if (s.outcome.empty()) return nullptr;
   json j = {{"outcome", s.outcome},
             {"first",
-             {{"effect", s.base_effect}, {"strength", s.base_strength}, {"shape", second_num(s.base_shape)}}},
+             {{"effect", s.base_effect},
+              {"strength", s.base_strength},
+              {"shape", app::number_or_null(s.base_shape)}}},
             {"first_chi2", chi2_of(s.base_gaps)},
             {"first_significant_cells", significant(s.base_gaps)},
             {"null_loco_chi2", s.verdict.null_loco},
@@ -47,8 +41,8 @@ nlohmann::json second_json(const Report& r) {
                   {"named", s.joint},
                   {"rescued", s.joint_rescued},
                   {"first_in_pair", s.pair_first},
-                  {"first_shape", second_num(s.joint_first_shape)},
-                  {"first_shape_in_pair", second_num(s.pair_first_shape)}};
+                  {"first_shape", app::number_or_null(s.joint_first_shape)},
+                  {"first_shape_in_pair", app::number_or_null(s.pair_first_shape)}};
   for (const Candidate& c : s.verdict.ranking) {
     const CandidateRuns* cr = r.second_runs_of(c.effect);
     j["ranking"].push_back({{"effect", c.effect},
@@ -81,7 +75,7 @@ nlohmann::json second_json(const Report& r) {
   }
   if (const FreshCheck* f = r.second_fresh()) {
     j["strength"] = f->strength;
-    j["shape"] = second_num(f->shape);
+    j["shape"] = app::number_or_null(f->shape);
     j["chi2_after"] = chi2_of(f->gaps_after);
     j["shrink"] = 1.0 - chi2_of(f->gaps_after) / std::max(1e-300, chi2_of(r.gaps));
     j["significant_cells"] = significant(f->gaps_after);

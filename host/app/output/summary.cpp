@@ -149,10 +149,6 @@ double window_mean(const std::vector<Sample>& s, double t_from, F f) {
   return n ? sum / double(n) : std::nan("");
 }
 
-nlohmann::json number_or_null(double x) {
-  return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
-}
-
 // diagnosis.md §2: each camera observable as <name> (window mean of the samples that have a value) and
 // <name>_sem (the correlation-aware error of window_stats, as aor_sem_tau); null when no sample of the window
 // has one (the error bar: fewer than two); the plate and centre slab angles are absent on a periodic slice.
@@ -435,6 +431,10 @@ std::vector<std::string> result_lines(const nlohmann::json& s) {
     out.push_back(l);
   }
   return out;
+}
+
+nlohmann::json number_or_null(double x) {
+  return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
 }
 
 }  // namespace wetdem::app

@@ -39,6 +39,9 @@ void write_file_atomic(const std::string& path, const std::string& content);
 std::string timeseries_header();
 std::string timeseries_row(const Sample& s);
 // Exact JSON round trip (doubles are written with 17 digits), for checkpoints.
+// x as a JSON number, or null when it is NaN or infinite (JSON has neither).
+nlohmann::json number_or_null(double x);
+
 nlohmann::json samples_to_json(const std::vector<Sample>& s);
 std::vector<Sample> samples_from_json(const nlohmann::json& j);
 
