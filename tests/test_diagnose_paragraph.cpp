@@ -103,6 +103,18 @@ TEST(DiagnoseParagraph, RefitNamesTheFittedValues) {
   r.verdict.kind = "unexplained";
   r.verdict.held_out_shrink = 0.1;
   EXPECT_EQ(verdict_paragraph(r).find("closed by re-fitting"), std::string::npos);
+
+  // A number is named as written in [refit_values], not as its override's round trip (the paragraph read
+  // "scaling re-fitted to 5.4000000000000004" on a micro twin with refit = ["scaling"]).
+  static DiagnosisSpec scaled;
+  scaled.refit = {{"scaling", 5.0, {{"4.25", "4.25", 4.25}, {"5.4", "5.4000000000000004", 5.4}}}};
+  r.spec = &scaled;
+  r.settings = refit_settings(scaled.refit);
+  r.verdict.kind = "effect";
+  r.verdict.held_out_shrink = 0.8;
+  const std::string written = verdict_paragraph(r);
+  EXPECT_NE(written.find("scaling re-fitted to 5.4 scores"), std::string::npos) << written;
+  EXPECT_EQ(written.find("5.4000000000000004"), std::string::npos) << written;
 }
 
 // A tie is not a finding for the first-ranked effect: the headline names both and the advice waits for the

@@ -98,9 +98,15 @@ std::string refit_phrase(const Report& r, size_t j) {
   std::string to;
   for (const std::string& o : r.settings.at(j).overrides) {
     const size_t eq = o.find('=');
+    const std::string key = o.substr(0, eq);
     std::string v = o.substr(eq + 1);
+    // As the user wrote it in [refit_values] ("5.4", not the override's round-trip "5.4000000000000004").
+    for (const RefitKey& k : r.spec->refit)
+      if (k.key == key)
+        for (const RefitValue& x : k.values)
+          if (x.toml == v) v = x.written;
     if (v.size() >= 2 && v.front() == '"') v = v.substr(1, v.size() - 2);
-    to += (to.empty() ? "" : " and ") + o.substr(0, eq) + " re-fitted to " + v;
+    to += (to.empty() ? "" : " and ") + key + " re-fitted to " + v;
   }
   return to;
 }
