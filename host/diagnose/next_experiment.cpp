@@ -385,6 +385,100 @@ bool pair_beats_single(const ProposalPair& pair, const Proposal& single) {
   return pair.refit_separation >= kDecisive && pair.refit_separation > std::sqrt(2.0) * s;
 }
 
+MeasurementNoise measurement_noise(const Procedure& p) {
+  MeasurementNoise n;
+  n.sigma = median_sigma(p.tab.cells);
+  for (const Cell& c : p.tab.cells) n.inflation[c.observable] = p.inflation(c.observable);
+  const std::map<std::string, double> assay_inflation = assays_inflation(p);
+  for (const auto& [obs, sd] : p.d.assays) n.sigma[obs] = sd, n.inflation[obs] = assay_inflation.at(obs);
+  return n;
+}
+
+double separation_of(const MeasurementNoise& n, const std::string& obs, const Prediction& x,
+                     const Prediction& y) {
+  const double s = n.sigma.at(obs);
+  return std::fabs(x.mean - y.mean) / std::sqrt(s * s + x.se * x.se + y.se * y.se);
+}
+
+Proposal compare_at(const Procedure& p, const Variant& a, const Variant& b, const MeasurementNoise& n,
+                    const Condition& c, const std::vector<uint64_t>& seeds, const std::string& obs,
+                    bool in_table) {
+  const double f = n.inflation.count(obs) ? n.inflation.at(obs) : 1.0;
+  const Prediction x = p.book.predict(c, a, seeds, obs, f), y = p.book.predict(c, b, seeds, obs, f);
+  return Proposal{c.label,
+                  obs,
+                  x.mean,
+                  y.mean,
+                  x.se,
+                  y.se,
+                  n.sigma.at(obs),
+                  separation_of(n, obs, x, y),
+                  in_table,
+                  p.d.assays.count(obs) > 0,
+                  seeds.size()};
+}
+
+std::vector<Proposal> measure_beyond(Procedure& p, const Variant& a, const Variant& b,
+                                     const MeasurementNoise& n, std::vector<Condition>& props,
+                                     std::vector<Condition>& wanted, const std::string& stage) {
+  // In two rounds to halve the cost where nothing separates: both models at every proposed condition on the
+  // first seed (common random numbers: the pair's difference is less noisy than either), then the other seeds
+  // only where some observable already separates them by kPromising; a condition that stays on one seed is
+  // reported with its one-seed numbers (seeds = 1) and cannot be the best proposal by much.
+  constexpr double kPromising = 2.0;
+  const std::vector<uint64_t> first{p.base_seeds.front()};
+  wanted.clear();
+  for (Condition& c : props) {
+    try {
+      p.book.want(c, a, first);
+      p.book.want(c, b, first);
+      wanted.push_back(c);
+    } catch (const study::StudyError& e) {
+      p.notes.push_back(fmt::format("{}: {} cannot be run: {}", stage, c.label, e.what()));
+    }
+  }
+  p.run();
+  std::set<std::string> observables;
+  for (const Cell& c : p.tab.cells) observables.insert(c.observable);
+  for (const auto& [obs, sd] : p.d.assays) observables.insert(obs);
+  const auto both_report = [&](const Condition& c, const std::vector<uint64_t>& seeds,
+                               const std::string& obs) {
+    return p.book.reports(c, a, seeds, obs) && p.book.reports(c, b, seeds, obs);
+  };
+  // The proposals at condition c on these seeds; empty when a run failed (noted).
+  const auto measure = [&](const Condition& c, const std::vector<uint64_t>& seeds) {
+    std::vector<Proposal> out;
+    const std::string fa = p.book.failure({c}, a, seeds), fb = p.book.failure({c}, b, seeds);
+    if (!fa.empty() || !fb.empty()) {
+      p.notes.push_back(stage + ": " + (fa.empty() ? fb : fa));
+      return out;
+    }
+    for (const std::string& obs : observables)
+      if (both_report(c, seeds, obs)) out.push_back(compare_at(p, a, b, n, c, seeds, obs, false));
+    return out;
+  };
+  std::vector<std::vector<Proposal>> found;
+  std::vector<bool> promising;
+  for (Condition& c : wanted) {
+    found.push_back(measure(c, first));
+    bool any = false;
+    for (const Proposal& q : found.back()) any = any || q.separation >= kPromising;
+    promising.push_back(any && p.base_seeds.size() > 1);
+    if (promising.back()) {
+      p.book.want(c, a, p.base_seeds);
+      p.book.want(c, b, p.base_seeds);
+    }
+  }
+  p.run();
+  std::vector<Proposal> out;
+  for (size_t i = 0; i < wanted.size(); ++i) {
+    if (promising[i])
+      if (std::vector<Proposal> all = measure(wanted[i], p.base_seeds); !all.empty()) found[i] = all;
+    out.insert(out.end(), found[i].begin(), found[i].end());
+  }
+  return out;
+}
+
 void run_next_experiment(Procedure& p) {
   p.next = {};
   if (p.verdict.tied.empty()) return;
@@ -395,14 +489,8 @@ void run_next_experiment(Procedure& p) {
   const FreshCheck &a = p.fresh[0], &b = p.fresh[1];
   p.next.effect_a = a.effect;
   p.next.effect_b = b.effect;
-  std::map<std::string, double> sigma = median_sigma(p.tab.cells);
-  std::map<std::string, double> inflation;  // per observable: seed spread over the runs' own window SE
-  for (const Cell& c : p.tab.cells) inflation[c.observable] = p.inflation(c.observable);
-  const std::map<std::string, double> assay_inflation = assays_inflation(p);
-  for (const auto& [obs, sd] : p.d.assays) sigma[obs] = sd, inflation[obs] = assay_inflation.at(obs);
-  const auto separation = [&](const std::string& obs, const Prediction& x, const Prediction& y) {
-    return std::fabs(x.mean - y.mean) / std::sqrt(sigma[obs] * sigma[obs] + x.se * x.se + y.se * y.se);
-  };
+  const MeasurementNoise noise = measurement_noise(p);
+  std::map<std::string, double> sigma = noise.sigma, inflation = noise.inflation;
   // The table's own conditions, from the fresh runs (no new run).
   double best = -1;
   size_t base = 0;
@@ -415,7 +503,7 @@ void run_next_experiment(Procedure& p) {
                a.after[k].se,
                b.after[k].se,
                sigma[obs],
-               separation(obs, a.after[k], b.after[k]),
+               separation_of(noise, obs, a.after[k], b.after[k]),
                true,
                false,
                p.fresh_seeds.size()};
@@ -425,37 +513,16 @@ void run_next_experiment(Procedure& p) {
   const size_t camera_base = base;  // where the table's own observables separate the pair most
   const Variant va = p.variant(a.effect, a.strength, a.refit, a.shape);
   const Variant vb = p.variant(b.effect, b.strength, b.refit, b.shape);
-  // Both models' runs at condition c on these seeds, for one observable: each run's own window error scaled
-  // to the baseline's seed spread (two seeds may agree by chance).
-  const auto pair_at = [&](const Condition& c, const std::vector<uint64_t>& seeds, const std::string& obs,
-                           bool in_table) {
-    const Prediction x = p.book.predict(c, va, seeds, obs, inflation[obs]),
-                     y = p.book.predict(c, vb, seeds, obs, inflation[obs]);
-    return Proposal{c.label,     obs,
-                    x.mean,      y.mean,
-                    x.se,        y.se,
-                    sigma[obs],  separation(obs, x, y),
-                    in_table,    p.d.assays.count(obs) > 0,
-                    seeds.size()};
-  };
-  const auto both_report = [&](const Condition& c, const std::vector<uint64_t>& seeds,
-                               const std::string& obs) {
-    return p.book.reports(c, va, seeds, obs) && p.book.reports(c, vb, seeds, obs);
-  };
   // The assays at the table's conditions, from the same fresh runs (no new run).
   for (size_t ci = 0; ci < p.tab.conditions.size(); ++ci)
     for (const auto& [obs, sd] : p.d.assays) {
-      if (!both_report(p.tab.conditions[ci], p.fresh_seeds, obs)) continue;
-      const Proposal q = pair_at(p.tab.conditions[ci], p.fresh_seeds, obs, true);
+      const Condition& c = p.tab.conditions[ci];
+      if (!p.book.reports(c, va, p.fresh_seeds, obs) || !p.book.reports(c, vb, p.fresh_seeds, obs)) continue;
+      const Proposal q = compare_at(p, va, vb, noise, c, p.fresh_seeds, obs, true);
       if (q.separation > best) best = q.separation, base = ci;
       p.next.proposals.push_back(q);
     }
-  // Beyond the table, in two rounds to halve the cost where nothing separates: both models at every proposed
-  // condition on the first seed (common random numbers: the pair's difference is less noisy than either),
-  // then the other seeds only where some observable already separates them by kPromising; a condition that
-  // stays on one seed is reported with its one-seed numbers (seeds = 1) and cannot be the best proposal by
-  // much.
-  constexpr double kPromising = 2.0;
+  // Beyond the table (measure_beyond).
   std::vector<Condition> props = propose_conditions(p.tab.conditions, p.tab.conditions[base], p.models[0].rpm,
                                                     p.models[0].duration_s, p.d.next_conditions);
   // When an assay moved the base, the table's own observables are also tried around their own best
@@ -466,51 +533,9 @@ void run_next_experiment(Procedure& p) {
                              propose_conditions(p.tab.conditions, p.tab.conditions[camera_base],
                                                 p.models[0].rpm, p.models[0].duration_s, p.d.next_conditions),
                              (p.d.next_conditions + 1) / 2);
-  const std::vector<uint64_t> first{p.base_seeds.front()};
   std::vector<Condition> wanted;
-  for (Condition& c : props) {
-    try {
-      p.book.want(c, va, first);
-      p.book.want(c, vb, first);
-      wanted.push_back(c);
-    } catch (const study::StudyError& e) {
-      p.notes.push_back(fmt::format("next experiment: {} cannot be run: {}", c.label, e.what()));
-    }
-  }
-  p.run();
-  std::set<std::string> observables;
-  for (const Cell& c : p.tab.cells) observables.insert(c.observable);
-  for (const auto& [obs, sd] : p.d.assays) observables.insert(obs);
-  // The proposals at condition c on these seeds; empty when a run failed (noted).
-  const auto measure = [&](const Condition& c, const std::vector<uint64_t>& seeds) {
-    std::vector<Proposal> out;
-    const std::string fa = p.book.failure({c}, va, seeds), fb = p.book.failure({c}, vb, seeds);
-    if (!fa.empty() || !fb.empty()) {
-      p.notes.push_back("next experiment: " + (fa.empty() ? fb : fa));
-      return out;
-    }
-    for (const std::string& obs : observables)
-      if (both_report(c, seeds, obs)) out.push_back(pair_at(c, seeds, obs, false));
-    return out;
-  };
-  std::vector<std::vector<Proposal>> found;
-  std::vector<bool> promising;
-  for (Condition& c : wanted) {
-    found.push_back(measure(c, first));
-    bool any = false;
-    for (const Proposal& q : found.back()) any = any || q.separation >= kPromising;
-    promising.push_back(any && p.base_seeds.size() > 1);
-    if (promising.back()) {
-      p.book.want(c, va, p.base_seeds);
-      p.book.want(c, vb, p.base_seeds);
-    }
-  }
-  p.run();
-  for (size_t i = 0; i < wanted.size(); ++i) {
-    if (promising[i])
-      if (std::vector<Proposal> all = measure(wanted[i], p.base_seeds); !all.empty()) found[i] = all;
-    p.next.proposals.insert(p.next.proposals.end(), found[i].begin(), found[i].end());
-  }
+  const std::vector<Proposal> beyond = measure_beyond(p, va, vb, noise, props, wanted, "next experiment");
+  p.next.proposals.insert(p.next.proposals.end(), beyond.begin(), beyond.end());
   // Each assay on every sample of the table: separations at independent conditions add in quadrature.
   for (const auto& [obs, sd] : p.d.assays) {
     AssaySeries as{obs, 0, 0.0};

@@ -98,4 +98,29 @@ bool pair_beats_single(const ProposalPair& pair, const Proposal& single);
 // The noise of a new measurement of each observable: the table's median sigma for it.
 std::map<std::string, double> median_sigma(const std::vector<Cell>& cells);
 
+// What a new measurement of each observable would carry: its noise σ (the table's median σ; an assay's, the
+// σ its file gives) and the factor that scales one run's own window SE to the model's seed spread.
+struct MeasurementNoise {
+  std::map<std::string, double> sigma, inflation;
+};
+MeasurementNoise measurement_noise(const Procedure& p);
+
+// |x - y| / sqrt(σ² + se_x² + se_y²): how far two models' predictions of one measurement lie apart in its
+// noise.
+double separation_of(const MeasurementNoise& n, const std::string& observable, const Prediction& x,
+                     const Prediction& y);
+
+// Two models a, b at condition c on these seeds (their runs made), for one observable.
+Proposal compare_at(const Procedure& p, const Variant& a, const Variant& b, const MeasurementNoise& n,
+                    const Condition& c, const std::vector<uint64_t>& seeds, const std::string& observable,
+                    bool in_table);
+
+// Both models at each proposed condition, in two rounds: on the first base seed, then on every base seed
+// where some observable already separates them by 2 σ. Every observable of the table and every assay, per
+// condition; `wanted` gets the conditions that could be run (the others, and failed runs, are noted in
+// p.notes under `stage`). Shared by the tie's experiment and the interval's (next_bound.h).
+std::vector<Proposal> measure_beyond(Procedure& p, const Variant& a, const Variant& b,
+                                     const MeasurementNoise& n, std::vector<Condition>& props,
+                                     std::vector<Condition>& wanted, const std::string& stage);
+
 }  // namespace wetdem::diagnose
