@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "diagnose/next_bound.h"
 #include "diagnose/next_experiment.h"
 
 using namespace wetdem::diagnose;
@@ -217,4 +218,35 @@ TEST(DiagnoseVerdict, TheRefitSeparationProfilesTheRivalsSecondParameter) {
   EXPECT_NEAR(refit_rise(table, family), z2, 1e-9) << "a member not run there cannot take the re-fit";
   family[0].known = false;
   EXPECT_TRUE(std::isnan(refit_rise(table, family))) << "no member known";
+}
+
+// The ends of an interval the table leaves open (next_bound.h): the closed end the data fix and the end of
+// the probed range it runs into; none for a closed interval or one whose ends are too close to be worth a
+// measurement.
+TEST(DiagnoseVerdict, AnOpenIntervalHasAClosedAndAnOpenEnd) {
+  StrengthFit f;
+  f.strength = 0.3, f.lo = 0.0616, f.hi = 0.3;
+  EXPECT_FALSE(open_interval(f).has_value()) << "a closed interval";
+  f.open_hi = true;  // absorption-slow's capacity: 0.3 (0.0616 and above)
+  auto o = open_interval(f);
+  ASSERT_TRUE(o.has_value());
+  EXPECT_TRUE(o->above);
+  EXPECT_FALSE(o->both);
+  EXPECT_DOUBLE_EQ(o->closed, 0.0616);
+  EXPECT_DOUBLE_EQ(o->open, 0.3);
+  f.open_hi = false, f.open_lo = true;  // open below: strength <= 0.3
+  o = open_interval(f);
+  ASSERT_TRUE(o.has_value());
+  EXPECT_FALSE(o->above);
+  EXPECT_DOUBLE_EQ(o->closed, 0.3);
+  EXPECT_DOUBLE_EQ(o->open, 0.0616);
+  f.open_hi = true;  // not determined: from the weakest to the strongest
+  o = open_interval(f);
+  ASSERT_TRUE(o.has_value());
+  EXPECT_TRUE(o->both);
+  EXPECT_DOUBLE_EQ(o->closed, 0.0616);
+  f.lo = 0.25;  // within kMinOpenRatio of each other: nothing worth measuring
+  EXPECT_FALSE(open_interval(f).has_value());
+  f.lo = 0.0;  // no positive end to run
+  EXPECT_FALSE(open_interval(f).has_value());
 }

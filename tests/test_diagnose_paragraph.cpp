@@ -450,3 +450,28 @@ TEST(DiagnoseParagraph, TheReachPastTheProbesBoundsWhatTheVerdictIsSilentOn) {
   r.reach = {h, e};
   EXPECT_EQ(verdict_paragraph(r).find("Seen only when strong"), std::string::npos);
 }
+
+// An interval open at one side gets the measurement that would close it (next_bound.h): named when it tells
+// the two ends apart by 2 σ, and said to stay open when no measurement tried does.
+TEST(DiagnoseParagraph, AnOpenIntervalNamesTheMeasurementThatWouldBoundIt) {
+  Report r = chosen_with_fresh_runs("effect");
+  r.bound.effect = "cohesion";
+  r.bound.closed = 0.0443;
+  r.bound.open = 0.1;
+  Proposal q{"liquid.content=15 %", "f_wet_mean", 0.61, 0.52, 0.01, 0.01, 0.02, 3.7, false, false, 2};
+  r.bound.proposals = {q};
+  const std::string bound = verdict_paragraph(r);
+  EXPECT_NE(bound.find("**To bound `cohesion`:**"), std::string::npos) << bound;
+  EXPECT_NE(bound.find("measure `f_wet_mean` at liquid.content=15 %"), std::string::npos) << bound;
+  EXPECT_NE(bound.find("3.7 σ"), std::string::npos) << bound;
+  EXPECT_NE(bound.find("open above"), std::string::npos) << bound;
+  r.bound.proposals[0].separation = 1.2;
+  const std::string open = verdict_paragraph(r);
+  EXPECT_EQ(open.find("To bound"), std::string::npos) << open;
+  EXPECT_NE(open.find("stays open"), std::string::npos) << open;
+  EXPECT_NE(open.find("1.2 σ"), std::string::npos) << open;
+  r.bound = {};  // the stage did not run: nothing said
+  const std::string none = verdict_paragraph(r);
+  EXPECT_EQ(none.find("stays open"), std::string::npos) << none;
+  EXPECT_EQ(none.find("To bound"), std::string::npos) << none;
+}

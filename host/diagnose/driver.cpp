@@ -10,6 +10,7 @@
 
 #include "diagnose/baseline.h"
 #include "diagnose/fit_stage.h"
+#include "diagnose/next_bound.h"
 #include "diagnose/next_experiment.h"
 #include "diagnose/power.h"
 #include "diagnose/procedure.h"
@@ -122,11 +123,14 @@ bool undecided(const Verdict& v) {
   return !v.tied.empty() || !v.held_by_luck.empty();
 }
 
-// Stages 7-8: the experiment that would separate a tie, and what the table can see of each candidate.
+// Stages 7-8: the experiment that would separate a tie, the one that would close an open interval, and
+// what the table can see of each candidate.
 void run_after_verdict(Procedure& p, StageClock& clock) {
   if (p.verdict.kind != "no_gap") {
     run_next_experiment(p);  // 7. next experiment (ties)
     clock.done("next experiment");
+    run_bound_experiment(p);  // 7b. the experiment that would close an open interval
+    clock.done("bound experiment");
   }
   run_reach(p);  // 8. what the table can see of each candidate (its strongest probe if none shows it)
   clock.done("reach");

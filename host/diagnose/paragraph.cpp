@@ -250,6 +250,40 @@ std::string strong_only_sentence(const Report& r) {
       list);
 }
 
+// The measurement that would close the chosen effect's open interval (next_bound.h), when the stage ran.
+std::string bound_sentence(const Report& r) {
+  const BoundExperiment& b = r.bound;
+  if (b.effect.empty() || b.proposals.empty()) return "";
+  const std::string key = effect_spec(b.effect).strength;
+  const Proposal& q = b.proposals.front();
+  size_t beyond = 0;
+  for (const Proposal& x : b.proposals) beyond += x.in_table ? 0 : 1;
+  const std::string ends = fmt::format("{} = {:.3g} from {:.3g}", key, b.closed, b.open);
+  if (q.separation < kDecisive)
+    return fmt::format(
+        " **`{}`'s {} stays open:** no measurement tried (the table's own, and {} beyond it) tells {} by "
+        "{:.0f} "
+        "σ (the best: `{}` at {}, {:.1f} σ); conditions further from these, or a direct measurement of the "
+        "effect, would be needed to bound it.",
+        b.effect, key, beyond, ends, kDecisive, q.observable, q.condition, q.separation);
+  const std::string where = q.assay      ? fmt::format(" ({}an assay the table does not have: {})",
+                                                  q.in_table ? "a condition of the table, with " : "",
+                                                       assay_instrument(q.observable))
+                            : q.in_table ? " (a condition of the table: measure it again, more precisely)"
+                                         : "";
+  return fmt::format(
+      " **To bound `{}`:** the table cannot tell {} ({}); measure `{}` at {}{}: there they differ by {:.1f} "
+      "σ "
+      "({:.4g} ± {:.2g} against {:.4g} ± {:.2g}, measurement noise {:.3g}{}), so one measurement would close "
+      "the interval.",
+      b.effect, ends,
+      b.both    ? "any strength probed fits"
+      : b.above ? "it is open above"
+                : "it is open below",
+      q.observable, q.condition, where, q.separation, q.model_a, q.se_a, q.model_b, q.se_b, q.sigma,
+      q.seeds == 1 ? "; one seed each" : "");
+}
+
 std::string verdict_core(const Report& r);
 
 }  // namespace
@@ -341,8 +375,8 @@ std::string passed_over_sentence(const Report& r) {
 }  // namespace
 
 std::string verdict_paragraph(const Report& r) {
-  return verdict_core(r) + passed_over_sentence(r) + seen_sentence(r) + escalation_sentence(r) +
-         luck_sentence(r) + blind_sentence(r) + strong_only_sentence(r);
+  return verdict_core(r) + bound_sentence(r) + passed_over_sentence(r) + seen_sentence(r) +
+         escalation_sentence(r) + luck_sentence(r) + blind_sentence(r) + strong_only_sentence(r);
 }
 
 namespace {

@@ -96,6 +96,19 @@ struct NextExperiment {
   std::string note;  // why none was run, when none was
 };
 
+// The measurement that would close the chosen effect's open interval (next_bound.h): the effect at the
+// interval's closed end (model_a of each proposal) and at its open end (model_b).
+struct BoundExperiment {
+  std::string effect;
+  double closed = 0.0, open = 0.0;  // strengths
+  bool above = true;                // open above: strength >= closed
+  bool both = false;                // open at both ends
+  double shape = std::numeric_limits<double>::quiet_NaN();
+  size_t refit = 0;
+  std::vector<Proposal> proposals;  // best first
+  std::string note;                 // why none was run, when none was
+};
+
 // The second round (second_effect.h): a second candidate fitted on top of the first effect when that one
 // explains the gap only in part.
 struct SecondRound {
@@ -168,6 +181,7 @@ class Procedure {
   FreshCheck null_fresh;          // the model without an effect at the fresh seeds (the shrink's control)
   std::vector<FreshCheck> confirmations;  // the chosen one's fresh check at every strength the rounds ran
   NextExperiment next;
+  BoundExperiment bound;  // the measurement that would close an open interval (next_bound.h)
   SecondRound second;
   std::vector<Reach> reach;  // what the table can see of every candidate (power.h)
   std::map<std::string, std::set<double>> reach_strengths;  // per effect: strengths run past its probes

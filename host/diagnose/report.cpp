@@ -72,6 +72,7 @@ Report make_report(const Procedure& p, double wall_s, std::vector<StageCost> sta
   r.null_fresh = p.null_fresh;
   r.confirmations = p.confirmations;
   r.next = p.next;
+  r.bound = p.bound;
   r.second = p.second;
   r.reach = p.reach;
   r.within_inflation = p.within_inflation;
@@ -331,6 +332,7 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
     j["remaining_gap"] = rem;
   }
   if (!r.next.effect_a.empty() || !r.next.note.empty()) j["next_experiment"] = next_json(r);
+  if (!r.bound.effect.empty()) j["bound_experiment"] = bound_json(r);
   j["second"] = second_json(r);
   j["reach"] = reach_json(r);
   j["within_inflation"] = r.within_inflation;
@@ -451,6 +453,7 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
       100 * r.spec->rule.table_level, r.spec->rule.tie_delta, r.spec->rule.tie_noise, r.spec->rule.tie_draws,
       r.spec->rule.min_drop, r.verdict.seed_luck, r.spec->rule.q);
   md += next_markdown(r);
+  md += bound_markdown(r);
   md += second_markdown(r);
   md += reach_markdown(r);
   if (!r.notes.empty()) {

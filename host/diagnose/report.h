@@ -37,8 +37,9 @@ struct Report {
   std::vector<FreshCheck>
       confirmations;  // the chosen one's fresh checks the confirmation rounds re-fitted from
   NextExperiment next;
-  SecondRound second;                              // a second effect on top of the first (second_effect.h)
-  std::vector<Reach> reach;                        // what the table can see of each candidate (power.h)
+  BoundExperiment bound;     // the measurement that would close the chosen effect's open interval
+  SecondRound second;        // a second effect on top of the first (second_effect.h)
+  std::vector<Reach> reach;  // what the table can see of each candidate (power.h)
   std::map<std::string, double> within_inflation;  // per observable (baseline.h)
   std::vector<std::string> unseen;                 // fitted, but the probes cannot show them (power.h)
   std::vector<std::string> seen_on_fresh;          // unseen on their probes, shown by their fresh runs
@@ -100,6 +101,9 @@ nlohmann::json reach_json(const Report& r);
 // nothing was proposed) and diagnosis.json's "next_experiment" (report_next.cpp).
 std::string next_markdown(const Report& r);
 nlohmann::json next_json(const Report& r);
+// The same for the experiment that would close an open interval (report_bound.cpp).
+std::string bound_markdown(const Report& r);
+nlohmann::json bound_json(const Report& r);
 
 // The second round as diagnosis.json's "second" (null when it did not run) and its section of report.md.
 nlohmann::json second_json(const Report& r);

@@ -24,4 +24,10 @@ expect "$D/d/diagnosis.json" 'j["fresh"][0]["chi2_after"] <= j["chi2_null_fresh"
 expect "$D/d/diagnosis.json" 'j["fresh"][0]["significant_cells"] == 0' "the lead's fresh runs leave cells"
 expect_text "$D/d/report.md" "its fresh runs at .* do against the model without it on the same seeds" \
   "the paragraph does not say why a candidate its probes could not show is named"
+# An interval the table leaves open (cohesion runs to its physical limit here) gets the measurement that would
+# close it (next_bound.h): both ends run beyond the table, and the paragraph names the best or says it stays open.
+expect "$D/d/diagnosis.json" 'not any(c["effect"] == j["effect"] and any(c["strength_interval_open"]) for c in j["ranking"]) or (j["bound_experiment"]["effect"] == j["effect"] and any(not q["in_table"] for q in j["bound_experiment"]["proposals"]))' \
+  "an open interval got no bounding experiment beyond the table" "$D/d/report.md"
+expect "$D/d/diagnosis.json" '"bound_experiment" not in j or ("To bound" in j["paragraph"] or "stays open" in j["paragraph"])' \
+  "the paragraph does not say how to bound the open interval"
 echo "unseen-lead e2e: $(($(date +%s) - t0)) s"
