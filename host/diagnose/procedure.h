@@ -1,7 +1,7 @@
 // The state of one diagnosis as its stages fill it in (diagnosis.md §4), and the runs they share. A reader
 // follows the procedure by file name: baseline.cpp, where.cpp, screen.cpp, fit_stage.cpp (with the statistics
-// of fit.cpp), verdict.cpp, shrink.cpp, second_effect.cpp, next_experiment.cpp, power.cpp; driver.cpp calls
-// them in that order and report.cpp writes what they found.
+// of fit.cpp), verdict.cpp, shrink.cpp, second_effect.cpp, next_experiment.cpp, next_bound.cpp, power.cpp;
+// driver.cpp calls them in that order and report.cpp writes what they found.
 #pragma once
 
 #include <limits>
