@@ -83,10 +83,8 @@ void gather_kick(uint i, uint s, uint mode) {
   store_v4(paddr(s, PF_VEL), i, vec4(v, 0.0));
   store_v4(paddr(s, PF_OMG), i, vec4(w, 0.0));
   bool gather = (mode & GK_GATHER) != 0u;
-  float disp = 0.0;
-  if (gather) disp = length(vec3(tick_delta(p.xyz, load_i4(T().ref_pos, i).xyz, P.period_ticks))) * P.h;
-  // Rebuild when the largest exceeds skin/2. Max of non-negative floats = max of their bits.
-  if (gather) atomicMax(CTL().v[CTL_MAX_DISP], floatBitsToUint(disp));
+  // The skin test's displacement (step_control.glsl): the decision reads the two largest.
+  if (gather) share_displacements(skin_displacements(p.xyz, load_i4(T().ref_pos, i).xyz, P));
 }
 
 // Last workgroup of the fused gather: the sizes of this step's liquid passes 4b, 4c, 4d, and the rebuild

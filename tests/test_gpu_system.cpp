@@ -3,7 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <random>
 #include <tuple>
+
+#include <fmt/format.h>
 
 #include "support/gpu.h"
 #include "support/state_diff.h"
@@ -265,6 +268,104 @@ TEST_F(GpuSystem, RunIsBitwiseIndependentOfTheRebuildSchedule) {
 }  // namespace wetdem::test
 
 namespace wetdem::test {
+
+TEST_F(GpuSystem, SkinTestInTheDrumFrameMissesNoPair) {
+  // The skin test measures each displacement from the reference turned with the drum and rebuilds when the
+  // two largest add up to the skin (step_control.glsl). Every pair must be listed before it touches: each
+  // rule must give bitwise the run whose list is rebuilt before every step, in a closed drum and in a
+  // periodic slice (turned references, wrapped z). The worst case for the rule: pairs on head-on courses,
+  // just outside the list when it is built (gap = reach + 1.01 skin), each particle moving at the same speed
+  // relative to a fast drum (20 rad/s) that carries them, or to the drum at rest, some across the periodic
+  // boundary. A rule that
+  // counts an approach short by a tenth lets them touch unlisted (checked). Then a loose lattice turning with
+  // the drum, touching and bridged, which barely moves relative to it: the drum frame must save most rebuilds
+  // there.
+  for (bool periodic : {false, true})
+    for (auto [head_on, omega] : {std::pair{true, 20.0}, std::pair{true, 0.0}, std::pair{false, 20.0}}) {
+      SimParams prm = twin_drum_params(0.012, 0.012, 0.5e-3, periodic);
+      prm.liq_pp.enabled = true;
+      prm.liq_pp.gamma = 0.1;
+      prm.liq_pp.theta = 0.5;
+      prm.liq_pp.v_max = 1 << 28;
+      prm.liquid_unit_m3 = 1e-20;
+      prm.drum.omega = omega;
+      prm.skin = 0.3e-3;
+      SystemState s;
+      if (head_on) {
+        prm.gravity = glm::dvec3(0.0);
+        prm.liquid_unit_m3 = 1e-24;  // bridges of ~10 um reach: a new pair's slack is the skin alone
+        std::mt19937_64 rng(37);
+        std::uniform_real_distribution<double> uni(-1.0, 1.0);
+        const double r = 0.5e-3, gap = prm.bridge_range_pp() + 1.01 * prm.skin, v = 0.15;
+        std::vector<glm::dvec3> centres;
+        for (double x = -8e-3; x <= 8e-3; x += 4e-3)
+          for (double y = -8e-3; y <= 8e-3; y += 4e-3)
+            for (double z : {-3e-3, 3e-3})
+              if (std::hypot(x, y) < 9e-3) centres.push_back({x, y, z});
+        s.p.resize(2 * centres.size());
+        for (size_t c = 0; c < centres.size(); ++c) {
+          glm::dvec3 dir(uni(rng), uni(rng), uni(rng));
+          if (periodic && c % 4 == 0) {  // across the periodic boundary, along z
+            dir = glm::dvec3(0.1 * uni(rng), 0.1 * uni(rng), 1.0);
+            centres[c].z = 0.5 * prm.drum.length;
+          }
+          dir = glm::normalize(dir);
+          for (int side : {-1, 1}) {
+            const size_t k = 2 * c + (side > 0);
+            glm::dvec3 x = centres[c] + double(side) * (r + 0.5 * gap) * dir;
+            if (periodic) x.z -= prm.drum.length * std::round(x.z / prm.drum.length);
+            set_sphere(s.p, k, x, r, 900.0);
+            s.p.v[k] = -double(side) * v * dir + prm.drum.omega * glm::dvec3(-x.y, x.x, 0.0);
+          }
+        }
+      } else {
+        s = random_drum_packing(prm, 500, 0.6e-3, 0.6e-3, 31, 0.0);
+        for (size_t k = 0; k < s.p.size(); ++k) {
+          set_sphere(s.p, k, s.p.x[k], 0.597e-3, 900.0);  // touching: 6 um overlaps
+          s.p.v[k] = prm.drum.omega * glm::dvec3(-s.p.x[k].y, s.p.x[k].x, 0.0);
+          s.p.w[k] = glm::dvec3(0.0, 0.0, prm.drum.omega);
+        }
+      }
+      for (auto& f : s.p.film) f = 1 << 27;
+      const int steps = 240;
+      uint64_t formations = 0;  // bridges formed, one per first contact (of the last run)
+      auto run = [&](bool drum_frame, bool top_two, bool every_step) {
+        SystemOptions o;
+        o.skin_drum_frame = drum_frame;
+        o.skin_top_two = top_two;
+        System sys(gpu(), prm, s.p.size(), o);
+        sys.upload(s);
+        for (int k = 0; k < steps; k += every_step ? 1 : 40) {
+          if (every_step) sys.force_rebuild();
+          sys.step(every_step ? 1 : 40);
+        }
+        formations = sys.read_events().formations;
+        return std::make_pair(sys.download(), sys.counters().rebuilds);
+      };
+      const std::string where = fmt::format("periodic {}, head-on {}, omega {}", periodic, head_on, omega);
+      const auto [ref, r_ref] = run(false, false, true);
+      const uint64_t ref_formations = formations;
+      const auto [classic, r_classic] = run(false, false, false);
+      const auto [frame, r_frame] = run(true, false, false);
+      const auto [both, r_both] = run(true, true, false);
+      EXPECT_EQ(first_difference(ref, classic), "") << "classic rule, " << where;
+      EXPECT_EQ(first_difference(ref, frame), "") << "drum frame, " << where;
+      EXPECT_EQ(first_difference(ref, both), "") << "drum frame and the two largest, " << where;
+      EXPECT_GE(r_classic, 1u) << where;
+      EXPECT_LE(r_both, r_frame) << where;
+      if (head_on) {  // every pair came into contact: a bridge formed
+        EXPECT_GE(ref_formations, s.p.size() / 2) << where;
+      } else {
+        EXPECT_LT(2 * r_frame, r_classic) << where << ": the drum frame saved few rebuilds";
+        EXPECT_GT(ref.pairs.size(), 100u) << where;
+      }
+      EXPECT_EQ(ref.total_liquid(), s.total_liquid()) << where;
+      RecordProperty(fmt::format("rebuilds_{}_{}_{}", periodic ? "periodic" : "closed",
+                                 head_on ? "head_on" : "lattice", omega),
+                     fmt::format("{} classic, {} drum frame, {} with the two largest (of {} steps)",
+                                 r_classic, r_frame, r_both, steps));
+    }
+}
 
 TEST_F(GpuSystem, FusedStepIsBitwiseTheStepPassByPass) {
   // The fused step (kick-drift folded into the gather, liquid pass 4a there, the films changed by 4b/4d with

@@ -166,12 +166,15 @@ nlohmann::json bench_case(vk::Context& ctx, const app::Case& c, const std::strin
     System sys(ctx, s.system().params(), n, so);
     sys.restore(st.ck.system);
     sys.step(warmup);
+    const uint64_t r0 = sys.counters().rebuilds;
     const Timed t = time_steps(sys, o.steps, true);
-    log(
-        fmt::format("{} {}: timed only, {} steps: {:.3g} s wall, {:.3g} s CPU ({:.3g} ms CPU per step), "
-                    "{:.1f} dispatches per step",
-                    prep.c.name, variant, o.steps, t.wall, t.cpu, 1e3 * t.cpu / double(o.steps),
-                    sys.counters().dispatches_per_step));
+    const uint64_t rebuilds = sys.counters().rebuilds - r0;
+    log(fmt::format(
+        "{} {}: timed only, {} steps: {:.3g} s wall, {:.3g} s CPU ({:.3g} ms CPU per step), "
+        "{:.1f} dispatches per step, {} rebuilds (one per {:.3g} steps)",
+        prep.c.name, variant, o.steps, t.wall, t.cpu, 1e3 * t.cpu / double(o.steps),
+        sys.counters().dispatches_per_step, rebuilds, rebuilds ? double(o.steps) / double(rebuilds) : 0.0));
+    j["rebuilds"] = rebuilds;
     j["particle_steps_per_s"] = double(n) * double(o.steps) / t.wall;
     j["cpu_s_per_step"] = t.cpu / double(o.steps);
     j["dispatches_per_step"] = sys.counters().dispatches_per_step;
@@ -279,9 +282,11 @@ nlohmann::json bench_case(vk::Context& ctx, const app::Case& c, const std::strin
   // turned back; rate and CPU time of each against the timed run's.
   auto lever = [&](SystemOptions so) {
     auto sys = replay(so);
+    const uint64_t r0 = sys->counters().rebuilds;
     const Timed tl = time_steps(*sys, o.steps);
     const double r = double(n) * double(o.steps) / tl.wall;
     return nlohmann::json{{"particle_steps_per_s", r},
+                          {"rebuilds", sys->counters().rebuilds - r0},
                           {"cpu_s_per_step", tl.cpu / double(o.steps)},
                           {"dispatches_per_step", sys->counters().dispatches_per_step},
                           {"speedup", pss / r},
@@ -309,6 +314,18 @@ nlohmann::json bench_case(vk::Context& ctx, const app::Case& c, const std::strin
     SystemOptions so;
     so.one_tile_sort = false;
     j["levers"]["one_tile_sort"] = lever(so);
+  }
+  {
+    // The skin test's rule: the classic max displacement > skin/2 in the lab frame (the drum frame and the
+    // two largest displacements off, each, then both).
+    for (auto [name, frame, two] :
+         {std::tuple{"skin_drum_frame", false, true}, std::tuple{"skin_top_two", true, false},
+          std::tuple{"skin_rule", false, false}}) {
+      SystemOptions so;
+      so.skin_drum_frame = frame;
+      so.skin_top_two = two;
+      j["levers"][name] = lever(so);
+    }
   }
   {
     // The planner's threshold: split rebuilds at any interval (the default records the gated chain into
@@ -512,6 +529,10 @@ int main(int argc, char** argv) {
   app.add_flag("--timed-only", o.timed_only,
                "time one System restored from the steady state with the options below, nothing else");
   app.add_option("--fused-step", o.timed_options.fused_step, "with --timed-only: SystemOptions::fused_step");
+  app.add_option("--skin-drum-frame", o.timed_options.skin_drum_frame,
+                 "with --timed-only: SystemOptions::skin_drum_frame");
+  app.add_option("--skin-top-two", o.timed_options.skin_top_two,
+                 "with --timed-only: SystemOptions::skin_top_two");
   app.add_option("--liquid-gate", o.timed_options.liquid_gate,
                  "with --timed-only: SystemOptions::liquid_gate");
   app.add_option("--one-tile-sort", o.timed_options.one_tile_sort,

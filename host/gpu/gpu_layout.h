@@ -113,9 +113,20 @@ enum : uint32_t {
   kDoneGroups,                    // workgroups of the current pass that finished (last-group test)
   kLiqArgs,                       // 3 uvec3: sizes of the gated liquid passes 4b, 4c, 4d
   kStepArgs = kLiqArgs + 9,       // uvec3: the per-particle passes of a step (zero after a halt)
+  // The skin test (step_control.glsl): the second largest displacement, the steps since the list was built,
+  // the rule (kSkin* bits, from SystemOptions; written by upload and restore, never by a shader), and the two
+  // largest displacements in the drum's frame.
+  kMaxDisp2Bits = kStepArgs + 3,
+  kSinceBuild,
+  kSkinRule,
+  kMaxFrameDispBits,
+  kMaxFrameDisp2Bits,
   kWords = 272,
 };
-static_assert(kStepArgs + 3 <= kWords);
+static_assert(kMaxFrameDisp2Bits < kWords);
+// kSkinRule bits.
+inline constexpr uint32_t kSkinDrumFrame = 1;  // also displacements from the reference turned with the drum
+inline constexpr uint32_t kSkinTopTwo = 2;     // rebuild when the two largest add up to the skin
 }  // namespace ctl
 
 // Push-constant mode bits of the passes the fused step records in several ways (shaders/common/modes.glsl).

@@ -76,6 +76,9 @@ struct System::Impl {
   std::vector<SimParams> run_prm;  // ensembles: each run's parameters (docs/ensembles.md); [0] is prm
   std::vector<uint32_t> run_off;   // first stable id of each run, and n at the end
   SystemOptions opt;
+  uint32_t skin_rule() const {  // ctl[kSkinRule] (SystemOptions::skin_drum_frame, skin_top_two)
+    return (opt.skin_drum_frame ? ctlw::kSkinDrumFrame : 0u) | (opt.skin_top_two ? ctlw::kSkinTopTwo : 0u);
+  }
   bool fused = true;  // opt.fused_step where the device has 64-bit buffer atomics
   uint32_t n;
   double h = 0.0, inv_h = 0.0;                  // tick size (m)

@@ -170,6 +170,7 @@ void System::Impl::upload(const SystemState& s) {
   c[ctlw::kCapacity0 + 1] = B->capacity(1);
   c[ctlw::kStepArgs] = groups_for(n);
   c[ctlw::kStepArgs + 1] = c[ctlw::kStepArgs + 2] = 1;
+  c[ctlw::kSkinRule] = skin_rule();
   B->ctl.upload(c);
   last_steps_word = last_form = last_rupt = last_rebuilds = 0;
 
@@ -422,6 +423,7 @@ void System::Impl::restore(const std::vector<uint8_t>& blob) {
   c[ctlw::kOwnerArgs + 1] = c[ctlw::kOwnerArgs + 2] = 1;
   c[ctlw::kStepArgs] = groups_for(n);
   c[ctlw::kStepArgs + 1] = c[ctlw::kStepArgs + 2] = 1;
+  c[ctlw::kSkinRule] = skin_rule();  // this System's, not the snapshot's: the rule changes no result
   B->ctl.upload(c);
   time0 = hd.time0;
   step0 = hd.step0;

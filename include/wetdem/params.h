@@ -77,7 +77,8 @@ enum WallIndex : uint32_t { kWallCylinder = 0, kWallPlateLo = 1, kWallPlateHi = 
 struct SimParams {
   double dt = 1e-5;                     // time step (s), §6
   glm::dvec3 gravity{0.0, -9.81, 0.0};  // m/s^2
-  double skin = 0.0;                    // neighbour-list skin (m); rebuild when max displacement > skin/2;
+  double skin = 0.0;                    // neighbour-list skin (m); rebuild when the two largest displacements
+                                        // in the drum's frame add up to it (ARCHITECTURE.md "The skin test");
                                         // 0 = automatic, 0.1 x the smallest radius
   ContactParams pp;                     // particle-particle
   ContactParams pw[kNumWalls];          // particle-wall, per wall

@@ -39,6 +39,14 @@ struct SystemOptions {
   // The neighbour sort of up to 2,048 particles in one dispatch (radix_sort_tile.comp) instead of ~3 per
   // 4-bit pass: a small bed rebuilds every few steps. Bitwise the same order (benchmarks turn it off).
   bool one_tile_sort = true;
+  // The skin test (ARCHITECTURE.md "The skin test"): each particle's displacement since the list was built is
+  // measured from its reference position turned with the drum (rotation about the axis keeps every pair
+  // distance, so a bed that turns with the drum has not moved), and the list is rebuilt when the two largest
+  // displacements add up to the skin, not when the largest reaches half of it. Both bound every pair's
+  // approach exactly; off, the classic rule (max displacement > skin/2). Results are bitwise the same
+  // either way (the rebuild schedule changes no run); only the number of rebuilds changes.
+  bool skin_drum_frame = true;
+  bool skin_top_two = true;
 };
 
 struct PassTiming {

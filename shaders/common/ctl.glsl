@@ -38,6 +38,13 @@
 #define CTL_DONE_GROUPS (CTL_CAND_STEP + 1)    // workgroups of the current pass that finished (last-group test)
 #define CTL_LIQ_ARGS (CTL_DONE_GROUPS + 1)     // 3 uvec3: sizes of the gated liquid passes 4b, 4c, 4d
 #define CTL_STEP_ARGS (CTL_LIQ_ARGS + 9)      // uvec3: the per-particle passes of a step (zero after a halt)
+#define CTL_MAX_DISP2 (CTL_STEP_ARGS + 3)  // the second largest displacement (float bits)
+#define CTL_SINCE_BUILD (CTL_MAX_DISP2 + 1) // steps since the list was built
+#define CTL_SKIN_RULE (CTL_SINCE_BUILD + 1) // SKIN_* bits, written by the host
+#define CTL_MAX_FDISP (CTL_SKIN_RULE + 1)   // the largest displacement in the drum's frame (float bits)
+#define CTL_MAX_FDISP2 (CTL_MAX_FDISP + 1)  // ... and the second largest
+#define SKIN_DRUM_FRAME 1u
+#define SKIN_TOP_TWO 2u
 #define CAND_RUPT 1u
 #define CAND_FORM 2u
 #endif

@@ -3,7 +3,7 @@
 // of the liquid passes) without a dispatch of its own.
 #ifndef WETDEM_STEP_CONTROL_GLSL
 #define WETDEM_STEP_CONTROL_GLSL
-#include "access.glsl"
+#include "geom.glsl"
 
 // A halted submit's remaining steps: every pass of a step is then sized to zero workgroups (its invocations
 // would only return), until the chain that the host runs next reopens them (flip).
@@ -23,9 +23,20 @@ void decide_rebuild(bool split, bool count) {
   Uints C = CTL();
   Params P = PRM();
   float disp = uintBitsToFloat(atomicExchange(C.v[CTL_MAX_DISP], 0u));
-  bool rebuild = C.v[CTL_FORCE_REBUILD] != 0u || disp > 0.5 * P.skin;
+  float disp2 = uintBitsToFloat(atomicExchange(C.v[CTL_MAX_DISP2], 0u));
+  float fdisp = uintBitsToFloat(atomicExchange(C.v[CTL_MAX_FDISP], 0u));
+  float fdisp2 = uintBitsToFloat(atomicExchange(C.v[CTL_MAX_FDISP2], 0u));
+  // A pair unlisted at the build was at least skin farther apart than its interaction range; since then it
+  // has closed in by at most d_i + d_j <= disp + disp2 (the classic rule bounds that by 2 disp), in the lab
+  // frame and in the drum's alike: the list is complete while either bound stays within the skin.
+  uint rule = C.v[CTL_SKIN_RULE];
+  bool top_two = (rule & SKIN_TOP_TWO) != 0u;
+  bool moved = top_two ? disp + disp2 > P.skin : disp > 0.5 * P.skin;
+  if ((rule & SKIN_DRUM_FRAME) != 0u) moved = moved && (top_two ? fdisp + fdisp2 > P.skin : fdisp > 0.5 * P.skin);
+  bool rebuild = C.v[CTL_FORCE_REBUILD] != 0u || moved;
   C.v[CTL_FORCE_REBUILD] = 0u;
   C.v[CTL_REBUILD] = rebuild ? 1u : 0u;
+  C.v[CTL_SINCE_BUILD] = rebuild ? 0u : C.v[CTL_SINCE_BUILD] + 1u;
   if (rebuild) C.v[CTL_REBUILDS] += 1u;
   for (uint k = 0u; k < CTL_MAX_GATES; ++k) {
     C.v[CTL_GATE_ARGS + 4u * k] = rebuild ? C.v[CTL_GATE_GROUPS + k] : 0u;
@@ -43,6 +54,45 @@ void decide_rebuild(bool split, bool count) {
     close_step_passes();
   }
   if (count && !rebuild) C.v[CTL_STEPS] += 1u;  // end_step: CTL_REBUILD is already 0
+}
+
+// The skin test's displacements (m) of a particle at p since the list was built with it at ref (ticks), in
+// the lab frame (x) and in the drum's (y), and their share in the test: the largest and the second largest
+// of each are kept with integer atomics (max of non-negative float bits; the value a larger one displaces, or
+// the smaller of the two, goes on to the second, so the pair ends as the two largest in any order).
+//
+// In the drum's frame (SKIN_DRUM_FRAME) the reference is first turned about the drum axis (z, through the tick
+// origin) by the angle the drum has turned since the build, a = omega dt (steps since the build + 1): a
+// rotation keeps every pair distance (and the periodic z images), so |x_i - x_j| - |x_i,ref - x_j,ref| <=
+// |x_i - R x_i,ref| + |x_j - R x_j,ref| for any R the same for both, and a bed that turns with the drum has not
+// moved. The bound holds whatever the angle, so the angle only decides how tight it is (a run's drum speed,
+// per run in an ensemble: pairs never cross runs). A flowing layer moves more in the drum's frame than in the
+// lab's (its rigid velocity is across the flow), hence both bounds, and the tighter one decides. R is made
+// exactly orthogonal to float precision by normalising (cos, sin), whatever the driver's sin precision;
+// x - R ref = (x - ref) + (I - R) ref keeps the large coordinates out of the subtraction, and a margin of
+// 2 ticks + 1e-6 |ref| covers the float rounding.
+vec2 skin_displacements(ivec3 p, ivec3 ref, Params P) {
+  vec3 d = vec3(tick_delta(p, ref, P.period_ticks));
+  float lab = length(d) * P.h;
+  if ((CTL().v[CTL_SKIN_RULE] & SKIN_DRUM_FRAME) == 0u || P.omega == 0.0) return vec2(lab);
+  float a = P.omega * P.dt * float(CTL().v[CTL_SINCE_BUILD] + 1u);
+  vec2 cs = vec2(cos(a), sin(a));
+  cs *= inversesqrt(dot(cs, cs));
+  vec2 r = vec2(ref.xy);
+  float om = 1.0 - cs.x;  // exact in float while cos >= 0.5 (Sterbenz)
+  d.xy += vec2(om * r.x + cs.y * r.y, om * r.y - cs.y * r.x);
+  return vec2(lab, (length(d) + 2.0 + 1e-6 * length(r)) * P.h);
+}
+
+void share_max2(uint first, uint second, float disp) {
+  uint b = floatBitsToUint(disp);
+  uint old = atomicMax(CTL().v[first], b);
+  atomicMax(CTL().v[second], min(old, b));
+}
+
+void share_displacements(vec2 disp) {
+  share_max2(CTL_MAX_DISP, CTL_MAX_DISP2, disp.x);
+  if ((CTL().v[CTL_SKIN_RULE] & SKIN_DRUM_FRAME) != 0u) share_max2(CTL_MAX_FDISP, CTL_MAX_FDISP2, disp.y);
 }
 
 // True in the one workgroup of this dispatch that finishes last, after every other workgroup's writes

@@ -106,9 +106,11 @@ SimParams make_sim_params(const Case& c, const std::vector<double>& radii, Deriv
   if (c.run.dt && *c.run.dt > 0.2 * d.t_rayleigh)
     d.notes.push_back(fmt::format("run.dt = {:.4g} s exceeds 0.2 t_R = {:.4g} s of the smallest particle",
                                   *c.run.dt, 0.2 * d.t_rayleigh));
-  // Skin: the list is rebuilt when some particle has moved skin/2. 0.3 r_min: on the demo (lavapipe) 0.1
-  // r_min rebuilt every ~4 steps and ran 2.5x slower; 0.6 r_min rebuilt half as often as 0.3 r_min but was no
-  // faster, the thicker neighbour shell (entries grow with (r + skin)^3) eating the saving.
+  // Skin: the list is rebuilt when the two largest displacements in the drum's frame add up to it
+  // (ARCHITECTURE.md "The skin test"; measured with the classic rule, largest > skin/2). 0.3 r_min: on the
+  // demo (lavapipe) 0.1 r_min rebuilt every ~4 steps and ran 2.5x slower; 0.6 r_min rebuilt half as often as
+  // 0.3 r_min but was no faster, the thicker neighbour shell (entries grow with (r + skin)^3) eating the
+  // saving.
   d.skin = c.run.skin ? *c.run.skin : 0.3 * d.r_min;
   p.skin = d.skin;
 
