@@ -45,7 +45,7 @@ if [ "${WETDEM_SKIP_SANITIZE:-0}" != "1" ]; then
   long_gpu="DryInert\\.|DrumPhysics\\.|PlateRolling\\.|DrumLiquidEffects\\.|DrumRun\\.(Batch|Resume|Stopped)"
   long_gpu+="|GpuSystem\\.(FusedStep|StepsWriteTheirScratch|SameRunTwice)|Backends/Liquid\\.HangingSphere/gpu"
   long_gpu+="|Backends/CandidateForces\\.ViscousForceFollowsPitois/gpu|Backends/Sinks\\.LiquidConservedExactlyOver1e5Steps/gpu"
-  long_gpu+="|CandidateDrum\\.|LiquidSoak\\.|GpuSystem\\.(SplitRebuilds|NeighbourListEqualsBruteForce|RunIsBitwiseIndependent)"
+  long_gpu+="|CandidateDrum\\.|LiquidSoak\\.|GpuSystem\\.(SplitRebuilds|NeighbourListEqualsBruteForce|RunIsBitwiseIndependent|SkinTestInTheDrumFrame)"
   long_gpu+="|Ensemble\\.EachRunIsBitwise|SampleDevice\\.EachRunOfAnEnsemble|Sort\\.OneTileSortIsTheMultiPassSort"
   ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
     ctest --test-dir build-asan --output-on-failure -j"$jobs" --timeout 900 \
