@@ -87,8 +87,20 @@ def signal(d, j):
     return {"max_abs_z": abs(z), "where": where, "chi2": sum(x * x for x, _ in zs), "cells": len(zs)}
 
 
+def last_diagnosis(d):
+    """The diagnosis folder the matrix reports: the last round of --measure-next (diagnosis_m1, _m2, ...) when there
+    is one, else the first diagnosis."""
+    rounds = sorted((int(m.group(1)), m.group(0)) for m in
+                    (re.fullmatch(r"diagnosis_m(\d+)", x) for x in os.listdir(d)) if m
+                    and os.path.exists(os.path.join(d, m.group(0), "diagnosis.json")))
+    return rounds[-1][1] if rounds else "diagnosis"
+
+
 def row_of(d, t):
-    j = json.load(open(os.path.join(d, "diagnosis", "diagnosis.json")))
+    sub = last_diagnosis(d)
+    j = json.load(open(os.path.join(d, sub, "diagnosis.json")))
+    first = j if sub == "diagnosis" else json.load(open(os.path.join(d, "diagnosis", "diagnosis.json")))
+    measured = json.load(open(os.path.join(d, "measured.json"))) if sub != "diagnosis" else []
     best = next((r for r in j.get("ranking") or [] if r["effect"] == j["effect"]), None)
     return {"twin": t["name"], "truth": t.get("effect"), "truth_strength": t.get("strength"),
             "perturbed": bool(t.get("perturb")), "also": t.get("also_effect"),
@@ -110,6 +122,9 @@ def row_of(d, t):
             "interval_open": best.get("strength_interval_open") if best else None,
             "held_out_shrink": j["held_out_shrink"], "held_out_gap_shrink": j.get("held_out_gap_shrink"),
             "runs_computed": j.get("runs_computed"), "signal": signal(d, j),
+            # --measure-next: the measurements made on the twin at the reports' request, and the first verdict.
+            "measured": measured, "first_verdict": first["verdict"], "first_effect": first["effect"],
+            "first_tied": first.get("tied") or [],
             "wall_s": cost_of(d, j)["wall_s"], "device": j["device"]}
 
 
@@ -173,6 +188,16 @@ cost() {
     with open(path, "w") as f:
         f.write(head + "".join(twins))
     os.chmod(path, 0o755)
+
+
+def after_measuring(r):
+    """The verdict cell's note for a twin that was measured again at its reports' request (--measure-next)."""
+    if not r.get("measured"):
+        return ""
+    first = r["first_effect"] or "-"
+    if r["first_tied"]:
+        first += f" (tied: {', '.join(r['first_tied'])})"
+    return (f" after measuring {'; '.join(r['measured'])} (first: {r['first_verdict']} {first})")
 
 
 def identified(r):
@@ -312,7 +337,7 @@ def summarize(rows, wall, device, out_dir, spec_path):
         sig = r.get("signal")
         md.append(f"| {r['twin']} | {r['truth'] or 'none'} | {ts} | {also} | "
                   f"{'' if not sig else '%.1f' % sig['max_abs_z']} | "
-                  f"{r['verdict']} | {chosen} | {fit} | {'' if s is None else f'{100 * s:.0f} %'} | "
+                  f"{r['verdict']}{after_measuring(r)} | {chosen} | {fit} | {'' if s is None else f'{100 * s:.0f} %'} | "
                   f"{'' if r['wall_s'] is None else '%.0f s' % r['wall_s']} |")
     md.append("")
     md += confusion(rows)[0]
@@ -338,6 +363,33 @@ def summarize(rows, wall, device, out_dir, spec_path):
     print("\n".join(md))
 
 
+def measure_rounds(a, i, d, twin_file, diag_cmd, store):
+    """--measure-next: up to N rounds of measuring on the twin what the last report asks for, then diagnosing the
+    table with those rows; OUT/<twin>/diagnosis_m<k>/, OUT/<twin>/measured.json (what was measured)."""
+    measured, obs, last = [], diag_cmd[diag_cmd.index("--observations") + 1], os.path.join(d, "diagnosis")
+    for k in range(1, a.measure_next + 1):
+        new_obs = os.path.join(d, f"observations_m{k}.csv")
+        cmd = [sys.executable, os.path.join(os.path.dirname(os.path.abspath(__file__)), "twin_measure.py"),
+               twin_file, obs, last, "--out", new_obs, "--store", store, "--wetdem", a.wetdem,
+               "--noise-seed", str(900 + 10 * i + k), "--jobs", str(a.jobs)] + (["--batch", str(a.batch)] if a.batch else [])
+        log = os.path.join(d, f"measure_m{k}.log")
+        with open(log, "w") as f:
+            r = subprocess.run(cmd, stdout=f, stderr=subprocess.STDOUT)
+        if r.returncode == 3:
+            break
+        if r.returncode != 0:
+            sys.exit(f"failed ({r.returncode}): {' '.join(cmd)} (see {log})")
+        measured += [line[len("measured: "):].split(" = ")[0] for line in open(log) if line.startswith("measured: ")]
+        last = os.path.join(d, f"diagnosis_m{k}")
+        cmd = list(diag_cmd)
+        cmd[cmd.index("--observations") + 1] = new_obs
+        cmd[cmd.index("--out") + 1] = last
+        run(cmd, os.path.join(d, f"diagnose_m{k}.log"))
+        obs = new_obs
+        with open(os.path.join(d, "measured.json"), "w") as f:
+            json.dump(measured, f, indent=1)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("matrix", help="matrix file (TOML): diagnosis, twin_base, [[twin]]")
@@ -359,6 +411,9 @@ def main():
     ap.add_argument("--store", help="run store (default OUT/store); share one across matrices to reuse runs")
     ap.add_argument("--script", metavar="FILE",
                     help="write the twin files and a bash script of the calls to FILE instead of running them")
+    ap.add_argument("--measure-next", type=int, default=0, metavar="N",
+                    help="after each diagnosis, make on the twin the measurements its report asks for next "
+                         "(scripts/twin_measure.py) and diagnose again, up to N rounds; the matrix reports the last")
     ap.add_argument("--summarize", action="store_true",
                     help="only (re)write matrix.json/.md/.png from the twin folders already in --out")
     a = ap.parse_args()
@@ -381,6 +436,8 @@ def main():
                 sys.exit(f"{a.matrix}: twin {t['name']}: unknown key {k}")
     if a.script and a.summarize:
         sys.exit("--script and --summarize: one or the other")
+    if a.script and a.measure_next:
+        sys.exit("--script and --measure-next: the measurement rounds run here only")
     if a.script:
         # The script runs from the project root on another machine: every path in it relative to here, and the
         # twin files' case relative to the twin file (as wetdem reads it).
@@ -418,6 +475,7 @@ def main():
         run(twin_cmd, os.path.join(d, "twin.log"))
         run(diag_cmd, os.path.join(d, "diagnose.log"))
         record_cost(d, time.time() - t_twin)
+        measure_rounds(a, i, d, tf, diag_cmd, store)
         rows.append(row_of(d, t))
         r = rows[-1]
         print(f"{t['name']}: {r['verdict']} {r['effect'] or ''} ({time.time() - t0:.0f} s)", flush=True)

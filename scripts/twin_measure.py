@@ -1,0 +1,206 @@
+#!/usr/bin/env python3
+"""Make, on a twin, the measurements a diagnosis asks for next, and write the observation table with them added.
+
+A diagnosis's report ends, when the data leave it undecided, with the measurement to make next
+(docs/diagnosis.md): the one that separates two tied effects (`next_experiment`: its best single measurement, or
+the pair of measurements when the report says two together do better), and the one that would close an open
+strength interval (`bound_experiment`, when it separates the interval's ends by 2 sigma). In a laboratory the
+engineer makes them. On a twin the truth can be asked: this script runs `wetdem twin` on the twin's own file at
+the proposed conditions (truth and seeds as in the twin, the noise of each measurement the report assumed, drawn
+from a noise seed of its own) and appends those rows to the table. Diagnosing the new table again closes the loop:
+
+    scripts/twin_measure.py TWIN.toml OBS.csv DIAGNOSIS_DIR --out OBS2.csv --store STORE [--noise-seed N]
+    build/host/wetdem diagnose D.toml --observations OBS2.csv --out DIAG2 --store STORE
+
+Only conditions the table can hold are measured (every key of the proposal a column of the table), and a
+measurement the table already has is not repeated. Exit status 0 with the new table written when something was
+measured; 3 when the diagnosis asks for nothing that can be measured here (nothing is written); 1 on an error.
+scripts/twin_matrix.py --measure-next N runs this loop on every twin of a matrix.
+"""
+import argparse
+import csv
+import json
+import math
+import os
+import re
+import subprocess
+import sys
+import tempfile
+
+DECISIVE = 2.0  # sigma: host/diagnose/next_experiment.h kDecisive
+
+
+def judged(p):
+    """A proposal's separation once both models re-fit (next_experiment.h judged_separation)."""
+    r = p.get("refit_separation")
+    return r if isinstance(r, (int, float)) and math.isfinite(r) else p["separation"]
+
+
+def asked_for(diagnosis):
+    """The measurements the report names, as (condition, observable, sigma), in the report's order."""
+    out = []
+    nxt = diagnosis.get("next_experiment") or {}
+    props = nxt.get("proposals") or []
+    if props:
+        q = props[0]
+        pairs = nxt.get("pairs") or []
+        # paragraph.cpp: the pair when it beats the single one made twice (pair_beats_single).
+        if pairs and pairs[0]["refit_separation"] >= DECISIVE and pairs[0]["refit_separation"] > math.sqrt(2) * judged(q):
+            sigma = {(p["condition"], p["observable"]): p["sigma"] for p in props}
+            for m in (pairs[0]["first"], pairs[0]["second"]):
+                out.append((m["condition"], m["observable"], sigma.get((m["condition"], m["observable"]), q["sigma"])))
+        else:
+            out.append((q["condition"], q["observable"], q["sigma"]))
+    bound = diagnosis.get("bound_experiment") or {}
+    bprops = bound.get("proposals") or []
+    if bprops and bprops[0]["separation"] >= DECISIVE:  # paragraph.cpp bound_sentence
+        q = bprops[0]
+        out.append((q["condition"], q["observable"], q["sigma"]))
+    seen, unique = set(), []
+    for m in out:
+        if (m[0], m[1]) not in seen:
+            seen.add((m[0], m[1]))
+            unique.append(m)
+    return unique
+
+
+def parse_condition(text):
+    """'liquid.content=2.5 %, drum.rpm=60' -> {'liquid.content': '2.5 %', 'drum.rpm': '60'}"""
+    out = {}
+    for part in text.split(", "):
+        k, _, v = part.partition("=")
+        out[k.strip()] = v.strip()
+    return out
+
+
+def toml_string(v):
+    return json.dumps(str(v))
+
+
+def drop_sections(text, names):
+    """The TOML text without the tables whose header is one of `names` ('[noise]', '[[points]]', ...)."""
+    out, skip = [], False
+    for line in text.splitlines(keepends=True):
+        head = line.strip()
+        if head.startswith("["):
+            skip = head.split("#")[0].strip() in names
+        if not skip:
+            out.append(line)
+    return "".join(out)
+
+
+def toml_value(v):
+    """A condition's value as the twin file would hold it: a number as a number, else a string."""
+    try:
+        float(v)
+        return v
+    except ValueError:
+        return json.dumps(v)
+
+
+def twin_for(twin_text, points, noise, noise_seed):
+    """The twin file at these points (each a dict of condition keys) with these noises, its truth and seeds kept."""
+    text = drop_sections(twin_text, {"[conditions]", "[[points]]", "[noise]"})
+    if re.search(r"^noise_seed\s*=", text, flags=re.M):
+        text = re.sub(r"^noise_seed\s*=.*$", f"noise_seed = {noise_seed}", text, flags=re.M)
+    else:
+        text = f"noise_seed = {noise_seed}\n" + text
+    text += "".join("\n[[points]]\n" + "".join(f"{json.dumps(k)} = {toml_value(v)}\n" for k, v in p.items())
+                    for p in points)
+    text += "\n[noise]\n" + "".join(f"{k} = {v!r}\n" for k, v in noise.items())
+    return text
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("twin", help="the twin file the table was made from (its truth is what gets measured)")
+    ap.add_argument("observations", help="the observation table the diagnosis read")
+    ap.add_argument("diagnosis", help="the diagnosis's output folder (its diagnosis.json)")
+    ap.add_argument("--out", required=True, help="the table with the new rows")
+    ap.add_argument("--store", required=True, help="run store (the twin's runs at the table's conditions are there)")
+    ap.add_argument("--wetdem", default="build/host/wetdem")
+    ap.add_argument("--noise-seed", type=int, default=900, help="noise seed of the new measurements")
+    ap.add_argument("--jobs", type=int, default=1)
+    ap.add_argument("--batch", type=int)
+    a = ap.parse_args()
+
+    diagnosis = json.load(open(os.path.join(a.diagnosis, "diagnosis.json")))
+    with open(a.observations, newline="") as f:
+        rows = list(csv.DictReader(f))
+        header = list(rows[0].keys()) if rows else []
+    keys = [h for h in header if h not in ("observable", "value", "sigma", "n", "note")]
+    if not rows or not keys:
+        sys.exit(f"{a.observations}: no rows or no condition columns")
+
+    def same_condition(row, cond):
+        return all(row.get(k, "").strip() == cond.get(k, "") for k in keys)
+
+    todo, skipped = [], []
+    for condition, observable, sigma in asked_for(diagnosis):
+        cond = parse_condition(condition)
+        if set(cond) - set(keys):
+            skipped.append(f"{observable} at {condition} (the table has no column {sorted(set(cond) - set(keys))})")
+            continue
+        # Keys of the table the proposal does not name keep the value of the table's first row that matches the
+        # named ones (the base of the proposal), else the first row's.
+        base = next((r for r in rows if all(r[k].strip() == v for k, v in cond.items())), rows[0])
+        full = {k: cond.get(k, base[k].strip()) for k in keys}
+        if any(same_condition(r, full) and r["observable"] == observable for r in rows):
+            skipped.append(f"{observable} at {condition} (already in the table)")
+            continue
+        todo.append((full, observable, sigma))
+    for s in skipped:
+        print(f"not measured: {s}")
+    if not todo:
+        print("nothing to measure: the diagnosis asks for no measurement this table can take")
+        return 3
+
+    # One twin call at the new points, every observable asked for with the noise the report assumed.
+    points = []
+    for full, _, _ in todo:
+        if full not in points:
+            points.append(full)
+    for r in rows:  # a point of the table (a twin needs two conditions; its runs are in the store)
+        if len(points) >= 2:
+            break
+        p = {k: r[k].strip() for k in keys}
+        if p not in points:
+            points.append(p)
+    noise = {}  # one noise per observable in a twin file: the largest asked for (they share the table's median)
+    for _, observable, sigma in todo:
+        noise[observable] = max(sigma, noise.get(observable, 0.0))
+    work = tempfile.mkdtemp(prefix="twin_measure_")
+    tf = os.path.join(work, "twin.toml")
+    text = open(a.twin).read()
+    # The case path relative to the twin file, as wetdem reads it.
+    twin_dir = os.path.dirname(os.path.abspath(a.twin))
+    text = re.sub(r'^case\s*=\s*"([^"]+)"', lambda m: f'case = "{os.path.join(twin_dir, m.group(1))}"', text, flags=re.M)
+    open(tf, "w").write(twin_for(text, points, noise, a.noise_seed))
+    cmd = [a.wetdem, "twin", tf, "--out", os.path.join(work, "twin"), "--store", a.store, "--jobs", str(a.jobs),
+           "--quiet"] + (["--batch", str(a.batch)] if a.batch else [])
+    r = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    if r.returncode != 0:
+        sys.exit(f"wetdem twin failed ({r.returncode}):\n{r.stdout}")
+    with open(os.path.join(work, "twin", "observations.csv"), newline="") as f:
+        measured = list(csv.DictReader(f))
+    added = []
+    for full, observable, _ in todo:
+        row = next((m for m in measured if m["observable"] == observable and same_condition(m, full)), None)
+        if row is None:
+            sys.exit(f"wetdem twin gave no {observable} at {full}")
+        row = {h: row.get(h, "") for h in header}
+        row["note"] = "measured next"
+        added.append(row)
+        print(f"measured: {observable} at {', '.join(f'{k}={v}' for k, v in full.items())} = {row['value']} "
+              f"(sigma {row['sigma']})")
+    # The table as wetdem writes it: condition values quoted, the rest as they are.
+    with open(a.out, "w") as f:
+        f.write(",".join(header) + "\n")
+        for row in rows + added:
+            f.write(",".join(json.dumps(row[h]) if h in keys else str(row[h]) for h in header) + "\n")
+    print(f"table: {a.out} ({len(rows)} rows + {len(added)} measured)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,192 @@
+#!/usr/bin/python3
+"""scripts/twin_measure.py and twin_matrix.py --measure-next, with a stand-in for wetdem: which measurements a
+report's diagnosis.json asks for (the tie's best single measurement, or its pair when the pair beats the single
+made twice; the bound's when it separates the interval's ends by 2 sigma), which cannot be taken (a condition key
+the table lacks, a measurement the table has), the twin file the measurement is made with (the twin's truth and
+seeds, the proposal's conditions and noise, a noise seed of its own), the table written (the old rows, then the
+new, conditions quoted), exit status 3 and no table when nothing can be measured; and the matrix's rounds: a
+second diagnosis on the new table, reported with what was measured.
+usage: twin_measure_test.py SOURCE_DIR"""
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import tomllib
+
+src = sys.argv[1]
+root = tempfile.mkdtemp(prefix="wetdem-twin-measure-")
+
+
+def fail(msg):
+    sys.exit(f"FAIL: {msg}")
+
+
+def write(path, text):
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    open(path, "w").write(text)
+
+
+# The stand-in: `wetdem twin F --out D` copies F to $TWIN_COPY (when set) and writes D/observations.csv, one row per point
+# and [noise] observable, value = 0.5 + liquid content (%) / 100, sigma the file's noise; `wetdem diagnose ...
+# --out D` writes D/diagnosis.json from $DIAGNOSES (a JSON list, one per call, in order).
+fake = os.path.join(root, "fake-wetdem")
+write(fake, r'''#!/usr/bin/python3
+import itertools, json, os, shutil, sys, tomllib
+args = sys.argv[1:]
+out = args[args.index("--out") + 1]
+os.makedirs(out, exist_ok=True)
+if args[0] == "twin":
+    t = tomllib.load(open(args[1], "rb"))
+    if os.environ.get("TWIN_COPY"):
+        shutil.copy(args[1], os.environ["TWIN_COPY"])
+    points = t.get("points") or [dict(zip(t["conditions"], v)) for v in itertools.product(*t["conditions"].values())]
+    t["points"] = points
+    keys = list(t["points"][0].keys())
+    with open(os.path.join(out, "observations.csv"), "w") as f:
+        f.write(",".join(keys) + ",observable,value,sigma,n,note\n")
+        for p in t["points"]:
+            for o, s in t["noise"].items():
+                pct = float(str(p.get("liquid.content", "0")).split()[0])
+                f.write(",".join(json.dumps(str(p[k])) for k in keys) + f",{o},{0.5 + pct / 100},{s},2,twin\n")
+elif args[0] == "diagnose":
+    n = len([x for x in os.listdir(os.environ["CALLS"])])
+    open(os.path.join(os.environ["CALLS"], str(n)), "w").write(" ".join(args))
+    json.dump(json.loads(os.environ["DIAGNOSES"])[n], open(os.path.join(out, "diagnosis.json"), "w"))
+''')
+os.chmod(fake, 0o755)
+
+twin = os.path.join(root, "m", "twin.toml")
+write(os.path.join(root, "m", "model.toml"), 'name = "m"\n')
+write(twin, '''# a twin
+name = "t"
+case = "model.toml"
+seeds = [11, 12]
+noise_seed = 5
+
+[conditions]
+"liquid.content" = ["0 %", "5 %", "10 %"]
+"drum.rpm" = [30]
+
+[noise]
+aor_deg_mean = 1.0
+liquid_free_fraction = 0.02
+
+[truth]
+"absorption.capacity" = 0.05
+''')
+obs = os.path.join(root, "obs.csv")
+write(obs, '''liquid.content,drum.rpm,observable,value,sigma,n,note
+"0 %","30",aor_deg_mean,33.7,1.0,2,twin
+"5 %","30",aor_deg_mean,33.3,1.0,2,twin
+"5 %","30",liquid_free_fraction,0.58,0.02,2,twin
+"10 %","30",aor_deg_mean,33.1,1.0,2,twin
+"10 %","30",liquid_free_fraction,0.56,0.02,2,twin
+''')
+
+
+def proposal(cond, obs_name, sep, refit=None, sigma=0.025):
+    p = {"condition": cond, "observable": obs_name, "separation": sep, "sigma": sigma, "in_table": False,
+         "assay": False}
+    if refit is not None:
+        p["refit_separation"] = refit
+    return p
+
+
+def diagnosis(next_props=(), pairs=(), bound_props=()):
+    return {"verdict": "effect", "effect": "absorption", "tied": ["evaporation"] if next_props else [],
+            "next_experiment": {"proposals": list(next_props), "pairs": list(pairs)} if next_props else {},
+            "bound_experiment": {"proposals": list(bound_props)} if bound_props else {},
+            "held_out_shrink": 0.9, "held_out_gap_shrink": None, "runs_computed": 1, "wall_s": 1.0,
+            "device": "stand-in", "cells": [],
+            "ranking": [{"effect": "absorption", "strength": 0.05, "strength_interval": [0.04, 0.06],
+                         "strength_interval_open": [False, False]}]}
+
+
+def measure(d, name, expect_rc=0):
+    dd = os.path.join(root, name)
+    write(os.path.join(dd, "diagnosis.json"), json.dumps(d))
+    out = os.path.join(root, name + ".csv")
+    r = subprocess.run(["/usr/bin/python3", os.path.join(src, "scripts", "twin_measure.py"), twin, obs, dd,
+                        "--out", out, "--store", os.path.join(root, "store"), "--wetdem", fake,
+                        "--noise-seed", "77"], capture_output=True, text=True, cwd=root,
+                       env=dict(os.environ, TWIN_COPY=os.path.join(root, name + ".twin.toml")))
+    if r.returncode != expect_rc:
+        fail(f"{name}: exit {r.returncode}, expected {expect_rc}:\n{r.stdout}{r.stderr}")
+    return r.stdout, out
+
+
+# 1. A tie whose best single measurement wins over the pair, and a bound at 4.1 sigma: both measured, at one call.
+single = proposal("liquid.content=2.5 %", "liquid_free_fraction", 2.8, refit=1.9, sigma=0.0256)
+weak_pair = {"first": {"condition": "liquid.content=2.5 %", "observable": "liquid_free_fraction"},
+             "second": {"condition": "liquid.content=15 %", "observable": "liquid_free_fraction"},
+             "separation": 3.7, "refit_separation": 2.6}  # 2.6 < sqrt(2) x 1.9: the single one is advised
+bound = proposal("liquid.content=20 %", "liquid_free_fraction", 4.1, sigma=0.0256)
+text, out = measure(diagnosis([single], [weak_pair], [bound]), "tie-and-bound")
+lines = open(out).read().splitlines()
+if lines[:6] != open(obs).read().splitlines():
+    fail("the old rows are not kept first and as they were")
+if lines[6:] != ['"2.5 %","30",liquid_free_fraction,0.525,0.0256,2,measured next',
+                 '"20 %","30",liquid_free_fraction,0.7,0.0256,2,measured next']:
+    fail(f"new rows: {lines[6:]}")
+made = tomllib.load(open(os.path.join(root, "tie-and-bound.twin.toml"), "rb"))
+if made["seeds"] != [11, 12] or made["truth"] != {"absorption.capacity": 0.05} or made["noise_seed"] != 77:
+    fail(f"the twin file does not keep the truth and seeds or take the noise seed: {made}")
+if "conditions" in made or made["noise"] != {"liquid_free_fraction": 0.0256}:
+    fail(f"the twin file keeps the table's [conditions] or other noises: {made}")
+if [p["liquid.content"] for p in made["points"]] != ["2.5 %", "20 %"] or made["points"][0]["drum.rpm"] != 30:
+    fail(f"the twin file's points: {made['points']}")
+
+# 2. The pair beats the single one made twice (3.0 > sqrt(2) x 1.9): both of its measurements are made.
+strong_pair = dict(weak_pair, refit_separation=3.0)
+text, out = measure(diagnosis([single], [strong_pair]), "pair")
+new = open(out).read().splitlines()[6:]
+if [r.split(",")[0] for r in new] != ['"2.5 %"', '"15 %"']:
+    fail(f"the pair was not measured: {new}")
+
+# 3. Nothing that can be measured: a key the table lacks, a measurement the table has, a bound under 2 sigma.
+text, out = measure(diagnosis([proposal("liquid.content=10 %, run.duration=12 s", "aor_deg_mean", 3.0)], [],
+                              [proposal("liquid.content=5 %", "liquid_free_fraction", 1.5)]), "nothing", 3)
+if os.path.exists(out) or "run.duration" not in text:
+    fail(f"nothing to measure, yet a table was written or the reason not given:\n{text}")
+text, out = measure(diagnosis([proposal("liquid.content=10 %", "liquid_free_fraction", 3.0)]), "in-table", 3)
+if "already in the table" not in text:
+    fail(f"a measurement the table has was not named as such:\n{text}")
+
+# 4. twin_matrix.py --measure-next 2: the first report asks for the 20 % row, the second for nothing; the matrix
+# reports the second diagnosis, with what was measured and the first verdict.
+mdir = os.path.join(root, "mx")
+write(os.path.join(mdir, "model.toml"), 'name = "m"\n')
+write(os.path.join(mdir, "twin_base.toml"), open(twin).read().replace("[truth]\n\"absorption.capacity\" = 0.05\n", ""))
+write(os.path.join(mdir, "diagnose.toml"), 'name = "d"\n')
+write(os.path.join(mdir, "matrix.toml"), '''diagnosis = "diagnose.toml"
+twin_base = "twin_base.toml"
+[[twin]]
+name = "absorption-slow"
+effect = "absorption"
+strength = 0.05
+truth = { "absorption.capacity" = 0.05 }
+''')
+calls = os.path.join(root, "calls")
+os.makedirs(calls)
+first, second = diagnosis([], [], [bound]), diagnosis()
+first["verdict"], second["verdict"] = "effect", "effect"
+env = dict(os.environ, CALLS=calls, DIAGNOSES=json.dumps([first, second, second]))
+r = subprocess.run(["/usr/bin/python3", os.path.join(src, "scripts", "twin_matrix.py"), os.path.join(mdir, "matrix.toml"),
+                    "--out", os.path.join(root, "mout"), "--wetdem", fake, "--measure-next", "2"],
+                   capture_output=True, text=True, cwd=root, env=env)
+if r.returncode != 0:
+    fail(f"twin_matrix.py --measure-next: {r.stdout}{r.stderr}")
+tw = os.path.join(root, "mout", "absorption-slow")
+if len(os.listdir(calls)) != 2 or not os.path.exists(os.path.join(tw, "diagnosis_m1", "diagnosis.json")) \
+        or os.path.exists(os.path.join(tw, "diagnosis_m2")):
+    fail(f"expected two diagnoses (the first, then one on the table with the measured row): {os.listdir(tw)}")
+second_call = open(os.path.join(calls, "1")).read()
+if "observations_m1.csv" not in second_call:
+    fail(f"the second diagnosis did not read the new table: {second_call}")
+if json.load(open(os.path.join(tw, "measured.json"))) != ["liquid_free_fraction at liquid.content=20 %, drum.rpm=30"]:
+    fail(f"measured.json: {open(os.path.join(tw, 'measured.json')).read()}")
+md = open(os.path.join(root, "mout", "matrix.md")).read()
+if "after measuring liquid_free_fraction at liquid.content=20 %" not in md:
+    fail(f"matrix.md does not say what was measured:\n{md}")
+print("ok")
