@@ -20,8 +20,8 @@ class GpuSystem : public GpuTest {};
 namespace {
 
 // The wet drum of the determinism tests: pair bridges on, films set by each test.
-SimParams wet_drum_params() {
-  SimParams prm = twin_drum_params(0.012, 0.012, 0.5e-3, false);
+SimParams wet_drum_params(bool periodic = false) {
+  SimParams prm = twin_drum_params(0.012, 0.012, 0.5e-3, periodic);
   prm.liq_pp.enabled = true;
   prm.liq_pp.gamma = 0.1;
   prm.liq_pp.theta = 0.5;
@@ -282,12 +282,7 @@ TEST_F(GpuSystem, SkinTestInTheDrumFrameMissesNoPair) {
   // there.
   for (bool periodic : {false, true})
     for (auto [head_on, omega] : {std::pair{true, 20.0}, std::pair{true, 0.0}, std::pair{false, 20.0}}) {
-      SimParams prm = twin_drum_params(0.012, 0.012, 0.5e-3, periodic);
-      prm.liq_pp.enabled = true;
-      prm.liq_pp.gamma = 0.1;
-      prm.liq_pp.theta = 0.5;
-      prm.liq_pp.v_max = 1 << 28;
-      prm.liquid_unit_m3 = 1e-20;
+      SimParams prm = wet_drum_params(periodic);
       prm.drum.omega = omega;
       prm.skin = 0.3e-3;
       SystemState s;
