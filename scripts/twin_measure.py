@@ -12,8 +12,9 @@ from a noise seed of its own) and appends those rows to the table. Diagnosing th
     scripts/twin_measure.py TWIN.toml OBS.csv DIAGNOSIS_DIR --out OBS2.csv --store STORE [--noise-seed N]
     build/host/wetdem diagnose D.toml --observations OBS2.csv --out DIAG2 --store STORE
 
-Only conditions the table can hold are measured (every key of the proposal a column of the table), and a
-measurement the table already has is not repeated. Exit status 0 with the new table written when something was
+A drum speed or a run length the table never varied becomes a new column, with the model's own value (from
+`wetdem check`) in the rows measured so far: the same resolved case, so the same runs in the store. A proposal
+with any other key the table lacks is not measured, and neither is a measurement the table already has. Exit status 0 with the new table written when something was
 measured; 3 when the diagnosis asks for nothing that can be measured here (nothing is written); 1 on an error.
 scripts/twin_matrix.py --measure-next N runs this loop on every twin of a matrix.
 """
@@ -89,6 +90,32 @@ def drop_sections(text, names):
     return "".join(out)
 
 
+# Condition keys a next experiment may propose beyond the table's columns (a drum speed, a longer run): the model's
+# own value, from `wetdem check` (SI, its [section] name), as the table would write it.
+MODEL_VALUE = {
+    "drum.rpm": ("drum", "rotation_rad_per_s", lambda w: f"{w * 60.0 / (2.0 * math.pi):.6g}"),
+    "run.duration": ("run", "duration_s", lambda s: f"{s:.6g} s"),
+}
+
+
+def model_values(wetdem, case):
+    """The model's value of each MODEL_VALUE key: `wetdem check CASE` prints the case resolved, in SI."""
+    r = subprocess.run([wetdem, "check", case], capture_output=True, text=True)
+    if r.returncode != 0:
+        sys.exit(f"wetdem check {case} failed:\n{r.stdout}{r.stderr}")
+    section, found = "", {}
+    for line in r.stdout.splitlines():
+        line = line.split("#")[0].strip()
+        if line.startswith("[") and line.endswith("]"):
+            section = line[1:-1]
+        elif "=" in line:
+            k, _, v = line.partition("=")
+            for key, (sec, name, fmt) in MODEL_VALUE.items():
+                if section == sec and k.strip() == name:
+                    found[key] = fmt(float(v))
+    return found
+
+
 def toml_value(v):
     """A condition's value as the twin file would hold it: a number as a number, else a string."""
     try:
@@ -135,11 +162,29 @@ def main():
     def same_condition(row, cond):
         return all(row.get(k, "").strip() == cond.get(k, "") for k in keys)
 
-    todo, skipped = [], []
+    twin_dir = os.path.dirname(os.path.abspath(a.twin))
+    twin_text = open(a.twin).read()
+    m = re.search(r'^case\s*=\s*"([^"]+)"', twin_text, flags=re.M)
+    case = os.path.join(twin_dir, m.group(1)) if m else None
+    todo, skipped, known = [], [], None
     for condition, observable, sigma in asked_for(diagnosis):
         cond = parse_condition(condition)
-        if set(cond) - set(keys):
-            skipped.append(f"{observable} at {condition} (the table has no column {sorted(set(cond) - set(keys))})")
+        missing = sorted(set(cond) - set(keys))
+        if missing and case and not set(missing) - set(MODEL_VALUE):
+            # A drum speed or a run length the table never varied: a new column, the model's own value in every
+            # row measured so far (the same resolved case, so the same runs in the store).
+            known = known or model_values(a.wetdem, case)
+            if set(missing) <= set(known):
+                at = header.index("observable")
+                for k in missing:
+                    header.insert(at, k)
+                    keys.append(k)
+                    for r in rows:
+                        r[k] = known[k]
+                    print(f"new column {k}: the rows so far at the model's {known[k]}")
+                missing = []
+        if missing:
+            skipped.append(f"{observable} at {condition} (the table has no column {missing})")
             continue
         # Keys of the table the proposal does not name keep the value of the table's first row that matches the
         # named ones (the base of the proposal), else the first row's.
@@ -171,10 +216,9 @@ def main():
         noise[observable] = max(sigma, noise.get(observable, 0.0))
     work = tempfile.mkdtemp(prefix="twin_measure_")
     tf = os.path.join(work, "twin.toml")
-    text = open(a.twin).read()
     # The case path relative to the twin file, as wetdem reads it.
-    twin_dir = os.path.dirname(os.path.abspath(a.twin))
-    text = re.sub(r'^case\s*=\s*"([^"]+)"', lambda m: f'case = "{os.path.join(twin_dir, m.group(1))}"', text, flags=re.M)
+    text = re.sub(r'^case\s*=\s*"([^"]+)"', lambda m: f'case = "{os.path.join(twin_dir, m.group(1))}"', twin_text,
+                  flags=re.M)
     open(tf, "w").write(twin_for(text, points, noise, a.noise_seed))
     cmd = [a.wetdem, "twin", tf, "--out", os.path.join(work, "twin"), "--store", a.store, "--jobs", str(a.jobs),
            "--quiet"] + (["--batch", str(a.batch)] if a.batch else [])

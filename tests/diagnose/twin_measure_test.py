@@ -34,7 +34,7 @@ fake = os.path.join(root, "fake-wetdem")
 write(fake, r'''#!/usr/bin/python3
 import itertools, json, os, shutil, sys, tomllib
 args = sys.argv[1:]
-out = args[args.index("--out") + 1]
+out = args[args.index("--out") + 1] if "--out" in args else "."
 os.makedirs(out, exist_ok=True)
 if args[0] == "twin":
     t = tomllib.load(open(args[1], "rb"))
@@ -49,6 +49,8 @@ if args[0] == "twin":
             for o, s in t["noise"].items():
                 pct = float(str(p.get("liquid.content", "0")).split()[0])
                 f.write(",".join(json.dumps(str(p[k])) for k in keys) + f",{o},{0.5 + pct / 100},{s},2,twin\n")
+elif args[0] == "check":
+    print("# resolved\n[drum]\nrotation_rad_per_s = 3.141592653589793\n\n[run]\nduration_s = 3")
 elif args[0] == "diagnose":
     n = len([x for x in os.listdir(os.environ["CALLS"])])
     open(os.path.join(os.environ["CALLS"], str(n)), "w").write(" ".join(args))
@@ -144,16 +146,25 @@ new = open(out).read().splitlines()[6:]
 if [r.split(",")[0] for r in new] != ['"2.5 %"', '"15 %"']:
     fail(f"the pair was not measured: {new}")
 
-# 3. Nothing that can be measured: a key the table lacks, a measurement the table has, a bound under 2 sigma.
-text, out = measure(diagnosis([proposal("liquid.content=10 %, run.duration=12 s", "aor_deg_mean", 3.0)], [],
+# 3. Nothing that can be measured: a key the table lacks that is no drum speed or run length, a measurement the
+# table has, a bound under 2 sigma.
+text, out = measure(diagnosis([proposal("liquid.content=10 %, liquid.gamma=30 mN/m", "aor_deg_mean", 3.0)], [],
                               [proposal("liquid.content=5 %", "liquid_free_fraction", 1.5)]), "nothing", 3)
-if os.path.exists(out) or "run.duration" not in text:
+if os.path.exists(out) or "liquid.gamma" not in text:
     fail(f"nothing to measure, yet a table was written or the reason not given:\n{text}")
 text, out = measure(diagnosis([proposal("liquid.content=10 %", "liquid_free_fraction", 3.0)]), "in-table", 3)
 if "already in the table" not in text:
     fail(f"a measurement the table has was not named as such:\n{text}")
 
-# 4. twin_matrix.py --measure-next 2: the first report asks for the 20 % row, the second for nothing; the matrix
+# 4. A run length the table never varied: a new column, the model's value (wetdem check: 3 s) in the old rows.
+text, out = measure(diagnosis([proposal("liquid.content=10 %, run.duration=12 s", "aor_deg_mean", 3.0)]), "longer")
+lines = open(out).read().splitlines()
+if lines[0] != "liquid.content,drum.rpm,run.duration,observable,value,sigma,n,note" \
+        or lines[1] != '"0 %","30","3 s",aor_deg_mean,33.7,1.0,2,twin' \
+        or lines[-1] != '"10 %","30","12 s",aor_deg_mean,0.6,0.025,2,measured next':
+    fail(f"the new column:\n{open(out).read()}")
+
+# 5. twin_matrix.py --measure-next 2: the first report asks for the 20 % row, the second for nothing; the matrix
 # reports the second diagnosis, with what was measured and the first verdict.
 mdir = os.path.join(root, "mx")
 write(os.path.join(mdir, "model.toml"), 'name = "m"\n')
