@@ -121,7 +121,7 @@ def row_of(d, t):
             "interval": best["strength_interval"] if best else None,
             "interval_open": best.get("strength_interval_open") if best else None,
             "held_out_shrink": j["held_out_shrink"], "held_out_gap_shrink": j.get("held_out_gap_shrink"),
-            "runs_computed": j.get("runs_computed"), "signal": signal(d, j),
+            "runs_computed": j.get("runs_computed"), "signal": signal(d, first),  # the twin's own table
             # --measure-next: the measurements made on the twin at the reports' request, and the first verdict.
             "measured": measured, "first_verdict": first["verdict"], "first_effect": first["effect"],
             "first_tied": first.get("tied") or [],
