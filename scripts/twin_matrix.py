@@ -100,7 +100,10 @@ def row_of(d, t):
     sub = last_diagnosis(d)
     j = json.load(open(os.path.join(d, sub, "diagnosis.json")))
     first = j if sub == "diagnosis" else json.load(open(os.path.join(d, "diagnosis", "diagnosis.json")))
-    measured = json.load(open(os.path.join(d, "measured.json"))) if sub != "diagnosis" else []
+    # What was measured up to the reported round (measured.json: one entry per round's table).
+    rounds = json.load(open(os.path.join(d, "measured.json"))) if sub != "diagnosis" else []
+    upto = int(sub[len("diagnosis_m"):]) if sub != "diagnosis" else 0
+    measured = [m for e in rounds if int(re.search(r"_m(\d+)", e["table"]).group(1)) <= upto for m in e["measured"]]
     best = next((r for r in j.get("ranking") or [] if r["effect"] == j["effect"]), None)
     return {"twin": t["name"], "truth": t.get("effect"), "truth_strength": t.get("strength"),
             "perturbed": bool(t.get("perturb")), "also": t.get("also_effect"),
@@ -148,6 +151,27 @@ def record_cost(d, wall_s):
         return
     with open(path, "w") as f:
         json.dump(new, f, indent=1)
+
+
+def script_rounds(a, i, name, d, twin_file, diag_cmd, store):
+    """--script with --measure-next: the rounds in bash (python3 runs twin_measure.py there: it needs no tomllib);
+    a round whose diagnosis is there is skipped, and the first round that finds nothing to measure ends them."""
+    q = lambda cmd: " ".join(['"$WETDEM"'] + [shlex.quote(c) for c in cmd[1:]])
+    qm = lambda cmd: " ".join(shlex.quote(c) for c in cmd).replace(shlex.quote("$WETDEM"), '"$WETDEM"')
+    obs, last, out = diag_cmd[diag_cmd.index("--observations") + 1], os.path.join(d, "diagnosis"), ["more=1"]
+    for k in range(1, a.measure_next + 1):
+        m = measure_cmd(a, i, d, k, twin_file, obs, last, store, "$WETDEM", True)
+        diag = os.path.join(d, f"diagnosis_m{k}", "diagnosis.json")
+        out.append(f"""if ((more)) && [[ ! -f {shlex.quote(diag)} ]]; then
+  {qm(m)} >{shlex.quote(os.path.join(d, f"measure_m{k}.log"))} 2>&1
+  rc=$?
+  if ((rc == 3)); then more=0
+  elif ((rc != 0)); then fail {name} measure
+  else {q(round_diag_cmd(diag_cmd, d, k))} >{shlex.quote(os.path.join(d, f"diagnose_m{k}.log"))} 2>&1 || fail {name} diagnose
+  fi
+fi""")
+        obs, last = os.path.join(d, f"observations_m{k}.csv"), os.path.join(d, f"diagnosis_m{k}")
+    return "\n".join(out) + "\n"
 
 
 def script_twin(name, d, twin_cmd, diag_cmd):
@@ -363,15 +387,29 @@ def summarize(rows, wall, device, out_dir, spec_path):
     print("\n".join(md))
 
 
+def measure_cmd(a, i, d, k, twin_file, obs, last, store, wetdem, script):
+    """The twin_measure.py call of round k (its output table OUT/<twin>/observations_m<k>.csv)."""
+    here = os.path.join(os.path.dirname(os.path.abspath(__file__)), "twin_measure.py")
+    return ([sys.executable, here] if not script else ["python3", os.path.relpath(here)]) + [
+        twin_file, obs, last, "--out", os.path.join(d, f"observations_m{k}.csv"), "--store", store,
+        "--wetdem", wetdem, "--noise-seed", str(900 + 10 * i + k), "--record", os.path.join(d, "measured.json"),
+        "--jobs", str(a.jobs)] + (["--batch", str(a.batch)] if a.batch else [])
+
+
+def round_diag_cmd(diag_cmd, d, k):
+    """The diagnosis of round k: the same call on the table with round k's measurements."""
+    cmd = list(diag_cmd)
+    cmd[cmd.index("--observations") + 1] = os.path.join(d, f"observations_m{k}.csv")
+    cmd[cmd.index("--out") + 1] = os.path.join(d, f"diagnosis_m{k}")
+    return cmd
+
+
 def measure_rounds(a, i, d, twin_file, diag_cmd, store):
     """--measure-next: up to N rounds of measuring on the twin what the last report asks for, then diagnosing the
     table with those rows; OUT/<twin>/diagnosis_m<k>/, OUT/<twin>/measured.json (what was measured)."""
-    measured, obs, last = [], diag_cmd[diag_cmd.index("--observations") + 1], os.path.join(d, "diagnosis")
+    obs, last = diag_cmd[diag_cmd.index("--observations") + 1], os.path.join(d, "diagnosis")
     for k in range(1, a.measure_next + 1):
-        new_obs = os.path.join(d, f"observations_m{k}.csv")
-        cmd = [sys.executable, os.path.join(os.path.dirname(os.path.abspath(__file__)), "twin_measure.py"),
-               twin_file, obs, last, "--out", new_obs, "--store", store, "--wetdem", a.wetdem,
-               "--noise-seed", str(900 + 10 * i + k), "--jobs", str(a.jobs)] + (["--batch", str(a.batch)] if a.batch else [])
+        cmd = measure_cmd(a, i, d, k, twin_file, obs, last, store, a.wetdem, False)
         log = os.path.join(d, f"measure_m{k}.log")
         with open(log, "w") as f:
             r = subprocess.run(cmd, stdout=f, stderr=subprocess.STDOUT)
@@ -379,15 +417,8 @@ def measure_rounds(a, i, d, twin_file, diag_cmd, store):
             break
         if r.returncode != 0:
             sys.exit(f"failed ({r.returncode}): {' '.join(cmd)} (see {log})")
-        measured += [line[len("measured: "):].split(" = ")[0] for line in open(log) if line.startswith("measured: ")]
-        last = os.path.join(d, f"diagnosis_m{k}")
-        cmd = list(diag_cmd)
-        cmd[cmd.index("--observations") + 1] = new_obs
-        cmd[cmd.index("--out") + 1] = last
-        run(cmd, os.path.join(d, f"diagnose_m{k}.log"))
-        obs = new_obs
-        with open(os.path.join(d, "measured.json"), "w") as f:
-            json.dump(measured, f, indent=1)
+        run(round_diag_cmd(diag_cmd, d, k), os.path.join(d, f"diagnose_m{k}.log"))
+        obs, last = os.path.join(d, f"observations_m{k}.csv"), os.path.join(d, f"diagnosis_m{k}")
 
 
 def main():
@@ -436,8 +467,6 @@ def main():
                 sys.exit(f"{a.matrix}: twin {t['name']}: unknown key {k}")
     if a.script and a.summarize:
         sys.exit("--script and --summarize: one or the other")
-    if a.script and a.measure_next:
-        sys.exit("--script and --measure-next: the measurement rounds run here only")
     if a.script:
         # The script runs from the project root on another machine: every path in it relative to here, and the
         # twin files' case relative to the twin file (as wetdem reads it).
@@ -471,6 +500,8 @@ def main():
                     "--out", os.path.join(d, "diagnosis")] + rep + common
         if a.script:
             lines.append(script_twin(t["name"], d, twin_cmd, diag_cmd))
+            if a.measure_next:  # the rounds go with their twin's block
+                lines[-1] += script_rounds(a, i, t["name"], d, tf, diag_cmd, store)
             continue
         run(twin_cmd, os.path.join(d, "twin.log"))
         run(diag_cmd, os.path.join(d, "diagnose.log"))

@@ -147,11 +147,17 @@ def main():
     ap.add_argument("--store", required=True, help="run store (the twin's runs at the table's conditions are there)")
     ap.add_argument("--wetdem", default="build/host/wetdem")
     ap.add_argument("--noise-seed", type=int, default=900, help="noise seed of the new measurements")
+    ap.add_argument("--record", metavar="FILE",
+                    help="also record what was measured in FILE (JSON: one entry per output table, replaced when "
+                         "the same table is written again)")
     ap.add_argument("--jobs", type=int, default=1)
     ap.add_argument("--batch", type=int)
     a = ap.parse_args()
 
     diagnosis = json.load(open(os.path.join(a.diagnosis, "diagnosis.json")))
+    if not asked_for(diagnosis):
+        print("nothing to measure: the report asks for no measurement")
+        return 3
     with open(a.observations, newline="") as f:
         rows = list(csv.DictReader(f))
         header = list(rows[0].keys()) if rows else []
@@ -227,7 +233,7 @@ def main():
         sys.exit(f"wetdem twin failed ({r.returncode}):\n{r.stdout}")
     with open(os.path.join(work, "twin", "observations.csv"), newline="") as f:
         measured = list(csv.DictReader(f))
-    added = []
+    added, what = [], []
     for full, observable, _ in todo:
         row = next((m for m in measured if m["observable"] == observable and same_condition(m, full)), None)
         if row is None:
@@ -235,13 +241,19 @@ def main():
         row = {h: row.get(h, "") for h in header}
         row["note"] = "measured next"
         added.append(row)
-        print(f"measured: {observable} at {', '.join(f'{k}={v}' for k, v in full.items())} = {row['value']} "
-              f"(sigma {row['sigma']})")
+        what.append(f"{observable} at {', '.join(f'{k}={v}' for k, v in full.items())}")
+        print(f"measured: {what[-1]} = {row['value']} (sigma {row['sigma']})")
     # The table as wetdem writes it: condition values quoted, the rest as they are.
     with open(a.out, "w") as f:
         f.write(",".join(header) + "\n")
         for row in rows + added:
             f.write(",".join(json.dumps(row[h]) if h in keys else str(row[h]) for h in header) + "\n")
+    if a.record:
+        entries = json.load(open(a.record)) if os.path.exists(a.record) else []
+        entries = [e for e in entries if e["table"] != os.path.basename(a.out)]
+        entries.append({"table": os.path.basename(a.out), "measured": what})
+        with open(a.record, "w") as f:
+            json.dump(entries, f, indent=1)
     print(f"table: {a.out} ({len(rows)} rows + {len(added)} measured)")
     return 0
 
