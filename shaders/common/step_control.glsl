@@ -14,6 +14,11 @@ void close_step_passes() {
   for (uint k = 0u; k < 3u; ++k) C.v[CTL_LIQ_ARGS + 3u * k] = 0u;
 }
 
+// Whether the list's pairs may have closed in by the skin, by the two largest displacements of one frame.
+bool skin_reached(float d1, float d2, uint rule, float skin) {
+  return (rule & SKIN_TOP_TWO) != 0u ? d1 + d2 > skin : d1 > 0.5 * skin;
+}
+
 // Decides whether this step ends with a neighbour-list rebuild, and opens or closes the gate: every gated
 // dispatch of the rebuild chain reads its size from ctl[CTL_GATE_ARGS + 4k]. split: the chain is not recorded
 // after this step; a rebuild step halts with CTL_HALT = 2 and the host submits the chain on its own
@@ -30,9 +35,8 @@ void decide_rebuild(bool split, bool count) {
   // has closed in by at most d_i + d_j <= disp + disp2 (the classic rule bounds that by 2 disp), in the lab
   // frame and in the drum's alike: the list is complete while either bound stays within the skin.
   uint rule = C.v[CTL_SKIN_RULE];
-  bool top_two = (rule & SKIN_TOP_TWO) != 0u;
-  bool moved = top_two ? disp + disp2 > P.skin : disp > 0.5 * P.skin;
-  if ((rule & SKIN_DRUM_FRAME) != 0u) moved = moved && (top_two ? fdisp + fdisp2 > P.skin : fdisp > 0.5 * P.skin);
+  bool moved = skin_reached(disp, disp2, rule, P.skin);
+  if ((rule & SKIN_DRUM_FRAME) != 0u) moved = moved && skin_reached(fdisp, fdisp2, rule, P.skin);
   bool rebuild = C.v[CTL_FORCE_REBUILD] != 0u || moved;
   C.v[CTL_FORCE_REBUILD] = 0u;
   C.v[CTL_REBUILD] = rebuild ? 1u : 0u;
@@ -84,8 +88,12 @@ vec2 skin_displacements(ivec3 p, ivec3 ref, Params P) {
   return vec2(lab, (length(d) + 2.0 + 1e-6 * length(r)) * P.h);
 }
 
+// The two words only grow during the pass (the decision resets them), so a displacement no larger than the
+// second largest seen so far cannot enter the two largest: most invocations read one word and skip both
+// atomics (a stale read only lets one through that was not needed), instead of contending on two addresses.
 void share_max2(uint first, uint second, float disp) {
   uint b = floatBitsToUint(disp);
+  if (b <= CTL().v[second]) return;
   uint old = atomicMax(CTL().v[first], b);
   atomicMax(CTL().v[second], min(old, b));
 }
