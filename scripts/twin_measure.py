@@ -74,10 +74,6 @@ def parse_condition(text):
     return out
 
 
-def toml_string(v):
-    return json.dumps(str(v))
-
-
 def drop_sections(text, names):
     """The TOML text without the tables whose header is one of `names` ('[noise]', '[[points]]', ...)."""
     out, skip = [], False
