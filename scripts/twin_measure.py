@@ -4,7 +4,8 @@
 A diagnosis's report ends, when the data leave it undecided, with the measurement to make next
 (docs/diagnosis.md): the one that separates two tied effects (`next_experiment`: its best single measurement, or
 the pair of measurements when the report says two together do better), and the one that would close an open
-strength interval (`bound_experiment`, when it separates the interval's ends by 2 sigma). In a laboratory the
+strength interval (`bound_experiment`, when it separates the interval's ends by 2 sigma, or the one the report
+asks to repeat k times when no single one does: entered as their mean, sigma/sqrt(k), n = k). In a laboratory the
 engineer makes them. On a twin the truth can be asked: this script runs `wetdem twin` on the twin's own file at
 the proposed conditions (truth and seeds as in the twin, the noise of each measurement the report assumed, drawn
 from a noise seed of its own) and appends those rows to the table. Diagnosing the new table again closes the loop:
@@ -38,7 +39,7 @@ def judged(p):
 
 
 def asked_for(diagnosis):
-    """The measurements the report names, as (condition, observable, sigma), in the report's order."""
+    """The measurements the report names, as (condition, observable, sigma, repeats), in the report's order."""
     out = []
     nxt = diagnosis.get("next_experiment") or {}
     props = nxt.get("proposals") or []
@@ -49,14 +50,17 @@ def asked_for(diagnosis):
         if pairs and pairs[0]["refit_separation"] >= DECISIVE and pairs[0]["refit_separation"] > math.sqrt(2) * judged(q):
             sigma = {(p["condition"], p["observable"]): p["sigma"] for p in props}
             for m in (pairs[0]["first"], pairs[0]["second"]):
-                out.append((m["condition"], m["observable"], sigma.get((m["condition"], m["observable"]), q["sigma"])))
+                out.append((m["condition"], m["observable"], sigma.get((m["condition"], m["observable"]), q["sigma"]), 1))
         else:
-            out.append((q["condition"], q["observable"], q["sigma"]))
+            out.append((q["condition"], q["observable"], q["sigma"], 1))
     bound = diagnosis.get("bound_experiment") or {}
     bprops = bound.get("proposals") or []
     if bprops and bprops[0]["separation"] >= DECISIVE:  # paragraph.cpp bound_sentence
         q = bprops[0]
-        out.append((q["condition"], q["observable"], q["sigma"]))
+        out.append((q["condition"], q["observable"], q["sigma"], 1))
+    elif bound.get("repeated"):  # no single measurement bounds it: the one that does when made k times
+        q = bound["repeated"]
+        out.append((q["condition"], q["observable"], q["sigma"], int(q["repeats"])))
     seen, unique = set(), []
     for m in out:
         if (m[0], m[1]) not in seen:
@@ -169,7 +173,7 @@ def main():
     m = re.search(r'^case\s*=\s*"([^"]+)"', twin_text, flags=re.M)
     case = os.path.join(twin_dir, m.group(1)) if m else None
     todo, skipped, known = [], [], None
-    for condition, observable, sigma in asked_for(diagnosis):
+    for condition, observable, sigma, repeats in asked_for(diagnosis):
         cond = parse_condition(condition)
         missing = sorted(set(cond) - set(keys))
         if missing and case and not set(missing) - set(MODEL_VALUE):
@@ -193,9 +197,13 @@ def main():
         base = next((r for r in rows if all(r[k].strip() == v for k, v in cond.items())), rows[0])
         full = {k: cond.get(k, base[k].strip()) for k in keys}
         if any(same_condition(r, full) and r["observable"] == observable for r in rows):
-            skipped.append(f"{observable} at {condition} (already in the table)")
-            continue
-        todo.append((full, observable, sigma))
+            if repeats == 1:
+                skipped.append(f"{observable} at {condition} (already in the table)")
+                continue
+            # Asked to be made again, k times: the k new measurements' mean takes the row's place.
+            rows = [r for r in rows if not (same_condition(r, full) and r["observable"] == observable)]
+            print(f"replaced: {observable} at {condition}, to be made {repeats} times")
+        todo.append((full, observable, sigma, repeats))
     for s in skipped:
         print(f"not measured: {s}")
     if not todo:
@@ -204,7 +212,7 @@ def main():
 
     # One twin call at the new points, every observable asked for with the noise the report assumed.
     points = []
-    for full, _, _ in todo:
+    for full, _, _, _ in todo:
         if full not in points:
             points.append(full)
     for r in rows:  # a point of the table (a twin needs two conditions; its runs are in the store)
@@ -213,9 +221,16 @@ def main():
         p = {k: r[k].strip() for k in keys}
         if p not in points:
             points.append(p)
-    noise = {}  # one noise per observable in a twin file: the largest asked for (they share the table's median)
-    for _, observable, sigma in todo:
-        noise[observable] = max(sigma, noise.get(observable, 0.0))
+    # One noise per observable in a twin file: the largest asked for (they share the table's median). A measurement
+    # made k times is entered as their mean, with sigma/sqrt(k): the twin draws that mean's noise (its truth's runs
+    # are the table's; a laboratory's repeats would also fill the drum afresh).
+    noise = {}
+    for _, observable, sigma, repeats in todo:
+        noise[observable] = max(sigma / math.sqrt(repeats), noise.get(observable, 0.0))
+    if any(k > 1 for *_, k in todo) and "n" not in header:
+        header.insert(header.index("note") if "note" in header else len(header), "n")
+        for r in rows:
+            r["n"] = ""
     work = tempfile.mkdtemp(prefix="twin_measure_")
     tf = os.path.join(work, "twin.toml")
     # The case path relative to the twin file, as wetdem reads it.
@@ -230,14 +245,17 @@ def main():
     with open(os.path.join(work, "twin", "observations.csv"), newline="") as f:
         measured = list(csv.DictReader(f))
     added, what = [], []
-    for full, observable, _ in todo:
+    for full, observable, _, repeats in todo:
         row = next((m for m in measured if m["observable"] == observable and same_condition(m, full)), None)
         if row is None:
             sys.exit(f"wetdem twin gave no {observable} at {full}")
         row = {h: row.get(h, "") for h in header}
         row["note"] = "measured next"
+        if repeats > 1:
+            row["n"] = str(repeats)
         added.append(row)
-        what.append(f"{observable} at {', '.join(f'{k}={v}' for k, v in full.items())}")
+        what.append(f"{observable} at {', '.join(f'{k}={v}' for k, v in full.items())}"
+                    + (f" ({repeats} times)" if repeats > 1 else ""))
         print(f"measured: {what[-1]} = {row['value']} (sigma {row['sigma']})")
     # The table as wetdem writes it: condition values quoted, the rest as they are.
     with open(a.out, "w") as f:

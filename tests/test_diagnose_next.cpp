@@ -250,3 +250,52 @@ TEST(DiagnoseVerdict, AnOpenIntervalHasAClosedAndAnOpenEnd) {
   f.lo = 0.0;  // no positive end to run
   EXPECT_FALSE(open_interval(f).has_value());
 }
+
+// How often a measurement must be repeated for two predictions to lie `target` σ apart: the smallest k with
+// |Δ| / √(σ²/k + se²) ≥ target, checked against the formula itself; none where the runs' own error alone
+// holds them closer, or where more than kMaxRepeats would be needed.
+TEST(DiagnoseVerdict, RepeatsShrinkTheMeasurementsNoiseNotTheRuns) {
+  const auto sep = [](double d, double s, double se2, size_t k) {
+    return std::fabs(d) / std::sqrt(s * s / k + se2);
+  };
+  // cohesion-weak's bound: 1.8 σ in one measurement (Δ = 1.8, σ = 1, no run error) → 2 repeats (2.55 σ).
+  EXPECT_EQ(repeats_for(1.8, 1.0, 0.0, 2.0), 2u);
+  EXPECT_EQ(repeats_for(-1.8, 1.0, 0.0, 2.0), 2u) << "the sign of the difference does not matter";
+  EXPECT_EQ(repeats_for(2.5, 1.0, 0.0, 2.0), 1u) << "one measurement already does";
+  // With run error: Δ = 1, σ = 0.5, se² = 0.1 → k = 0.25 / (0.25 − 0.1) = 1.67 → 2.
+  EXPECT_EQ(repeats_for(1.0, 0.5, 0.1, 2.0), 2u);
+  for (double d : {0.3, 0.9, 1.7, 4.0})
+    for (double se2 : {0.0, 0.01, 0.05})
+      if (const size_t k = repeats_for(d, 0.4, se2, 3.0)) {
+        EXPECT_GE(sep(d, 0.4, se2, k), 3.0 - 1e-12) << d << " " << se2;
+        if (k > 1) {
+          EXPECT_LT(sep(d, 0.4, se2, k - 1), 3.0) << "not the smallest: " << d << " " << se2;
+        }
+      } else {
+        EXPECT_LT(sep(d, 0.4, se2, kMaxRepeats), 3.0) << "kMaxRepeats would do: " << d << " " << se2;
+      }
+  EXPECT_EQ(repeats_for(1.0, 1.0, 0.25, 2.0), 0u) << "the runs' own error alone holds Δ at 2 σ";
+  EXPECT_EQ(repeats_for(0.5, 1.0, 0.0, 2.0), 16u) << "exactly 2 σ at 16 repeats";
+  EXPECT_EQ(repeats_for(0.49, 1.0, 0.0, 2.0), 0u) << "17 would be needed: none";
+}
+
+// The bound experiment asks for a repeated measurement only when no single one reaches kDecisive, and then
+// the one that needs the fewest repeats.
+TEST(DiagnoseVerdict, AnIntervalNoSingleMeasurementBoundsAsksForTheFewestRepeats) {
+  BoundExperiment b;
+  EXPECT_EQ(repeated_bound(b), nullptr);
+  const auto prop = [](const std::string& cond, double sep, size_t repeats) {
+    Proposal q;
+    q.condition = cond, q.separation = sep, q.repeats = repeats;
+    return q;
+  };
+  b.proposals = {prop("a", 1.8, 2), prop("b", 1.5, 2), prop("c", 1.4, 0), prop("d", 1.0, 4)};
+  ASSERT_NE(repeated_bound(b), nullptr);
+  EXPECT_EQ(repeated_bound(b)->condition, "a") << "the better ranked of two with 2 repeats";
+  b.proposals[0].repeats = 3;
+  EXPECT_EQ(repeated_bound(b)->condition, "b");
+  b.proposals = {prop("a", 2.1, 1), prop("b", 1.5, 2)};
+  EXPECT_EQ(repeated_bound(b), nullptr) << "one measurement bounds it";
+  b.proposals = {prop("a", 1.2, 0), prop("b", 1.1, 0)};
+  EXPECT_EQ(repeated_bound(b), nullptr) << "no number of repeats would";
+}

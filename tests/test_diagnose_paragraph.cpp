@@ -475,3 +475,53 @@ TEST(DiagnoseParagraph, AnOpenIntervalNamesTheMeasurementThatWouldBoundIt) {
   EXPECT_EQ(none.find("stays open"), std::string::npos) << none;
   EXPECT_EQ(none.find("To bound"), std::string::npos) << none;
 }
+
+// An open interval no single measurement bounds: the paragraph asks for the one that does when repeated, how
+// often, and what the ends' separation then is (cohesion-weak on the micro drum: f_wet at 15 rpm, 1.8 σ).
+TEST(DiagnoseParagraph, AnIntervalOneMeasurementCannotBoundAsksForRepeats) {
+  Report r = chosen_with_fresh_runs("effect");
+  r.bound.effect = "cohesion";
+  r.bound.closed = 0.024, r.bound.open = 0.1;
+  Proposal q;
+  q.condition = "drum.rpm=15", q.observable = "f_wet_mean";
+  q.model_a = 0.50, q.model_b = 0.518, q.sigma = 0.01, q.seeds = 2;  // 1.8 σ in one measurement
+  q.separation = 1.8, q.repeats = 2;
+  r.bound.proposals = {q};
+  const std::string asked = verdict_paragraph(r);
+  EXPECT_NE(asked.find("measure `f_wet_mean` at drum.rpm=15 **2 times**"), std::string::npos) << asked;
+  EXPECT_NE(asked.find("lie 2.5 σ apart"), std::string::npos) << asked;  // 0.018 / (0.01/√2)
+  r.bound.proposals[0].repeats = 0;  // the runs' own error: no number of repeats would do
+  const std::string open = verdict_paragraph(r);
+  EXPECT_NE(open.find("stays open"), std::string::npos) << open;
+  EXPECT_EQ(open.find("times**"), std::string::npos) << open;
+}
+
+// A candidate the table cannot see whose runs beyond the table differ from the model's by more than their own
+// error, with the measurement's noise alone hiding it: the paragraph says how often to repeat that
+// measurement (lubrication on the flowing drum: the AoR's standard deviation at 120 rpm, under 3 σ in one
+// measurement).
+TEST(DiagnoseParagraph, AnUnseenCandidateNamesTheRepeatsThatWouldShowIt) {
+  Report r = unexplained(0.05);
+  r.verdict.kind = "no_gap";
+  r.cell_condition = {"0 %, 30 rpm", "10 %, 30 rpm", "10 %, 60 rpm"};
+  r.cells[0].observable = "aor_deg_std";
+  Reach v;
+  v.effect = "viscous";
+  v.strongest = 0.1, v.max_z = 1.4, v.cell = 0;
+  v.beyond_tried = {"drum.rpm=90", "drum.rpm=120"};
+  v.beyond_condition = "drum.rpm=120", v.beyond_observable = "aor_deg_std";
+  v.beyond_z = 1.8, v.beyond_seeds = 4, v.beyond_repeats = 4;
+  r.reach = {v};
+  const std::string asked = verdict_paragraph(r);
+  EXPECT_NE(asked.find("aor_deg_std at drum.rpm=120 moves by more than the runs' own error (1.8 σ of one "
+                       "measurement, 4 runs each): **to see it, measure it there 4 times**"),
+            std::string::npos)
+      << asked;
+  r.reach[0].beyond_repeats = 0;  // the runs' own error hides it: no number of repeats would
+  const std::string silent = verdict_paragraph(r);
+  EXPECT_NE(
+      silent.find("nor at 2 condition(s) beyond the table (at most 1.8 σ: aor_deg_std at drum.rpm=120)"),
+      std::string::npos)
+      << silent;
+  EXPECT_EQ(silent.find("times**"), std::string::npos) << silent;
+}

@@ -86,6 +86,18 @@ void run_bound_experiment(Procedure& p) {
   if (wanted.empty()) b.note = "no condition beyond the table could be run at both ends";
   b.proposals.insert(b.proposals.end(), beyond.begin(), beyond.end());
   rank_proposals(b.proposals);
+  // A best measurement just short of kDecisive (cohesion-weak's 1.8 σ) may still bound the strength when it
+  // is repeated: how often, for each.
+  for (Proposal& q : b.proposals)
+    q.repeats = repeats_for(q.model_a - q.model_b, q.sigma, q.se_a * q.se_a + q.se_b * q.se_b, kDecisive);
+}
+
+const Proposal* repeated_bound(const BoundExperiment& b) {
+  if (b.proposals.empty() || b.proposals.front().separation >= kDecisive) return nullptr;
+  const Proposal* best = nullptr;
+  for (const Proposal& q : b.proposals)
+    if (q.repeats > 1 && (!best || q.repeats < best->repeats)) best = &q;  // ranked: the first of the fewest
+  return best;
 }
 
 }  // namespace wetdem::diagnose

@@ -31,4 +31,8 @@ std::optional<OpenInterval> open_interval(const StrengthFit& f);
 // next_conditions = 0).
 void run_bound_experiment(Procedure& p);
 
+// When no single measurement bounds the interval (the best is under kDecisive), the one that does when
+// repeated the fewest times (Proposal::repeats; the better ranked of equals), else nullptr. Pure (tests).
+const Proposal* repeated_bound(const BoundExperiment& b);
+
 }  // namespace wetdem::diagnose

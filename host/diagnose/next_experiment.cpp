@@ -400,6 +400,14 @@ double separation_of(const MeasurementNoise& n, const std::string& obs, const Pr
   return std::fabs(x.mean - y.mean) / std::sqrt(s * s + x.se * x.se + y.se * y.se);
 }
 
+size_t repeats_for(double delta, double sigma, double se2, double target) {
+  // |delta|² / target² = σ²/k + se²  =>  k = σ² / (delta²/target² − se²).
+  const double room = delta * delta / (target * target) - se2;
+  if (!(room > 0) || !(sigma > 0)) return 0;
+  const double k = std::ceil(sigma * sigma / room * (1 - 1e-12));
+  return k <= double(kMaxRepeats) ? std::max<size_t>(1, size_t(k)) : 0;
+}
+
 Proposal compare_at(const Procedure& p, const Variant& a, const Variant& b, const MeasurementNoise& n,
                     const Condition& c, const std::vector<uint64_t>& seeds, const std::string& obs,
                     bool in_table) {

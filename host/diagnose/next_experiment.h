@@ -110,6 +110,15 @@ MeasurementNoise measurement_noise(const Procedure& p);
 double separation_of(const MeasurementNoise& n, const std::string& observable, const Prediction& x,
                      const Prediction& y);
 
+// How many times a laboratory would repeat one measurement (entering their mean, with σ/√k) for two
+// predictions |delta| apart to lie `target` σ apart: the smallest k ≤ kMaxRepeats with
+// |delta| / sqrt(σ²/k + se²) ≥ target, se² the two models' own squared errors (repeats shrink the
+// measurement's noise, not the runs'). 0 when none does: the runs' own error alone holds |delta| under
+// target σ (more seeds of them first), or more than kMaxRepeats would be needed. 1: one measurement does.
+// Pure (tests).
+inline constexpr size_t kMaxRepeats = 16;
+size_t repeats_for(double delta, double sigma, double se2, double target);
+
 // Two models a, b at condition c on these seeds (their runs made), for one observable.
 Proposal compare_at(const Procedure& p, const Variant& a, const Variant& b, const MeasurementNoise& n,
                     const Condition& c, const std::vector<uint64_t>& seeds, const std::string& observable,

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "diagnose/effects.h"
+#include "diagnose/next_bound.h"
 #include "diagnose/next_experiment.h"
 #include "diagnose/observables.h"
 #include "diagnose/power.h"
@@ -189,6 +190,15 @@ std::string beyond_clause(const Reach& x) {
         x.beyond_observable, x.beyond_condition,
         x.beyond_seeds == 1 ? std::string("one run") : fmt::format("{} runs each", x.beyond_seeds),
         x.beyond_z);
+  if (x.beyond_repeats > 1)
+    return fmt::format(
+        ", nor at {} condition(s) beyond the table in one measurement, but {} at {} moves by more than the "
+        "runs' own error ({:.1f} σ of one measurement, {} each): **to see it, measure it there {} times** "
+        "and "
+        "enter the mean",
+        x.beyond_tried.size(), x.beyond_observable, x.beyond_condition, x.beyond_z,
+        x.beyond_seeds == 1 ? std::string("one run") : fmt::format("{} runs", x.beyond_seeds),
+        x.beyond_repeats);
   return fmt::format(", nor at {} condition(s) beyond the table (at most {:.1f} σ: {} at {})",
                      x.beyond_tried.size(), x.beyond_z, x.beyond_observable, x.beyond_condition);
 }
@@ -259,6 +269,22 @@ std::string bound_sentence(const Report& r) {
   size_t beyond = 0;
   for (const Proposal& x : b.proposals) beyond += x.in_table ? 0 : 1;
   const std::string ends = fmt::format("{} = {:.3g} from {:.3g}", key, b.closed, b.open);
+  if (const Proposal* k = q.separation < kDecisive ? repeated_bound(b) : nullptr) {
+    const double after =
+        std::fabs(k->model_a - k->model_b) /
+        std::sqrt(k->sigma * k->sigma / double(k->repeats) + k->se_a * k->se_a + k->se_b * k->se_b);
+    return fmt::format(
+        " **To bound `{}`:** no single measurement tried (the table's own, and {} beyond it) tells {} by "
+        "{:.0f} σ "
+        "(the best: `{}` at {}, {:.1f} σ), but the runs there differ by more than their own error: measure "
+        "`{}` "
+        "at {}{} **{} times** and enter the mean (σ {:.3g}/√{} = {:.3g}): the ends then lie {:.1f} σ apart "
+        "({:.4g} ± {:.2g} against {:.4g} ± {:.2g}{}).",
+        b.effect, beyond, ends, kDecisive, q.observable, q.condition, q.separation, k->observable,
+        k->condition, k->in_table ? " (a condition of the table: make it again)" : "", k->repeats, k->sigma,
+        k->repeats, k->sigma / std::sqrt(double(k->repeats)), after, k->model_a, k->se_a, k->model_b, k->se_b,
+        k->seeds == 1 ? "; one seed each" : "");
+  }
   if (q.separation < kDecisive)
     return fmt::format(
         " **`{}`'s {} stays open:** no measurement tried (the table's own, and {} beyond it) tells {} by "

@@ -254,24 +254,25 @@ void run_beyond(Procedure& p) {
   // The largest shift of r's probe over the baseline at c, over the observables both report with these seeds:
   // z = |Δ| / √(σ² + se_probe² + se_base²), each se the larger of the seeds' spread and their own window
   // errors scaled to the baseline's seed spread (Procedure::within_inflation).
-  const auto shift_at = [&](const Reach& r, const Condition& c, const std::vector<uint64_t>& seeds,
-                            std::string* observable) {
-    const Variant v = p.variant(r.effect, r.strongest);
-    double best = 0.0;
-    for (const auto& [obs, sd] : sigma) {
-      if (!p.book.reports(c, v, seeds, obs) || !p.book.reports(c, none, seeds, obs)) continue;
-      const Prediction x = p.book.predict(c, v, seeds, obs, p.inflation(obs)),
-                       y = p.book.predict(c, none, seeds, obs, p.inflation(obs));
-      const double z = std::fabs(x.mean - y.mean) / std::sqrt(sd * sd + x.se * x.se + y.se * y.se);
-      if (std::isfinite(z) && z > best) best = z, *observable = obs;
-    }
-    return best;
-  };
   struct Tried {
     Condition* c;
     double z;
     std::string observable;
     size_t seeds;
+    size_t repeats;  // of the measurement, for kVisibleZ there (repeats_for); 0: none will do
+  };
+  const auto shift_at = [&](const Reach& r, Tried& t, const std::vector<uint64_t>& seeds) {
+    const Variant v = p.variant(r.effect, r.strongest);
+    t.z = 0.0, t.repeats = 0;
+    for (const auto& [obs, sd] : sigma) {
+      if (!p.book.reports(*t.c, v, seeds, obs) || !p.book.reports(*t.c, none, seeds, obs)) continue;
+      const Prediction x = p.book.predict(*t.c, v, seeds, obs, p.inflation(obs)),
+                       y = p.book.predict(*t.c, none, seeds, obs, p.inflation(obs));
+      const double z = std::fabs(x.mean - y.mean) / std::sqrt(sd * sd + x.se * x.se + y.se * y.se);
+      if (std::isfinite(z) && z > t.z)
+        t.z = z, t.observable = obs,
+        t.repeats = repeats_for(x.mean - y.mean, sd, x.se * x.se + y.se * y.se, kVisibleZ);
+    }
   };
   std::vector<std::vector<Tried>> tried(p.reach.size());
   for (size_t i = 0; i < p.reach.size(); ++i) {
@@ -285,8 +286,8 @@ void run_beyond(Procedure& p) {
         continue;
       }
       r.beyond_tried.push_back(c.label);
-      Tried t{&c, 0.0, "", p.probe_seeds.size()};
-      t.z = shift_at(r, c, p.probe_seeds, &t.observable);
+      Tried t{&c, 0.0, "", p.probe_seeds.size(), 0};
+      shift_at(r, t, p.probe_seeds);
       tried[i].push_back(t);
     }
   }
@@ -305,8 +306,10 @@ void run_beyond(Procedure& p) {
     for (size_t i = 0; i < p.reach.size(); ++i) {
       if (tried[i].empty()) continue;
       Tried& t = *largest(tried[i]);
-      // Confirmed, unconfirmable, or under the screen.
-      if (t.seeds == 0 || t.seeds >= p.base_seeds.size() || t.z < screen) continue;
+      // Confirmed, unconfirmable, or under the screen. A shift the measurement's noise alone hides (the runs
+      // differ by kVisibleZ of their own error: repeats_for) is confirmed too, before the report asks a
+      // laboratory to repeat a measurement for it.
+      if (t.seeds == 0 || t.seeds >= p.base_seeds.size() || (t.z < screen && t.repeats == 0)) continue;
       const Variant v = p.variant(p.reach[i].effect, p.reach[i].strongest);
       try {
         p.book.want(*t.c, none, p.base_seeds);
@@ -329,7 +332,7 @@ void run_beyond(Procedure& p) {
         t->seeds = 0;
         continue;
       }
-      t->z = shift_at(p.reach[i], *t->c, p.base_seeds, &t->observable);
+      shift_at(p.reach[i], *t, p.base_seeds);
       t->seeds = p.base_seeds.size();
     }
   }
@@ -339,6 +342,8 @@ void run_beyond(Procedure& p) {
     Reach& r = p.reach[i];
     r.beyond_z = t.z, r.beyond_condition = t.c->label, r.beyond_observable = t.observable;
     r.beyond_seeds = t.seeds == 0 ? p.probe_seeds.size() : t.seeds;
+    // Repeats are advised only on a shift the baseline's seeds all confirm (or that had no others).
+    r.beyond_repeats = r.beyond_seeds >= p.base_seeds.size() ? t.repeats : 0;
   }
 }
 

@@ -93,6 +93,10 @@ struct Reach {
   double beyond_z =
       0.0;  // |probe - baseline| / sqrt(sigma² + se_probe² + se_baseline²), sigma the table's median
   size_t beyond_seeds = 1;  // runs each side behind beyond_z: the baseline's seeds where one pair reached 3 σ
+  // How often a laboratory would repeat that measurement for the shift to reach kVisibleZ (repeats_for,
+  // next_experiment.h; > 1 only where beyond_z is under it): 0 when no number of repeats would, or when the
+  // baseline's seeds did not all run there (a shift seen on one pair is not a claim).
+  size_t beyond_repeats = 0;
   // The fresh runs at the fitted strength against the control (fresh_shift), where the shrink made them.
   bool fresh = false;
   double fresh_at = 0.0, fresh_max_z = 0.0, fresh_chi2_excess = 0.0;

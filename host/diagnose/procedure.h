@@ -69,6 +69,9 @@ struct Proposal {
   // The separation once each model may re-fit its strength to the other's value there (refit_separation,
   // next_experiment.h); NaN where the models were not run at their probed strengths at this condition.
   double refit_separation = std::numeric_limits<double>::quiet_NaN();
+  // The bound experiment's: how often the measurement must be repeated to reach kDecisive (repeats_for,
+  // next_experiment.h); 0 when repeating it cannot (the runs' own error), or where not computed.
+  size_t repeats = 0;
 };
 // An assay made on every sample of the table: the pair's separation over all its conditions together.
 struct AssaySeries {

@@ -7,11 +7,18 @@
 
 #include "app/output/summary.h"
 #include "diagnose/effects.h"
+#include "diagnose/next_bound.h"
+#include "diagnose/next_experiment.h"
 #include "diagnose/report.h"
 
 namespace wetdem::diagnose {
 
 namespace {
+
+std::string repeats_words(size_t k) {
+  if (k == 0) return "none will do";
+  return k == 1 ? std::string("1 (one measurement)") : fmt::format("{}", k);
+}
 
 std::string side_words(const BoundExperiment& b) {
   if (b.both) return "the strength undetermined: the table cannot place it anywhere in the probed range";
@@ -36,19 +43,25 @@ std::string bound_markdown(const Report& r) {
       std::isnan(b.shape) ? "" : fmt::format(", at {} = {:.3g}", effect_spec(b.effect).shape, b.shape));
   if (b.proposals.empty()) return md + (b.note.empty() ? "" : "No proposal: " + b.note + ".\n\n");
   md += fmt::format(
-      "| condition | observable | {} = {:.3g} | {} = {:.3g} | noise σ | separation (σ) | in the table | "
-      "seeds "
-      "|\n|---|---|---|---|---|---|---|---|\n",
-      key, b.closed, key, b.open);
+      "| condition | observable | {} = {:.3g} | {} = {:.3g} | noise σ | separation (σ) | repeats for {:g} σ "
+      "| in the table | seeds |\n|---|---|---|---|---|---|---|---|---|\n",
+      key, b.closed, key, b.open, kDecisive);
   for (size_t i = 0; i < b.proposals.size() && i < 8; ++i) {
     const Proposal& q = b.proposals[i];
-    md +=
-        fmt::format("| {} | {}{} | {:.4g} ± {:.2g} | {:.4g} ± {:.2g} | {:.3g} | {:.2f} | {} | {} |\n",
-                    q.condition, q.observable, q.assay ? " (assay, not in the table)" : "", q.model_a, q.se_a,
-                    q.model_b, q.se_b, q.sigma, q.separation, q.in_table ? "yes (emulated)" : "no", q.seeds);
+    md += fmt::format("| {} | {}{} | {:.4g} ± {:.2g} | {:.4g} ± {:.2g} | {:.3g} | {:.2f} | {} | {} | {} |\n",
+                      q.condition, q.observable, q.assay ? " (assay, not in the table)" : "", q.model_a,
+                      q.se_a, q.model_b, q.se_b, q.sigma, q.separation, repeats_words(q.repeats),
+                      q.in_table ? "yes (emulated)" : "no", q.seeds);
   }
   md += "\n*Separation*: at the fitted shape and refit setting, without re-fitting them to the new value; ";
-  md += "the table's own conditions through the fit's emulator (the seeds of its probes).\n\n";
+  md += "the table's own conditions through the fit's emulator (the seeds of its probes). ";
+  md += fmt::format(
+      "*Repeats*: how often the measurement must be made (their mean entered, σ/√k) for the ends to lie {:g} "
+      "σ "
+      "apart; repeats shrink the measurement's noise, not the runs' own error, so where that error alone "
+      "holds "
+      "them closer none will do (more than {}: none).\n\n",
+      kDecisive, kMaxRepeats);
   return md;
 }
 
@@ -67,10 +80,23 @@ nlohmann::json bound_json(const Report& r) {
                      {"separation", q.separation},
                      {"in_table", q.in_table},
                      {"assay", q.assay},
-                     {"seeds", q.seeds}});
-  return {{"effect", b.effect},    {"closed", b.closed},  {"open", b.open},
-          {"open_above", b.above}, {"open_both", b.both}, {"shape", app::number_or_null(b.shape)},
-          {"proposals", props},    {"note", b.note}};
+                     {"seeds", q.seeds},
+                     {"repeats", q.repeats}});
+  return {
+      {"effect", b.effect},
+      {"closed", b.closed},
+      {"open", b.open},
+      {"open_above", b.above},
+      {"open_both", b.both},
+      {"shape", app::number_or_null(b.shape)},
+      {"proposals", props},
+      {"note", b.note},
+      // The measurement the report asks to repeat (no single one bounds it): paragraph.cpp bound_sentence.
+      {"repeated", repeated_bound(b) ? json{{"condition", repeated_bound(b)->condition},
+                                            {"observable", repeated_bound(b)->observable},
+                                            {"sigma", repeated_bound(b)->sigma},
+                                            {"repeats", repeated_bound(b)->repeats}}
+                                     : json()}};
 }
 
 }  // namespace wetdem::diagnose

@@ -45,7 +45,11 @@ std::string reach_markdown(const Report& r) {
       "the "
       "baseline's other seeds too where they differ by {:.2f} σ, {:g} σ √(P/R); noise the "
       "table's median σ of the observable, each run's own error scaled to the seed spread of the baseline's "
-      "replicates: {}): where it would show. The fresh runs of a fitted candidate (R seeds at its fitted "
+      "replicates: {}): where it would show; where one measurement would not, but the runs differ by {:g} σ "
+      "of "
+      "their own error over all the baseline's seeds, how often a laboratory would repeat it (their mean, "
+      "σ/√k) "
+      "to see it. The fresh runs of a fitted candidate (R seeds at its fitted "
       "strength) are also set against the model without it on the same seeds, z = (fresh − control) / √(σ² "
       "+ se_f² + se_c²): a candidate they show is seen, whatever its single probe runs showed.\n\n"
       "| effect | strongest probed | largest shift (σ) | at strength | cell | χ² excess | fresh runs | "
@@ -53,7 +57,7 @@ std::string reach_markdown(const Report& r) {
       kVisibleZ, visible_chi2_excess(r.cells.size()), r.cells.size(), r.spec->reach_steps,
       r.spec->probe_seeds == 1 ? std::string("one run") : fmt::format("{} runs", r.spec->probe_seeds),
       reach_screen_z(size_t(r.spec->replicates), size_t(r.spec->probe_seeds)), kVisibleZ,
-      inflation_text(r.within_inflation));
+      inflation_text(r.within_inflation), kVisibleZ);
   for (const Reach& x : r.reach) {
     if (x.strongest <= 0) {
       md += fmt::format("| {} | (no probe could run) | | | | | | no | |\n", x.effect);
@@ -64,6 +68,8 @@ std::string reach_markdown(const Report& r) {
       beyond = fmt::format("{:.1f} σ: {} at {} (of {} tried{})", x.beyond_z, x.beyond_observable,
                            x.beyond_condition, x.beyond_tried.size(),
                            x.beyond_seeds > 1 ? fmt::format("; {} runs each there", x.beyond_seeds) : "");
+    if (x.beyond_repeats > 1)
+      beyond += fmt::format("; {} σ when measured {} times", kVisibleZ, x.beyond_repeats);
     const std::string fresh =
         x.fresh ? fmt::format("{:.1f} σ ({} at {}), χ² excess {:.1f}, at {:.3g}", x.fresh_max_z,
                               r.cells[x.fresh_cell].observable, r.cell_condition[x.fresh_cell],
@@ -104,6 +110,7 @@ nlohmann::json reach_json(const Report& r) {
                    {"beyond_observable", x.beyond_observable},
                    {"beyond_max_abs_z", x.beyond_z},
                    {"beyond_seeds", x.beyond_seeds},
+                   {"beyond_repeats", x.beyond_repeats},
                    {"fresh", x.fresh ? nlohmann::json{{"strength", x.fresh_at},
                                                       {"max_abs_z", x.fresh_max_z},
                                                       {"cell", r.cells[x.fresh_cell].observable + " at " +

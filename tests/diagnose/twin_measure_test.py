@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """scripts/twin_measure.py and twin_matrix.py --measure-next, with a stand-in for wetdem: which measurements a
 report's diagnosis.json asks for (the tie's best single measurement, or its pair when the pair beats the single
-made twice; the bound's when it separates the interval's ends by 2 sigma), which cannot be taken (a condition key
+made twice; the bound's when it separates the interval's ends by 2 sigma, or the one it asks to repeat k times:
+the mean, sigma/sqrt(k), n = k, replacing the row when the table has it), which cannot be taken (a condition key
 the table lacks, a measurement the table has), the twin file the measurement is made with (the twin's truth and
 seeds, the proposal's conditions and noise, a noise seed of its own), the table written (the old rows, then the
 new, conditions quoted), exit status 3 and no table when nothing can be measured; and the matrix's rounds: a
@@ -163,6 +164,27 @@ if lines[0] != "liquid.content,drum.rpm,run.duration,observable,value,sigma,n,no
         or lines[1] != '"0 %","30","3 s",aor_deg_mean,33.7,1.0,2,twin' \
         or lines[-1] != '"10 %","30","12 s",aor_deg_mean,0.6,0.025,2,measured next':
     fail(f"the new column:\n{open(out).read()}")
+
+# 4b. No single measurement bounds the interval (1.5 sigma) but the report asks for one made 4 times: entered as the
+# mean of 4, sigma / 2 and n = 4; in the table already, the row is replaced by the new mean; not asked for, nothing.
+rep = diagnosis([], [], [proposal("liquid.content=20 %", "liquid_free_fraction", 1.5, sigma=0.02)])
+rep["bound_experiment"]["repeated"] = {"condition": "liquid.content=20 %", "observable": "liquid_free_fraction",
+                                       "sigma": 0.02, "repeats": 4}
+text, out = measure(rep, "repeated")
+lines = open(out).read().splitlines()
+if lines[-1] != '"20 %","30",liquid_free_fraction,0.7,0.01,4,measured next' or "(4 times)" not in text:
+    fail(f"a measurement made 4 times:\n{text}{open(out).read()}")
+made = tomllib.load(open(os.path.join(root, "repeated.twin.toml"), "rb"))
+if made["noise"] != {"liquid_free_fraction": 0.01}:
+    fail(f"the twin draws the mean of 4 with sigma/2: {made['noise']}")
+rep["bound_experiment"]["repeated"]["condition"] = "liquid.content=10 %"
+text, out = measure(rep, "repeated-in-table")
+lines = open(out).read().splitlines()
+if len(lines) != 6 or '"10 %","30",liquid_free_fraction,0.56,0.02,2,twin' in lines \
+        or lines[-1] != '"10 %","30",liquid_free_fraction,0.6,0.01,4,measured next':
+    fail(f"a row of the table made again 4 times replaces it:\n{open(out).read()}")
+del rep["bound_experiment"]["repeated"]
+measure(rep, "not-repeated", 3)
 
 # 5. twin_matrix.py --measure-next 2, run here and as a --script (a lent GPU): the first report asks for the 20 %
 # row, the second for nothing; the matrix reports the second diagnosis, with what was measured and the first verdict.
