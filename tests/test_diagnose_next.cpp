@@ -286,7 +286,7 @@ TEST(DiagnoseVerdict, AnIntervalNoSingleMeasurementBoundsAsksForTheFewestRepeats
   EXPECT_EQ(repeated_bound(b), nullptr);
   const auto prop = [](const std::string& cond, double sep, size_t repeats) {
     Proposal q;
-    q.condition = cond, q.separation = sep, q.repeats = repeats;
+    q.condition = cond, q.separation = sep, q.repeats = repeats, q.seeds = 1;
     return q;
   };
   b.proposals = {prop("a", 1.8, 2), prop("b", 1.5, 2), prop("c", 1.4, 0), prop("d", 1.0, 4)};
@@ -294,6 +294,15 @@ TEST(DiagnoseVerdict, AnIntervalNoSingleMeasurementBoundsAsksForTheFewestRepeats
   EXPECT_EQ(repeated_bound(b)->condition, "a") << "the better ranked of two with 2 repeats";
   b.proposals[0].repeats = 3;
   EXPECT_EQ(repeated_bound(b)->condition, "b");
+  b.seeds = 2;  // the baseline's seeds: "a" and "b" ran on one (a first round beyond the table), "c" on two
+  b.proposals = {prop("a", 1.8, 2), prop("b", 1.5, 3), prop("c", 1.4, 4), prop("d", 1.3, 5)};
+  b.proposals[2].seeds = 2;
+  b.proposals[3].in_table = true;  // emulated at the table's condition: counts
+  EXPECT_EQ(repeated_bound(b)->condition, "c") << "a one-seed proposal is not asked for";
+  EXPECT_EQ(repeated_bound(b, true)->condition, "a") << "unconfirmed: the fewest repeats";
+  b.proposals[2].repeats = 6;
+  EXPECT_EQ(repeated_bound(b)->condition, "d");
+  b.seeds = 1;
   b.proposals = {prop("a", 2.1, 1), prop("b", 1.5, 2)};
   EXPECT_EQ(repeated_bound(b), nullptr) << "one measurement bounds it";
   b.proposals = {prop("a", 1.2, 0), prop("b", 1.1, 0)};

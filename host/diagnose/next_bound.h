@@ -32,7 +32,9 @@ std::optional<OpenInterval> open_interval(const StrengthFit& f);
 void run_bound_experiment(Procedure& p);
 
 // When no single measurement bounds the interval (the best is under kDecisive), the one that does when
-// repeated the fewest times (Proposal::repeats; the better ranked of equals), else nullptr. Pure (tests).
-const Proposal* repeated_bound(const BoundExperiment& b);
+// repeated the fewest times (Proposal::repeats; the better ranked of equals) among those whose models ran on
+// all the baseline's seeds (BoundExperiment::seeds; the table's own, emulated, always count; `unconfirmed`:
+// any), else nullptr. Pure (tests).
+const Proposal* repeated_bound(const BoundExperiment& b, bool unconfirmed = false);
 
 }  // namespace wetdem::diagnose

@@ -275,11 +275,10 @@ std::string bound_sentence(const Report& r) {
         std::sqrt(k->sigma * k->sigma / double(k->repeats) + k->se_a * k->se_a + k->se_b * k->se_b);
     return fmt::format(
         " **To bound `{}`:** no single measurement tried (the table's own, and {} beyond it) tells {} by "
-        "{:.0f} σ "
-        "(the best: `{}` at {}, {:.1f} σ), but the runs there differ by more than their own error: measure "
-        "`{}` "
-        "at {}{} **{} times** and enter the mean (σ {:.3g}/√{} = {:.3g}): the ends then lie {:.1f} σ apart "
-        "({:.4g} ± {:.2g} against {:.4g} ± {:.2g}{}).",
+        "{:.0f} σ (the best: `{}` at {}, {:.1f} σ). Where the runs of the two ends differ by more than their "
+        "own error, a repeated one does: measure `{}` at {}{} **{} times** and enter the mean (σ {:.3g}/√{} "
+        "= "
+        "{:.3g}); the ends then lie {:.1f} σ apart ({:.4g} ± {:.2g} against {:.4g} ± {:.2g}{}).",
         b.effect, beyond, ends, kDecisive, q.observable, q.condition, q.separation, k->observable,
         k->condition, k->in_table ? " (a condition of the table: make it again)" : "", k->repeats, k->sigma,
         k->repeats, k->sigma / std::sqrt(double(k->repeats)), after, k->model_a, k->se_a, k->model_b, k->se_b,

@@ -110,6 +110,7 @@ struct BoundExperiment {
   size_t refit = 0;
   std::vector<Proposal> proposals;  // best first
   std::string note;                 // why none was run, when none was
+  size_t seeds = 1;  // the baseline's seeds: a repeated measurement is asked for on all of them
 };
 
 // The second round (second_effect.h): a second candidate fitted on top of the first effect when that one
