@@ -51,8 +51,8 @@ def asked_for(diagnosis):
             sigma = {(p["condition"], p["observable"]): p["sigma"] for p in props}
             for m in (pairs[0]["first"], pairs[0]["second"]):
                 out.append((m["condition"], m["observable"], sigma.get((m["condition"], m["observable"]), q["sigma"]), 1))
-        else:
-            out.append((q["condition"], q["observable"], q["sigma"], 1))
+        else:  # made as often as the report says it must be to decide (next_experiment.h tie_repeats; 0: as is)
+            out.append((q["condition"], q["observable"], q["sigma"], max(1, int(nxt.get("repeats") or 1))))
     bound = diagnosis.get("bound_experiment") or {}
     bprops = bound.get("proposals") or []
     if bprops and bprops[0]["separation"] >= DECISIVE:  # paragraph.cpp bound_sentence

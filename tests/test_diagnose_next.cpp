@@ -308,3 +308,20 @@ TEST(DiagnoseVerdict, AnIntervalNoSingleMeasurementBoundsAsksForTheFewestRepeats
   b.proposals = {prop("a", 1.2, 0), prop("b", 1.1, 0)};
   EXPECT_EQ(repeated_bound(b), nullptr) << "no number of repeats would";
 }
+
+// The tie's best single measurement made k times: the difference its separation after re-fit implies, as
+// repeats_for sees it; none on a screen's one-seed number, and one when it already reaches what is needed.
+TEST(DiagnoseVerdict, TheTiesMeasurementIsRepeatedUntilItDecides) {
+  Proposal q;
+  q.sigma = 1.0, q.se_a = q.se_b = 0.0, q.separation = 3.0, q.refit_separation = 2.0, q.seeds = 2;
+  EXPECT_EQ(tie_repeats(q, 4.0, 2), 4u) << "2 σ after re-fit, 4 σ needed: 2 × √4";
+  EXPECT_EQ(tie_repeats(q, 2.0, 2), 1u);
+  q.refit_separation = std::nan("");
+  EXPECT_EQ(tie_repeats(q, 4.0, 2), 2u) << "no re-fit: the plain 3 σ, 3 × √2 = 4.2";
+  q.seeds = 1;
+  EXPECT_EQ(tie_repeats(q, 4.0, 2), 0u) << "one seed of two: a screen";
+  q.in_table = true;
+  EXPECT_EQ(tie_repeats(q, 4.0, 2), 2u) << "the table's own condition, through the emulator";
+  q.se_a = q.se_b = 1.0;  // Δ = 3 √3 = 5.2; the runs' own error alone: 5.2 / √2 = 3.7 < 4
+  EXPECT_EQ(tie_repeats(q, 4.0, 2), 0u);
+}

@@ -203,6 +203,14 @@ TEST(DiagnoseParagraph, ATieNamesBothAndAddsNeither) {
   EXPECT_EQ(short_pair.find("enough for"), std::string::npos) << short_pair;
   r.next.pairs[0].refit_separation = 2.5;  // not above sqrt(2) x 2.0: the single measurement twice is as good
   EXPECT_EQ(verdict_paragraph(r).find("two measurements together"), std::string::npos);
+  // How often the single measurement must be made to reach what the verdict needs (tie_repeats), when it can.
+  r.next.repeats = 5;
+  const std::string repeated = verdict_paragraph(r);
+  EXPECT_NE(repeated.find("Made **5 times** and entered as their mean (σ 1.5/√5), it would reach the 4.0 σ"),
+            std::string::npos)
+      << repeated;
+  r.next.repeats = 0;
+  EXPECT_EQ(verdict_paragraph(r).find("times**"), std::string::npos);
   r.next = {};
 
   // Three tied: all named, and "either" no longer fits.

@@ -408,6 +408,13 @@ size_t repeats_for(double delta, double sigma, double se2, double target) {
   return k <= double(kMaxRepeats) ? std::max<size_t>(1, size_t(k)) : 0;
 }
 
+size_t tie_repeats(const Proposal& q, double needed, size_t seeds) {
+  if (!q.in_table && q.seeds < seeds) return 0;
+  const double se2 = q.se_a * q.se_a + q.se_b * q.se_b;
+  const double s = judged_separation(q.refit_separation, q.separation);
+  return repeats_for(s * std::sqrt(q.sigma * q.sigma + se2), q.sigma, se2, needed);
+}
+
 Proposal compare_at(const Procedure& p, const Variant& a, const Variant& b, const MeasurementNoise& n,
                     const Condition& c, const std::vector<uint64_t>& seeds, const std::string& obs,
                     bool in_table) {
@@ -560,6 +567,9 @@ void run_next_experiment(Procedure& p) {
            judged_separation(y.refit_separation, y.separation);
   });
   rank_proposals(p.next.proposals);
+  if (!p.next.proposals.empty())
+    p.next.repeats =
+        tie_repeats(p.next.proposals.front(), std::max(kDecisive, p.next.needed), p.base_seeds.size());
 }
 
 }  // namespace wetdem::diagnose

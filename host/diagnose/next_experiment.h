@@ -119,6 +119,12 @@ double separation_of(const MeasurementNoise& n, const std::string& observable, c
 inline constexpr size_t kMaxRepeats = 16;
 size_t repeats_for(double delta, double sigma, double se2, double target);
 
+// How often the tie's best single measurement must be made for its separation (after re-fit where known:
+// judged_separation) to reach `needed` σ: repeats_for on the difference that separation implies,
+// |Δ| = s √(σ² + se_a² + se_b²). 0 when none would, or when its models ran on fewer than `seeds` seeds (a
+// condition beyond the table left on its first seed: a screen's number, not a claim). Pure (tests).
+size_t tie_repeats(const Proposal& q, double needed, size_t seeds);
+
 // Two models a, b at condition c on these seeds (their runs made), for one observable.
 Proposal compare_at(const Procedure& p, const Variant& a, const Variant& b, const MeasurementNoise& n,
                     const Condition& c, const std::vector<uint64_t>& seeds, const std::string& observable,

@@ -134,6 +134,12 @@ std::string tie_sentence(const Report& r) {
           q.refit_separation,
           q.refit_separation < needed ? "; " + needs + ": on its own this measurement may not decide" : "");
     const double single = judged_separation(q.refit_separation, q.separation);
+    if (single < needed && r.next.repeats > 1)
+      s += fmt::format(
+          " Made **{} times** and entered as their mean (σ {:.3g}/√{}), it would reach the {:.1f} σ the "
+          "verdict "
+          "needs.",
+          r.next.repeats, q.sigma, r.next.repeats, needed);
     if (!r.next.pairs.empty() && pair_beats_single(r.next.pairs.front(), q)) {
       const ProposalPair& w = r.next.pairs.front();
       s += fmt::format(

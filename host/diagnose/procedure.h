@@ -96,6 +96,9 @@ struct NextExperiment {
   // The separation after re-fit a measurement needs to decide the tie on fresh runs (needed_separation,
   // next_experiment.h); 0 where not known.
   double needed = 0.0;
+  // How often the best single measurement must be made to reach max(kDecisive, needed) (tie_repeats,
+  // next_experiment.h): 1 once is enough, 0 no number of repeats would (or its runs were a screen).
+  size_t repeats = 0;
   std::string note;  // why none was run, when none was
 };
 

@@ -102,6 +102,7 @@ nlohmann::json next_json(const Report& r) {
           {"proposals", props},
           {"pairs", pairs},
           {"needed_separation", r.next.needed},
+          {"repeats", r.next.repeats},
           {"assay_series", series},
           {"note", r.next.note}};
 }

@@ -185,6 +185,12 @@ if len(lines) != 6 or '"10 %","30",liquid_free_fraction,0.56,0.02,2,twin' in lin
     fail(f"a row of the table made again 4 times replaces it:\n{open(out).read()}")
 del rep["bound_experiment"]["repeated"]
 measure(rep, "not-repeated", 3)
+# The tie's single measurement made as often as its report says (next_experiment.repeats).
+tie = diagnosis([proposal("liquid.content=2.5 %", "liquid_free_fraction", 1.9, refit=1.4, sigma=0.02)])
+tie["next_experiment"]["repeats"] = 3
+text, out = measure(tie, "tie-repeated")
+if open(out).read().splitlines()[-1] != '"2.5 %","30",liquid_free_fraction,0.525,0.011547005383792516,3,measured next':
+    fail(f"the tie's measurement made 3 times:\n{text}{open(out).read()}")
 
 # 5. twin_matrix.py --measure-next 2, run here and as a --script (a lent GPU): the first report asks for the 20 %
 # row, the second for nothing; the matrix reports the second diagnosis, with what was measured and the first verdict.
