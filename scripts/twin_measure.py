@@ -2,13 +2,15 @@
 """Make, on a twin, the measurements a diagnosis asks for next, and write the observation table with them added.
 
 A diagnosis's report ends, when the data leave it undecided, with the measurement to make next
-(docs/diagnosis.md): the one that separates two tied effects (`next_experiment`: its best single measurement, or
-the pair of measurements when the report says two together do better), and the one that would close an open
-strength interval (`bound_experiment`, when it separates the interval's ends by 2 sigma, or the one the report
-asks to repeat k times when no single one does: entered as their mean, sigma/sqrt(k), n = k). In a laboratory the
-engineer makes them. On a twin the truth can be asked: this script runs `wetdem twin` on the twin's own file at
-the proposed conditions (truth and seeds as in the twin, the noise of each measurement the report assumed, drawn
-from a noise seed of its own) and appends those rows to the table. Diagnosing the new table again closes the loop:
+(docs/diagnosis.md): the one that separates two tied effects (`next_experiment`: its best single measurement,
+made as often as the report says, or the pair of measurements when the report says two together do better);
+the one that would close an open strength interval (`bound_experiment`, when it separates the interval's ends
+by 2 sigma, or the one the report asks to repeat k times when no single one does: entered as their mean,
+sigma/sqrt(k), n = k); and where a candidate the table cannot see would show (`reach`: beyond the table, once or
+repeated; the noise is the table's median sigma of the observable). In a laboratory the engineer makes them. On
+a twin the truth can be asked: this script runs `wetdem twin` on the twin's own file at the proposed conditions
+(truth and seeds as in the twin, the noise of each measurement the report assumed, drawn from a noise seed of
+its own) and appends those rows to the table. Diagnosing the new table again closes the loop:
 
     scripts/twin_measure.py TWIN.toml OBS.csv DIAGNOSIS_DIR --out OBS2.csv --store STORE [--noise-seed N]
     build/host/wetdem diagnose D.toml --observations OBS2.csv --out DIAG2 --store STORE
@@ -30,6 +32,7 @@ import sys
 import tempfile
 
 DECISIVE = 2.0  # sigma: host/diagnose/next_experiment.h kDecisive
+VISIBLE_Z = 3.0  # sigma: host/diagnose/power.h kVisibleZ
 
 
 def judged(p):
@@ -61,6 +64,15 @@ def asked_for(diagnosis):
     elif bound.get("repeated"):  # no single measurement bounds it: the one that does when made k times
         q = bound["repeated"]
         out.append((q["condition"], q["observable"], q["sigma"], int(q["repeats"])))
+    # What the table cannot see (power.h, paragraph.cpp beyond_clause): where an unseen candidate would show,
+    # once or repeated; its noise is the table's median sigma of the observable (filled in by main).
+    for x in diagnosis.get("reach") or []:
+        if x.get("visible") or not x.get("beyond_condition"):
+            continue
+        if x.get("beyond_max_abs_z", 0) >= VISIBLE_Z:
+            out.append((x["beyond_condition"], x["beyond_observable"], None, 1))
+        elif int(x.get("beyond_repeats") or 0) > 1:
+            out.append((x["beyond_condition"], x["beyond_observable"], None, int(x["beyond_repeats"])))
     seen, unique = set(), []
     for m in out:
         if (m[0], m[1]) not in seen:
@@ -173,7 +185,17 @@ def main():
     m = re.search(r'^case\s*=\s*"([^"]+)"', twin_text, flags=re.M)
     case = os.path.join(twin_dir, m.group(1)) if m else None
     todo, skipped, known = [], [], None
+
+    def median_sigma(observable):
+        v = sorted(float(r["sigma"]) for r in rows if r["observable"] == observable and r["sigma"].strip())
+        return (v[(len(v) - 1) // 2] + v[len(v) // 2]) / 2 if v else None
+
     for condition, observable, sigma, repeats in asked_for(diagnosis):
+        if sigma is None:
+            sigma = median_sigma(observable)
+            if sigma is None:
+                skipped.append(f"{observable} at {condition} (no sigma of it in the table)")
+                continue
         cond = parse_condition(condition)
         missing = sorted(set(cond) - set(keys))
         if missing and case and not set(missing) - set(MODEL_VALUE):

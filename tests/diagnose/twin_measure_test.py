@@ -2,7 +2,8 @@
 """scripts/twin_measure.py and twin_matrix.py --measure-next, with a stand-in for wetdem: which measurements a
 report's diagnosis.json asks for (the tie's best single measurement, or its pair when the pair beats the single
 made twice; the bound's when it separates the interval's ends by 2 sigma, or the one it asks to repeat k times:
-the mean, sigma/sqrt(k), n = k, replacing the row when the table has it), which cannot be taken (a condition key
+the mean, sigma/sqrt(k), n = k, replacing the row when the table has it; where an unseen candidate would show),
+which cannot be taken (a condition key
 the table lacks, a measurement the table has), the twin file the measurement is made with (the twin's truth and
 seeds, the proposal's conditions and noise, a noise seed of its own), the table written (the old rows, then the
 new, conditions quoted), exit status 3 and no table when nothing can be measured; and the matrix's rounds: a
@@ -185,6 +186,26 @@ if len(lines) != 6 or '"10 %","30",liquid_free_fraction,0.56,0.02,2,twin' in lin
     fail(f"a row of the table made again 4 times replaces it:\n{open(out).read()}")
 del rep["bound_experiment"]["repeated"]
 measure(rep, "not-repeated", 3)
+# Where a candidate the table cannot see would show (reach): once at 3 sigma, or repeated; the noise the table's
+# median sigma of the observable (aor_deg_mean: 1.0). A visible candidate, or one with nowhere to show, asks nothing.
+unseen = diagnosis()
+unseen["reach"] = [
+    {"effect": "viscous", "visible": False, "beyond_condition": "liquid.content=20 %",
+     "beyond_observable": "aor_deg_mean", "beyond_max_abs_z": 1.8, "beyond_repeats": 4},
+    {"effect": "hysteresis", "visible": False, "beyond_condition": "liquid.content=15 %",
+     "beyond_observable": "aor_deg_mean", "beyond_max_abs_z": 1.2, "beyond_repeats": 0},
+    {"effect": "cohesion", "visible": True, "beyond_condition": "liquid.content=2.5 %",
+     "beyond_observable": "aor_deg_mean", "beyond_max_abs_z": 5.0, "beyond_repeats": 0}]
+text, out = measure(unseen, "unseen")
+new_rows = open(out).read().splitlines()[6:]
+if new_rows != ['"20 %","30",aor_deg_mean,0.7,0.5,4,measured next']:
+    fail(f"where an unseen candidate would show, 4 times:\n{text}{open(out).read()}")
+unseen["reach"][0]["beyond_repeats"] = 0
+measure(unseen, "unseen-none", 3)
+unseen["reach"][1]["beyond_max_abs_z"] = 3.4
+text, out = measure(unseen, "unseen-once")
+if open(out).read().splitlines()[6:] != ['"15 %","30",aor_deg_mean,0.65,1.0,2,measured next']:
+    fail(f"where an unseen candidate shows at 3 sigma, once:\n{text}{open(out).read()}")
 # The tie's single measurement made as often as its report says (next_experiment.repeats).
 tie = diagnosis([proposal("liquid.content=2.5 %", "liquid_free_fraction", 1.9, refit=1.4, sigma=0.02)])
 tie["next_experiment"]["repeats"] = 3
