@@ -269,9 +269,10 @@ void run_beyond(Procedure& p) {
       const Prediction x = p.book.predict(*t.c, v, seeds, obs, p.inflation(obs)),
                        y = p.book.predict(*t.c, none, seeds, obs, p.inflation(obs));
       const double z = std::fabs(x.mean - y.mean) / std::sqrt(sd * sd + x.se * x.se + y.se * y.se);
-      if (std::isfinite(z) && z > t.z)
-        t.z = z, t.observable = obs,
-        t.repeats = repeats_for(x.mean - y.mean, sd, x.se * x.se + y.se * y.se, kVisibleZ);
+      if (!std::isfinite(z) || z <= t.z) continue;
+      t.z = z;
+      t.observable = obs;
+      t.repeats = repeats_for(x.mean - y.mean, sd, x.se * x.se + y.se * y.se, kVisibleZ);
     }
   };
   std::vector<std::vector<Tried>> tried(p.reach.size());
