@@ -10,6 +10,7 @@
 
 #include "diagnose/baseline.h"
 #include "diagnose/effects.h"
+#include "diagnose/next_experiment.h"
 #include "diagnose/power.h"
 
 namespace wetdem::diagnose {
@@ -214,4 +215,26 @@ TEST(DiagnosePower, TheReachStepsPastTheProbesToTheEndOfTheRange) {
   EXPECT_NEAR(next_reach_strength(10.0, h.probes, h.realisable_hi(m)), 30.0, 1e-9)
       << "x3.33 (the probes' 3 -> 10) is 33.3, capped at θ";
   EXPECT_DOUBLE_EQ(effect_spec("viscous").realisable_hi(m), 1.0);
+}
+
+// Which shift beyond the table run_reach runs again on every base seed (power.h, confirms_beyond). One at the
+// pair screen is; so is one under it that a repeated measurement would show (the runs' own error is small
+// against their difference: repeats_for > 0), because the report then asks a laboratory to repeat that
+// measurement and must not ask on one seed's number. One the runs' own error hides (no number of repeats
+// helps) is not, nor is one already run on every seed, or one whose seeds cannot be run.
+TEST(DiagnosePower, AShiftARepeatedMeasurementWouldShowIsConfirmedOnEverySeed) {
+  const double screen = reach_screen_z(2);  // 2.12: R = 2 base seeds, P = 1 probe seed
+  // Δ = 1.8 against a measurement noise σ = 1: z = 1.8 / √(1 + se²).
+  const size_t shows = repeats_for(1.8, 1.0, 0.01, kVisibleZ);  // the runs differ by 18 of their own σ
+  const size_t hidden = repeats_for(1.8, 1.0, 0.5, kVisibleZ);  // 2.5: never 3 σ, however often measured
+  EXPECT_EQ(shows, 3u);  // 1.8 / √(1/3 + 0.01) = 3.07; 1.8 / √(1/2 + 0.01) = 2.52
+  EXPECT_EQ(hidden, 0u);
+  const double z_shows = 1.8 / std::sqrt(1.01), z_hidden = 1.8 / std::sqrt(1.5);
+  ASSERT_LT(z_shows, screen);
+  EXPECT_TRUE(confirms_beyond(z_shows, shows, 1, 2, screen));
+  EXPECT_FALSE(confirms_beyond(z_hidden, hidden, 1, 2, screen));
+  EXPECT_TRUE(confirms_beyond(screen, 0, 1, 2, screen));        // at the screen: as before
+  EXPECT_FALSE(confirms_beyond(z_shows, shows, 2, 2, screen));  // already on every seed
+  EXPECT_FALSE(confirms_beyond(5.0, shows, 0, 2, screen));      // its confirming seeds cannot be run
+  EXPECT_FALSE(confirms_beyond(z_shows, shows, 1, 1, screen));  // one base seed: nothing to confirm with
 }

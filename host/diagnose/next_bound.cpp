@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <set>
 
 #include "diagnose/next_experiment.h"
 
@@ -99,9 +98,6 @@ void run_bound_experiment(Procedure& p) {
   // on one seed (measure_beyond's first round) and would need the fewest repeats runs the others first, and
   // is judged again over all of them, their spread included (a few rounds: the next fewest may be one-seed
   // too).
-  std::set<std::string> observables;
-  for (const Cell& cell : p.tab.cells) observables.insert(cell.observable);
-  for (const auto& [obs, sd] : p.d.assays) observables.insert(obs);
   for (int round = 0; round < 3 && !repeated_bound(b); ++round) {
     const Proposal* k = repeated_bound(b, /*unconfirmed=*/true);
     if (!k) break;
@@ -117,16 +113,12 @@ void run_bound_experiment(Procedure& p) {
       break;
     }
     p.run();
-    const std::string why = p.book.failure({*at}, va, p.base_seeds) + p.book.failure({*at}, vb, p.base_seeds);
     const std::string label = at->label;
     b.proposals.erase(std::remove_if(b.proposals.begin(), b.proposals.end(),
                                      [&](const Proposal& q) { return !q.in_table && q.condition == label; }),
                       b.proposals.end());
-    if (!why.empty()) p.notes.push_back("bound experiment: " + why);
-    for (const std::string& obs : observables)
-      if (why.empty() && p.book.reports(*at, va, p.base_seeds, obs) &&
-          p.book.reports(*at, vb, p.base_seeds, obs))
-        b.proposals.push_back(compare_at(p, va, vb, noise, *at, p.base_seeds, obs, false));
+    const std::vector<Proposal> all = measure_at(p, va, vb, noise, *at, p.base_seeds, "bound experiment");
+    b.proposals.insert(b.proposals.end(), all.begin(), all.end());
     rank();
   }
 }

@@ -433,6 +433,24 @@ Proposal compare_at(const Procedure& p, const Variant& a, const Variant& b, cons
                   seeds.size()};
 }
 
+std::vector<Proposal> measure_at(Procedure& p, const Variant& a, const Variant& b, const MeasurementNoise& n,
+                                 const Condition& c, const std::vector<uint64_t>& seeds,
+                                 const std::string& stage) {
+  std::vector<Proposal> out;
+  const std::string fa = p.book.failure({c}, a, seeds), fb = p.book.failure({c}, b, seeds);
+  if (!fa.empty() || !fb.empty()) {
+    p.notes.push_back(stage + ": " + (fa.empty() ? fb : fa));
+    return out;
+  }
+  std::set<std::string> observables;
+  for (const Cell& cell : p.tab.cells) observables.insert(cell.observable);
+  for (const auto& [obs, sd] : p.d.assays) observables.insert(obs);
+  for (const std::string& obs : observables)
+    if (p.book.reports(c, a, seeds, obs) && p.book.reports(c, b, seeds, obs))
+      out.push_back(compare_at(p, a, b, n, c, seeds, obs, false));
+  return out;
+}
+
 std::vector<Proposal> measure_beyond(Procedure& p, const Variant& a, const Variant& b,
                                      const MeasurementNoise& n, std::vector<Condition>& props,
                                      std::vector<Condition>& wanted, const std::string& stage) {
@@ -453,24 +471,8 @@ std::vector<Proposal> measure_beyond(Procedure& p, const Variant& a, const Varia
     }
   }
   p.run();
-  std::set<std::string> observables;
-  for (const Cell& c : p.tab.cells) observables.insert(c.observable);
-  for (const auto& [obs, sd] : p.d.assays) observables.insert(obs);
-  const auto both_report = [&](const Condition& c, const std::vector<uint64_t>& seeds,
-                               const std::string& obs) {
-    return p.book.reports(c, a, seeds, obs) && p.book.reports(c, b, seeds, obs);
-  };
-  // The proposals at condition c on these seeds; empty when a run failed (noted).
   const auto measure = [&](const Condition& c, const std::vector<uint64_t>& seeds) {
-    std::vector<Proposal> out;
-    const std::string fa = p.book.failure({c}, a, seeds), fb = p.book.failure({c}, b, seeds);
-    if (!fa.empty() || !fb.empty()) {
-      p.notes.push_back(stage + ": " + (fa.empty() ? fb : fa));
-      return out;
-    }
-    for (const std::string& obs : observables)
-      if (both_report(c, seeds, obs)) out.push_back(compare_at(p, a, b, n, c, seeds, obs, false));
-    return out;
+    return measure_at(p, a, b, n, c, seeds, stage);
   };
   std::vector<std::vector<Proposal>> found;
   std::vector<bool> promising;

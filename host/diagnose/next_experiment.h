@@ -130,6 +130,13 @@ Proposal compare_at(const Procedure& p, const Variant& a, const Variant& b, cons
                     const Condition& c, const std::vector<uint64_t>& seeds, const std::string& observable,
                     bool in_table);
 
+// Both models at condition c on these seeds (their runs made), for every observable of the table and every
+// assay both report; empty when a run of either failed (noted in p.notes under `stage`). Shared by
+// measure_beyond and the interval's confirming round (next_bound.cpp).
+std::vector<Proposal> measure_at(Procedure& p, const Variant& a, const Variant& b, const MeasurementNoise& n,
+                                 const Condition& c, const std::vector<uint64_t>& seeds,
+                                 const std::string& stage);
+
 // Both models at each proposed condition, in two rounds: on the first base seed, then on every base seed
 // where some observable already separates them by 2 σ. Every observable of the table and every assay, per
 // condition; `wanted` gets the conditions that could be run (the others, and failed runs, are noted in

@@ -150,6 +150,12 @@ Verdict decide_seen(Procedure& p) {
   return v;
 }
 
+bool confirms_beyond(double z, size_t repeats, size_t seeds, size_t base_seeds, double screen) {
+  // Confirmed, unconfirmable, or under the screen with nothing a repeated measurement would show.
+  if (seeds == 0 || seeds >= base_seeds) return false;
+  return z >= screen || repeats > 0;
+}
+
 double reach_screen_z(size_t replicates, size_t probe_seeds) {
   const size_t np = std::max<size_t>(1, probe_seeds);
   return kVisibleZ * std::sqrt(double(np) / double(std::max(np, replicates)));
@@ -307,10 +313,7 @@ void run_beyond(Procedure& p) {
     for (size_t i = 0; i < p.reach.size(); ++i) {
       if (tried[i].empty()) continue;
       Tried& t = *largest(tried[i]);
-      // Confirmed, unconfirmable, or under the screen. A shift the measurement's noise alone hides (the runs
-      // differ by kVisibleZ of their own error: repeats_for) is confirmed too, before the report asks a
-      // laboratory to repeat a measurement for it.
-      if (t.seeds == 0 || t.seeds >= p.base_seeds.size() || (t.z < screen && t.repeats == 0)) continue;
+      if (!confirms_beyond(t.z, t.repeats, t.seeds, p.base_seeds.size(), screen)) continue;
       const Variant v = p.variant(p.reach[i].effect, p.reach[i].strongest);
       try {
         p.book.want(*t.c, none, p.base_seeds);

@@ -31,6 +31,12 @@ constexpr double kVisibleZ = 3.0;
 // showed 2.4 sigma. P >= R: kVisibleZ (nothing left to confirm with).
 double reach_screen_z(size_t replicates, size_t probe_seeds = 1);
 
+// Whether run_reach's largest shift of a candidate beyond the table, run on `seeds` seeds each side (0:
+// unconfirmable), is run again on all `base_seeds`: it reaches the screen (reach_screen_z), or the runs
+// already differ by kVisibleZ of their own error and only the measurement's noise hides it (repeats > 0,
+// repeats_for), so the report may ask a laboratory to repeat that measurement. Pure (tests).
+bool confirms_beyond(double z, size_t repeats, size_t seeds, size_t base_seeds, double screen);
+
 // A shift can also be visible through the whole table without any one cell at kVisibleZ (many cells moved by
 // 1-2 sigma in the direction of a gap): its χ² over the n cells in excess of what the probe runs' own noise
 // gives, sum(z²) - sum(se²/(σ² + se²)), at least the upper 1 % point of a χ²_n less its mean n

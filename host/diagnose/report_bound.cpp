@@ -82,21 +82,21 @@ nlohmann::json bound_json(const Report& r) {
                      {"assay", q.assay},
                      {"seeds", q.seeds},
                      {"repeats", q.repeats}});
-  return {
-      {"effect", b.effect},
-      {"closed", b.closed},
-      {"open", b.open},
-      {"open_above", b.above},
-      {"open_both", b.both},
-      {"shape", app::number_or_null(b.shape)},
-      {"proposals", props},
-      {"note", b.note},
-      // The measurement the report asks to repeat (no single one bounds it): paragraph.cpp bound_sentence.
-      {"repeated", repeated_bound(b) ? json{{"condition", repeated_bound(b)->condition},
-                                            {"observable", repeated_bound(b)->observable},
-                                            {"sigma", repeated_bound(b)->sigma},
-                                            {"repeats", repeated_bound(b)->repeats}}
-                                     : json()}};
+  // The measurement the report asks to repeat (no single one bounds it): paragraph.cpp bound_sentence.
+  const Proposal* k = repeated_bound(b);
+  return {{"effect", b.effect},
+          {"closed", b.closed},
+          {"open", b.open},
+          {"open_above", b.above},
+          {"open_both", b.both},
+          {"shape", app::number_or_null(b.shape)},
+          {"proposals", props},
+          {"note", b.note},
+          {"repeated", k ? json{{"condition", k->condition},
+                                {"observable", k->observable},
+                                {"sigma", k->sigma},
+                                {"repeats", k->repeats}}
+                         : json()}};
 }
 
 }  // namespace wetdem::diagnose
