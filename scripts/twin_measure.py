@@ -1,13 +1,11 @@
 #!/usr/bin/env python3
 """Make, on a twin, the measurements a diagnosis asks for next, and write the observation table with them added.
 
-A diagnosis's report ends, when the data leave it undecided, with the measurement to make next
-(docs/diagnosis.md): the one that separates two tied effects (`next_experiment`: its best single measurement,
-made as often as the report says, or the pair of measurements when the report says two together do better);
-the one that would close an open strength interval (`bound_experiment`, when it separates the interval's ends
-by 2 sigma, or the one the report asks to repeat k times when no single one does: entered as their mean,
-sigma/sqrt(k), n = k); and where a candidate the table cannot see would show (`reach`: beyond the table, once or
-repeated; the noise is the table's median sigma of the observable). In a laboratory the engineer makes them. On
+A diagnosis's report ends, when the data leave it undecided, with the measurements to make next
+(docs/diagnosis.md; report.md's "Measurements to make next", diagnosis.json's `measure_next`): the one that
+separates two tied effects, the one that would close an open strength interval, and where a candidate the table
+cannot see would show, each with its noise and how often to make it (a measurement made k times is entered as
+their mean, sigma/sqrt(k), n = k). In a laboratory the engineer makes them. On
 a twin the truth can be asked: this script runs `wetdem twin` on the twin's own file at the proposed conditions
 (truth and seeds as in the twin, the noise of each measurement the report assumed, drawn from a noise seed of
 its own) and appends those rows to the table. Diagnosing the new table again closes the loop:
@@ -31,54 +29,15 @@ import subprocess
 import sys
 import tempfile
 
-DECISIVE = 2.0  # sigma: host/diagnose/next_experiment.h kDecisive
-VISIBLE_Z = 3.0  # sigma: host/diagnose/power.h kVisibleZ
-
-
-def judged(p):
-    """A proposal's separation once both models re-fit (next_experiment.h judged_separation)."""
-    r = p.get("refit_separation")
-    return r if isinstance(r, (int, float)) and math.isfinite(r) else p["separation"]
-
-
-def asked_for(diagnosis):
-    """The measurements the report names, as (condition, observable, sigma, repeats), in the report's order."""
-    out = []
-    nxt = diagnosis.get("next_experiment") or {}
-    props = nxt.get("proposals") or []
-    if props:
-        q = props[0]
-        pairs = nxt.get("pairs") or []
-        # paragraph.cpp: the pair when it beats the single one made twice (pair_beats_single).
-        if pairs and pairs[0]["refit_separation"] >= DECISIVE and pairs[0]["refit_separation"] > math.sqrt(2) * judged(q):
-            sigma = {(p["condition"], p["observable"]): p["sigma"] for p in props}
-            for m in (pairs[0]["first"], pairs[0]["second"]):
-                out.append((m["condition"], m["observable"], sigma.get((m["condition"], m["observable"]), q["sigma"]), 1))
-        else:  # made as often as the report says it must be to decide (next_experiment.h tie_repeats; 0: as is)
-            out.append((q["condition"], q["observable"], q["sigma"], max(1, int(nxt.get("repeats") or 1))))
-    bound = diagnosis.get("bound_experiment") or {}
-    bprops = bound.get("proposals") or []
-    if bprops and bprops[0]["separation"] >= DECISIVE:  # paragraph.cpp bound_sentence
-        q = bprops[0]
-        out.append((q["condition"], q["observable"], q["sigma"], 1))
-    elif bound.get("repeated"):  # no single measurement bounds it: the one that does when made k times
-        q = bound["repeated"]
-        out.append((q["condition"], q["observable"], q["sigma"], int(q["repeats"])))
-    # What the table cannot see (power.h, paragraph.cpp beyond_clause): where an unseen candidate would show,
-    # once or repeated; its noise is the table's median sigma of the observable (filled in by main).
-    for x in diagnosis.get("reach") or []:
-        if x.get("visible") or not x.get("beyond_condition"):
-            continue
-        if x.get("beyond_max_abs_z", 0) >= VISIBLE_Z:
-            out.append((x["beyond_condition"], x["beyond_observable"], None, 1))
-        elif int(x.get("beyond_repeats") or 0) > 1:
-            out.append((x["beyond_condition"], x["beyond_observable"], None, int(x["beyond_repeats"])))
-    seen, unique = set(), []
-    for m in out:
-        if (m[0], m[1]) not in seen:
-            seen.add((m[0], m[1]))
-            unique.append(m)
-    return unique
+def asked_for(diagnosis, path="diagnosis.json"):
+    """The measurements the report asks for, as (condition, observable, sigma, repeats), in the report's order:
+    diagnosis.json's "measure_next", which wetdem writes from the rules its paragraph states (report.h,
+    AskedMeasurement). A diagnosis.json from before that list is an error: run the diagnosis again (its runs are in
+    the store)."""
+    if "measure_next" not in diagnosis:
+        sys.exit(f"{path}: no \"measure_next\" list (written by an older wetdem): run the diagnosis again; its runs "
+                 "are in the store")
+    return [(m["condition"], m["observable"], m["sigma"], max(1, int(m["repeats"]))) for m in diagnosis["measure_next"]]
 
 
 def parse_condition(text):
@@ -166,8 +125,10 @@ def main():
     ap.add_argument("--batch", type=int)
     a = ap.parse_args()
 
-    diagnosis = json.load(open(os.path.join(a.diagnosis, "diagnosis.json")))
-    if not asked_for(diagnosis):
+    path = os.path.join(a.diagnosis, "diagnosis.json")
+    diagnosis = json.load(open(path))
+    asked = asked_for(diagnosis, path)
+    if not asked:
         print("nothing to measure: the report asks for no measurement")
         return 3
     with open(a.observations, newline="") as f:
@@ -186,16 +147,7 @@ def main():
     case = os.path.join(twin_dir, m.group(1)) if m else None
     todo, skipped, known = [], [], None
 
-    def median_sigma(observable):
-        v = sorted(float(r["sigma"]) for r in rows if r["observable"] == observable and r["sigma"].strip())
-        return (v[(len(v) - 1) // 2] + v[len(v) // 2]) / 2 if v else None
-
-    for condition, observable, sigma, repeats in asked_for(diagnosis):
-        if sigma is None:
-            sigma = median_sigma(observable)
-            if sigma is None:
-                skipped.append(f"{observable} at {condition} (no sigma of it in the table)")
-                continue
+    for condition, observable, sigma, repeats in asked:
         cond = parse_condition(condition)
         missing = sorted(set(cond) - set(keys))
         if missing and case and not set(missing) - set(MODEL_VALUE):

@@ -193,6 +193,8 @@ TEST(DiagnosePower, ThePairScreenCatchesWhatTheSeedsWouldConfirm) {
 }  // namespace
 }  // namespace wetdem::diagnose
 
+using namespace wetdem::diagnose;
+
 // The reach steps past the file's strongest probe (power.h, next_reach_strength) by the probes' ratio, at
 // least 3x, to the end of the range the model can realise, and stops where less than a quarter more is left.
 TEST(DiagnosePower, TheReachStepsPastTheProbesToTheEndOfTheRange) {

@@ -335,6 +335,7 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
   if (!r.bound.effect.empty()) j["bound_experiment"] = bound_json(r);
   j["second"] = second_json(r);
   j["reach"] = reach_json(r);
+  j["measure_next"] = asked_json(r);
   j["within_inflation"] = r.within_inflation;
   // Unseen: the probes cannot show them apart from noise (power.h); such a candidate is named only as tied
   // on its held-out score and kept on fresh runs, or first where fresh runs favour it (name_only_seen).
@@ -373,6 +374,7 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
           figs += fmt::format("![{}](figures/{}.png)\n\n", f, f);
   }
   std::string md = "# Sim-to-real diagnosis: " + r.spec->name + "\n\n" + verdict_paragraph(r) + "\n\n";
+  md += asked_markdown(r);
   md += "## Where\n\n";
   for (const std::string& w : r.where) md += "- " + w + "\n";
   {

@@ -105,6 +105,26 @@ nlohmann::json next_json(const Report& r);
 std::string bound_markdown(const Report& r);
 nlohmann::json bound_json(const Report& r);
 
+// Every measurement the report asks a laboratory to make next, in the paragraph's order (the tie's, the
+// interval's, then where each candidate the table cannot see would show), one per condition and observable.
+// The rules are the paragraph's (paragraph_next.cpp, paragraph.cpp beyond_clause), written once here:
+// report.md's checklist "Measurements to make next", diagnosis.json's "measure_next", and the list
+// scripts/twin_measure.py makes on a twin (report_asked.cpp).
+struct AskedMeasurement {
+  std::string reason;  // "tie", "bound" or "reach"
+  std::string effect;  // what it would decide: "a or b" (tie), the effect bounded, the effect it would show
+  std::string condition;
+  std::string observable;
+  double sigma = 0.0;       // one measurement's noise (the table's median σ of the observable)
+  size_t repeats = 1;       // made this often and entered as the mean (σ/√k)
+  double separation = 0.0;  // what one measurement shows, in σ (after re-fit for a tie; a pair: jointly)
+  bool in_table = false;    // a condition of the table (made again)
+  bool assay = false;       // an assay the table does not have
+};
+std::vector<AskedMeasurement> asked_measurements(const Report& r);
+std::string asked_markdown(const Report& r);
+nlohmann::json asked_json(const Report& r);
+
 // The second round as diagnosis.json's "second" (null when it did not run) and its section of report.md.
 nlohmann::json second_json(const Report& r);
 std::string second_markdown(const Report& r);

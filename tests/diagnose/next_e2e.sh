@@ -43,6 +43,11 @@ expect "$D/d/diagnosis.json" "all(q['refit_separation'] <= q['separation'] + 1.0
 expect "$D/d/diagnosis.json" "$P[0]['refit_separation'] is not None and max($R) <= 1.05 * $P[0]['refit_separation'] + 1e-12" \
   "the first proposal is not the best after the re-fit"
 expect_text "$D/d/report.md" "after re-fit (σ)" "the report has no separation after the re-fit"
+# The checklist (report.h, asked_measurements): the tie's measurement first, its best single one or both of its
+# pair, each made at least once; report.md carries it as a section.
+expect "$D/d/diagnosis.json" "j['measure_next'] and j['measure_next'][0]['reason'] == 'tie' and j['measure_next'][0]['condition'] == ($P[0]['condition'] if not j['next_experiment']['pairs'] or len([m for m in j['measure_next'] if m['reason'] == 'tie']) == 1 else j['next_experiment']['pairs'][0]['first']['condition']) and all(m['repeats'] >= 1 for m in j['measure_next'])" \
+  "measure_next does not start with the tie's measurement" "$D/d/report.md"
+expect_text "$D/d/report.md" "## Measurements to make next" "the report has no checklist of measurements"
 # The figure of the next experiment (plot_diagnosis.py), drawn from this diagnosis.json.
 /usr/bin/python3 "$SRC/scripts/plot_diagnosis.py" "$D/d" > "$D/plot.log" 2>&1 || { cat "$D/plot.log"; echo "FAIL: plot_diagnosis.py"; exit 1; }
 [ -s "$D/d/figures/next_experiment.png" ] || { echo "FAIL: no figures/next_experiment.png for a tie"; exit 1; }

@@ -1,13 +1,12 @@
 #!/usr/bin/python3
-"""scripts/twin_measure.py and twin_matrix.py --measure-next, with a stand-in for wetdem: which measurements a
-report's diagnosis.json asks for (the tie's best single measurement, or its pair when the pair beats the single
-made twice; the bound's when it separates the interval's ends by 2 sigma, or the one it asks to repeat k times:
-the mean, sigma/sqrt(k), n = k, replacing the row when the table has it; where an unseen candidate would show),
-which cannot be taken (a condition key
-the table lacks, a measurement the table has), the twin file the measurement is made with (the twin's truth and
-seeds, the proposal's conditions and noise, a noise seed of its own), the table written (the old rows, then the
-new, conditions quoted), exit status 3 and no table when nothing can be measured; and the matrix's rounds: a
-second diagnosis on the new table, reported with what was measured.
+"""scripts/twin_measure.py and twin_matrix.py --measure-next, with a stand-in for wetdem: the measurements a
+report's diagnosis.json lists in "measure_next" (which ones is wetdem's rule, tests/test_diagnose_asked.cpp) are
+made: one made k times is entered as the mean, sigma/sqrt(k), n = k, replacing the row when the table has it;
+which cannot be taken (a condition key the table lacks, a measurement the table has); the twin file the
+measurement is made with (the twin's truth and seeds, the proposal's conditions and noise, a noise seed of its
+own); the table written (the old rows, then the new, conditions quoted); exit status 3 and no table when nothing
+can be measured; an error for a diagnosis.json without the list; and the matrix's rounds: a second diagnosis on
+the new table, reported with what was measured.
 usage: twin_measure_test.py SOURCE_DIR"""
 import json
 import os
@@ -89,20 +88,16 @@ write(obs, '''liquid.content,drum.rpm,observable,value,sigma,n,note
 ''')
 
 
-def proposal(cond, obs_name, sep, refit=None, sigma=0.025):
-    p = {"condition": cond, "observable": obs_name, "separation": sep, "sigma": sigma, "in_table": False,
-         "assay": False}
-    if refit is not None:
-        p["refit_separation"] = refit
-    return p
+def asked(cond, obs_name, sigma=0.025, repeats=1, reason="tie"):
+    """One entry of diagnosis.json's "measure_next" (report.h, AskedMeasurement)."""
+    return {"reason": reason, "effect": "absorption or evaporation", "condition": cond, "observable": obs_name,
+            "sigma": sigma, "repeats": repeats, "separation": 3.0, "in_table": False, "assay": False}
 
 
-def diagnosis(next_props=(), pairs=(), bound_props=()):
-    return {"verdict": "effect", "effect": "absorption", "tied": ["evaporation"] if next_props else [],
-            "next_experiment": {"proposals": list(next_props), "pairs": list(pairs)} if next_props else {},
-            "bound_experiment": {"proposals": list(bound_props)} if bound_props else {},
+def diagnosis(*measure_next):
+    return {"verdict": "effect", "effect": "absorption", "tied": ["evaporation"],
             "held_out_shrink": 0.9, "held_out_gap_shrink": None, "runs_computed": 1, "wall_s": 1.0,
-            "device": "stand-in", "cells": [],
+            "device": "stand-in", "cells": [], "measure_next": list(measure_next),
             "ranking": [{"effect": "absorption", "strength": 0.05, "strength_interval": [0.04, 0.06],
                          "strength_interval_open": [False, False]}]}
 
@@ -117,16 +112,13 @@ def measure(d, name, expect_rc=0):
                        env=dict(os.environ, TWIN_COPY=os.path.join(root, name + ".twin.toml")))
     if r.returncode != expect_rc:
         fail(f"{name}: exit {r.returncode}, expected {expect_rc}:\n{r.stdout}{r.stderr}")
-    return r.stdout, out
+    return r.stdout + r.stderr, out
 
 
-# 1. A tie whose best single measurement wins over the pair, and a bound at 4.1 sigma: both measured, at one call.
-single = proposal("liquid.content=2.5 %", "liquid_free_fraction", 2.8, refit=1.9, sigma=0.0256)
-weak_pair = {"first": {"condition": "liquid.content=2.5 %", "observable": "liquid_free_fraction"},
-             "second": {"condition": "liquid.content=15 %", "observable": "liquid_free_fraction"},
-             "separation": 3.7, "refit_separation": 2.6}  # 2.6 < sqrt(2) x 1.9: the single one is advised
-bound = proposal("liquid.content=20 %", "liquid_free_fraction", 4.1, sigma=0.0256)
-text, out = measure(diagnosis([single], [weak_pair], [bound]), "tie-and-bound")
+# 1. Two measurements (a tie's and a bound's), made at one call.
+text, out = measure(diagnosis(asked("liquid.content=2.5 %", "liquid_free_fraction", 0.0256),
+                              asked("liquid.content=20 %", "liquid_free_fraction", 0.0256, reason="bound")),
+                    "tie-and-bound")
 lines = open(out).read().splitlines()
 if lines[:6] != open(obs).read().splitlines():
     fail("the old rows are not kept first and as they were")
@@ -141,77 +133,49 @@ if "conditions" in made or made["noise"] != {"liquid_free_fraction": 0.0256}:
 if [p["liquid.content"] for p in made["points"]] != ["2.5 %", "20 %"] or made["points"][0]["drum.rpm"] != 30:
     fail(f"the twin file's points: {made['points']}")
 
-# 2. The pair beats the single one made twice (3.0 > sqrt(2) x 1.9): both of its measurements are made.
-strong_pair = dict(weak_pair, refit_separation=3.0)
-text, out = measure(diagnosis([single], [strong_pair]), "pair")
-new = open(out).read().splitlines()[6:]
-if [r.split(",")[0] for r in new] != ['"2.5 %"', '"15 %"']:
-    fail(f"the pair was not measured: {new}")
-
-# 3. Nothing that can be measured: a key the table lacks that is no drum speed or run length, a measurement the
-# table has, a bound under 2 sigma.
-text, out = measure(diagnosis([proposal("liquid.content=10 %, liquid.gamma=30 mN/m", "aor_deg_mean", 3.0)], [],
-                              [proposal("liquid.content=5 %", "liquid_free_fraction", 1.5)]), "nothing", 3)
+# 2. Nothing that can be measured: a key the table lacks that is no drum speed or run length; a measurement the
+# table has; an empty list.
+text, out = measure(diagnosis(asked("liquid.content=10 %, liquid.gamma=30 mN/m", "aor_deg_mean")), "nothing", 3)
 if os.path.exists(out) or "liquid.gamma" not in text:
     fail(f"nothing to measure, yet a table was written or the reason not given:\n{text}")
-text, out = measure(diagnosis([proposal("liquid.content=10 %", "liquid_free_fraction", 3.0)]), "in-table", 3)
+text, out = measure(diagnosis(asked("liquid.content=10 %", "liquid_free_fraction")), "in-table", 3)
 if "already in the table" not in text:
     fail(f"a measurement the table has was not named as such:\n{text}")
+measure(diagnosis(), "none", 3)
+# A diagnosis.json from before the list: an error that says what to do, not a silent "nothing".
+old = diagnosis()
+del old["measure_next"]
+text, out = measure(old, "old", 1)
+if "measure_next" not in text or os.path.exists(out):
+    fail(f"an old diagnosis.json:\n{text}")
 
-# 4. A run length the table never varied: a new column, the model's value (wetdem check: 3 s) in the old rows.
-text, out = measure(diagnosis([proposal("liquid.content=10 %, run.duration=12 s", "aor_deg_mean", 3.0)]), "longer")
+# 3. A run length the table never varied: a new column, the model's value (wetdem check: 3 s) in the old rows.
+text, out = measure(diagnosis(asked("liquid.content=10 %, run.duration=12 s", "aor_deg_mean")), "longer")
 lines = open(out).read().splitlines()
 if lines[0] != "liquid.content,drum.rpm,run.duration,observable,value,sigma,n,note" \
         or lines[1] != '"0 %","30","3 s",aor_deg_mean,33.7,1.0,2,twin' \
         or lines[-1] != '"10 %","30","12 s",aor_deg_mean,0.6,0.025,2,measured next':
     fail(f"the new column:\n{open(out).read()}")
 
-# 4b. No single measurement bounds the interval (1.5 sigma) but the report asks for one made 4 times: entered as the
-# mean of 4, sigma / 2 and n = 4; in the table already, the row is replaced by the new mean; not asked for, nothing.
-rep = diagnosis([], [], [proposal("liquid.content=20 %", "liquid_free_fraction", 1.5, sigma=0.02)])
-rep["bound_experiment"]["repeated"] = {"condition": "liquid.content=20 %", "observable": "liquid_free_fraction",
-                                       "sigma": 0.02, "repeats": 4}
-text, out = measure(rep, "repeated")
+# 4. A measurement made 4 times: entered as the mean of 4, sigma / 2 and n = 4; in the table already, the row is
+# replaced by the new mean.
+text, out = measure(diagnosis(asked("liquid.content=20 %", "liquid_free_fraction", 0.02, 4, "bound")), "repeated")
 lines = open(out).read().splitlines()
 if lines[-1] != '"20 %","30",liquid_free_fraction,0.7,0.01,4,measured next' or "(4 times)" not in text:
     fail(f"a measurement made 4 times:\n{text}{open(out).read()}")
 made = tomllib.load(open(os.path.join(root, "repeated.twin.toml"), "rb"))
 if made["noise"] != {"liquid_free_fraction": 0.01}:
     fail(f"the twin draws the mean of 4 with sigma/2: {made['noise']}")
-rep["bound_experiment"]["repeated"]["condition"] = "liquid.content=10 %"
-text, out = measure(rep, "repeated-in-table")
+text, out = measure(diagnosis(asked("liquid.content=10 %", "liquid_free_fraction", 0.02, 4, "bound")),
+                    "repeated-in-table")
 lines = open(out).read().splitlines()
 if len(lines) != 6 or '"10 %","30",liquid_free_fraction,0.56,0.02,2,twin' in lines \
         or lines[-1] != '"10 %","30",liquid_free_fraction,0.6,0.01,4,measured next':
     fail(f"a row of the table made again 4 times replaces it:\n{open(out).read()}")
-del rep["bound_experiment"]["repeated"]
-measure(rep, "not-repeated", 3)
-# Where a candidate the table cannot see would show (reach): once at 3 sigma, or repeated; the noise the table's
-# median sigma of the observable (aor_deg_mean: 1.0). A visible candidate, or one with nowhere to show, asks nothing.
-unseen = diagnosis()
-unseen["reach"] = [
-    {"effect": "viscous", "visible": False, "beyond_condition": "liquid.content=20 %",
-     "beyond_observable": "aor_deg_mean", "beyond_max_abs_z": 1.8, "beyond_repeats": 4},
-    {"effect": "hysteresis", "visible": False, "beyond_condition": "liquid.content=15 %",
-     "beyond_observable": "aor_deg_mean", "beyond_max_abs_z": 1.2, "beyond_repeats": 0},
-    {"effect": "cohesion", "visible": True, "beyond_condition": "liquid.content=2.5 %",
-     "beyond_observable": "aor_deg_mean", "beyond_max_abs_z": 5.0, "beyond_repeats": 0}]
-text, out = measure(unseen, "unseen")
-new_rows = open(out).read().splitlines()[6:]
-if new_rows != ['"20 %","30",aor_deg_mean,0.7,0.5,4,measured next']:
-    fail(f"where an unseen candidate would show, 4 times:\n{text}{open(out).read()}")
-unseen["reach"][0]["beyond_repeats"] = 0
-measure(unseen, "unseen-none", 3)
-unseen["reach"][1]["beyond_max_abs_z"] = 3.4
-text, out = measure(unseen, "unseen-once")
-if open(out).read().splitlines()[6:] != ['"15 %","30",aor_deg_mean,0.65,1.0,2,measured next']:
-    fail(f"where an unseen candidate shows at 3 sigma, once:\n{text}{open(out).read()}")
-# The tie's single measurement made as often as its report says (next_experiment.repeats).
-tie = diagnosis([proposal("liquid.content=2.5 %", "liquid_free_fraction", 1.9, refit=1.4, sigma=0.02)])
-tie["next_experiment"]["repeats"] = 3
-text, out = measure(tie, "tie-repeated")
+# Made 3 times with sigma 0.02: sigma / sqrt(3).
+text, out = measure(diagnosis(asked("liquid.content=2.5 %", "liquid_free_fraction", 0.02, 3)), "tie-repeated")
 if open(out).read().splitlines()[-1] != '"2.5 %","30",liquid_free_fraction,0.525,0.011547005383792516,3,measured next':
-    fail(f"the tie's measurement made 3 times:\n{text}{open(out).read()}")
+    fail(f"a measurement made 3 times:\n{text}{open(out).read()}")
 
 # 5. twin_matrix.py --measure-next 2, run here and as a --script (a lent GPU): the first report asks for the 20 %
 # row, the second for nothing; the matrix reports the second diagnosis, with what was measured and the first verdict.
@@ -227,7 +191,8 @@ effect = "absorption"
 strength = 0.05
 truth = { "absorption.capacity" = 0.05 }
 ''')
-first, second = diagnosis([], [], [bound]), diagnosis()
+first = diagnosis(asked("liquid.content=20 %", "liquid_free_fraction", 0.0256, reason="bound"))
+second = diagnosis()
 matrix = ["/usr/bin/python3", os.path.join(src, "scripts", "twin_matrix.py"), os.path.join(mdir, "matrix.toml")]
 for mode in ("here", "script"):
     calls = os.path.join(root, "calls-" + mode)
