@@ -103,8 +103,9 @@ TEST(DiagnoseAsked, AnUnseenCandidateIsMeasuredWhereItWouldShow) {
   EXPECT_DOUBLE_EQ(a[1].separation, 3.4);
   expect_in_paragraph(r);
   const std::string md = asked_markdown(r);
-  EXPECT_NE(md.find("| see `viscous` | `aor_deg_mean` | liquid.content=20 % | 4 | 1 | 1.8 |"),
-            std::string::npos)
+  EXPECT_NE(
+      md.find("| see `viscous` (at eta (Pa s) = 0.1) | `aor_deg_mean` | liquid.content=20 % | 4 | 1 | 1.8 |"),
+      std::string::npos)
       << md;
   r.reach.clear();
   EXPECT_TRUE(asked_measurements(r).empty());

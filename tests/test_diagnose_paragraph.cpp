@@ -521,10 +521,22 @@ TEST(DiagnoseParagraph, AnUnseenCandidateNamesTheRepeatsThatWouldShowIt) {
   v.beyond_z = 1.8, v.beyond_seeds = 4, v.beyond_repeats = 4;
   r.reach = {v};
   const std::string asked = verdict_paragraph(r);
-  EXPECT_NE(asked.find("aor_deg_std at drum.rpm=120 moves by more than the runs' own error (1.8 σ of one "
-                       "measurement, 4 runs each): **to see it, measure it there 4 times**"),
-            std::string::npos)
+  EXPECT_NE(
+      asked.find("aor_deg_std at drum.rpm=120 moves by more than the runs' own error (1.8 σ of one "
+                 "measurement at eta (Pa s) = 0.1, 4 runs each): **to see it, measure it there 4 times**"),
+      std::string::npos)
       << asked;
+  // One measurement shows it at 4 σ: at the strongest strength, the only one run there; a weaker one shifts
+  // less, and 3 σ needs about 0.1 × 3/4 in proportion.
+  r.reach[0].beyond_z = 4.0, r.reach[0].beyond_seeds = 2;
+  const std::string once = verdict_paragraph(r);
+  EXPECT_NE(
+      once.find("**to see it, measure aor_deg_std at drum.rpm=120**, where 2 runs each of it at eta (Pa "
+                "s) = 0.1 and of the model differ by 4.0 σ (a weaker one shifts less: in proportion to "
+                "the strength, 3 σ there needs about 0.075)"),
+      std::string::npos)
+      << once;
+  r.reach[0].beyond_z = 1.8, r.reach[0].beyond_seeds = 4;
   r.reach[0].beyond_repeats = 0;  // the runs' own error hides it: no number of repeats would
   const std::string silent = verdict_paragraph(r);
   EXPECT_NE(

@@ -120,6 +120,8 @@ struct AskedMeasurement {
   double separation = 0.0;  // what one measurement shows, in σ (after re-fit for a tie; a pair: jointly)
   bool in_table = false;    // a condition of the table (made again)
   bool assay = false;       // an assay the table does not have
+  // The reach's: the strength its runs beyond the table had (its strongest), the one its promise is for.
+  double strength = 0.0;
 };
 std::vector<AskedMeasurement> asked_measurements(const Report& r);
 std::string asked_markdown(const Report& r);

@@ -63,7 +63,8 @@ std::vector<AskedMeasurement> asked_measurements(const Report& r) {
                      : assay                          ? r.spec->assays.at(x.beyond_observable)
                                                       : std::nan("");
     if (!std::isfinite(s)) continue;
-    add({"reach", x.effect, x.beyond_condition, x.beyond_observable, s, k, x.beyond_z, false, assay});
+    add({"reach", x.effect, x.beyond_condition, x.beyond_observable, s, k, x.beyond_z, false, assay,
+         x.strongest});
   }
   return out;
 }
@@ -77,10 +78,11 @@ std::string asked_markdown(const Report& r) {
       "entered in the table as the mean of the k (σ/√k, `n` = k). Sections below give the alternatives.\n\n"
       "| for | measure | at | times | noise of one (σ) | what one shows (σ) |\n|---|---|---|---|---|---|\n";
   for (const AskedMeasurement& m : asked) {
-    const std::string why = m.reason == "tie" ? fmt::format("separate `{}`", m.effect)
-                            : m.reason == "bound"
-                                ? fmt::format("bound `{}`'s {}", m.effect, effect_spec(m.effect).strength)
-                                : fmt::format("see `{}`", m.effect);
+    const std::string why =
+        m.reason == "tie" ? fmt::format("separate `{}`", m.effect)
+        : m.reason == "bound"
+            ? fmt::format("bound `{}`'s {}", m.effect, effect_spec(m.effect).strength)
+            : fmt::format("see `{}` (at {} = {:.3g})", m.effect, effect_spec(m.effect).strength, m.strength);
     md += fmt::format("| {} | `{}`{} | {}{} | {} | {:.3g} | {:.1f} |\n", why, m.observable,
                       m.assay ? " (an assay)" : "", m.condition,
                       m.in_table ? " (a condition of the table)" : "", m.repeats, m.sigma, m.separation);
@@ -99,7 +101,8 @@ nlohmann::json asked_json(const Report& r) {
                  {"repeats", m.repeats},
                  {"separation", m.separation},
                  {"in_table", m.in_table},
-                 {"assay", m.assay}});
+                 {"assay", m.assay},
+                 {"strength", m.reason == "reach" ? nlohmann::json(m.strength) : nlohmann::json()}});
   return a;
 }
 
