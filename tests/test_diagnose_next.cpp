@@ -279,6 +279,49 @@ TEST(DiagnoseVerdict, RepeatsShrinkTheMeasurementsNoiseNotTheRuns) {
   EXPECT_EQ(repeats_for(0.49, 1.0, 0.0, 2.0), 0u) << "17 would be needed: none";
 }
 
+// A new measurement's noise at a condition where the runs spread more than at the table's typical cell
+// (sigma_at). A table made as a laboratory makes it: each row the mean of n = 2 runs with per-run sd s_k,
+// plus an instrument noise σ_i = 0.01, so σ_k² = σ_i² + s_k²/2; the model's SE over its R = 2 seeds is
+// s_k/√2. At a new condition whose runs spread with s_c = 0.045, a measurement's sd is √(σ_i² + s_c²/2) =
+// 0.0334: sigma_at recovers it from the table and the model's SEs alone, where the table's median σ (0.0146)
+// is 2.3× short.
+TEST(DiagnoseVerdict, ANewMeasurementCarriesTheSpreadOfTheRunsThere) {
+  const double si = 0.01;
+  std::vector<Cell> cells;
+  std::vector<double> se2;
+  for (double s : {0.01, 0.015, 0.02, 0.015, 0.01, 0.02}) {
+    Cell c;
+    c.observable = "surface_velocity_mps";
+    c.sigma = std::sqrt(si * si + s * s / 2);
+    cells.push_back(c);
+    se2.push_back(s * s / 2);
+  }
+  MeasurementNoise n;
+  n.sigma = median_sigma(cells);
+  std::vector<Cell> se_cells = cells;
+  for (size_t k = 0; k < cells.size(); ++k) se_cells[k].sigma = se2[k];
+  n.typical_se2 = median_sigma(se_cells);
+  const double sc = 0.045, se_c = sc / std::sqrt(2.0);
+  const double truth = std::sqrt(si * si + sc * sc / 2);
+  EXPECT_NEAR(sigma_at(n, "surface_velocity_mps", se_c, se_c), truth, 1e-12);
+  EXPECT_LT(n.sigma.at("surface_velocity_mps"), truth / 2);
+  // The separation counts it: a shift of 0.08 is 1.69 σ against the median, 1.43 σ against what a measurement
+  // there carries.
+  const Prediction x{0.10, se_c}, y{0.02, se_c};
+  EXPECT_NEAR(separation_of(n, "surface_velocity_mps", x, y),
+              0.08 / std::sqrt(truth * truth + 2 * se_c * se_c), 1e-12);
+  EXPECT_NEAR(separation_of(n, "surface_velocity_mps", x, y), 1.428, 1e-3);
+  // A calmer condition is not trusted to be quieter; an observable without a typical SE (an assay) keeps σ.
+  EXPECT_DOUBLE_EQ(sigma_at(n, "surface_velocity_mps", 0.001, 0.001), n.sigma.at("surface_velocity_mps"));
+  n.sigma["liquid_free_fraction"] = 0.03;
+  EXPECT_DOUBLE_EQ(sigma_at(n, "liquid_free_fraction", 0.5, 0.5), 0.03);
+  // Two models spreading differently: their mean squared SE.
+  EXPECT_NEAR(sigma_at(n, "surface_velocity_mps", se_c, 0.0),
+              std::sqrt(n.sigma.at("surface_velocity_mps") * n.sigma.at("surface_velocity_mps") +
+                        0.5 * se_c * se_c - n.typical_se2.at("surface_velocity_mps")),
+              1e-12);
+}
+
 // The bound experiment asks for a repeated measurement only when no single one reaches kDecisive, and then
 // the one that needs the fewest repeats.
 TEST(DiagnoseVerdict, AnIntervalNoSingleMeasurementBoundsAsksForTheFewestRepeats) {

@@ -33,6 +33,8 @@ const Candidate* chosen_candidate(const Verdict& v) {
 std::vector<Proposal> through_emulator(const Procedure& p, const Candidate& c, const OpenInterval& o,
                                        const MeasurementNoise& n) {
   std::vector<Proposal> out;
+  MeasurementNoise plain = n;
+  plain.typical_se2.clear();
   for (const Family& f : p.families()) {
     if (f.effect != c.effect || c.member >= f.ems.size()) continue;
     const Emulator& em = f.ems[c.member];
@@ -40,8 +42,9 @@ std::vector<Proposal> through_emulator(const Procedure& p, const Candidate& c, c
       const std::string& obs = p.tab.cells[k].observable;
       const Prediction x = em.at(k, std::log10(o.closed)), y = em.at(k, std::log10(o.open));
       if (!std::isfinite(x.mean) || !std::isfinite(y.mean)) continue;
+      // The emulator's SEs are its knots' errors, not a run spread at the cell: the table's σ, as measured.
       out.push_back({p.tab.conditions[p.tab.cell_condition[k]].label, obs, x.mean, y.mean, x.se, y.se,
-                     n.sigma.at(obs), separation_of(n, obs, x, y), true, false, p.probe_seeds.size()});
+                     n.sigma.at(obs), separation_of(plain, obs, x, y), true, false, p.probe_seeds.size()});
     }
   }
   return out;

@@ -121,8 +121,7 @@ std::vector<Member> side_of(const Procedure& p, const FreshCheck& f) {
 // probed at (on the probe seeds, with the null there: common random numbers, as the table's probes); then of
 // pairs of those proposals and of each assay on every sample.
 void add_refit_separations(Procedure& p, const FreshCheck& a, const FreshCheck& b,
-                           std::vector<Condition>& beyond, std::map<std::string, double>& sigma,
-                           std::map<std::string, double>& inflation) {
+                           std::vector<Condition>& beyond, std::map<std::string, double>& inflation) {
   if (p.d.next_refit == 0) return;
   const std::vector<Member> sa = side_of(p, a), sb = side_of(p, b);
   if (sa.empty() || sb.empty()) {
@@ -154,16 +153,16 @@ void add_refit_separations(Procedure& p, const FreshCheck& a, const FreshCheck& 
   }
   p.run();
   // Member x of a rival at condition c for observable obs, the other model's value y ± y_se the
-  // measurement; none where a run is missing, failed or does not report obs. At a table cell the member's own
-  // emulator knots are used.
-  const auto extra = [&](const std::string& label, const std::string& obs, double y, double y_se,
+  // measurement with noise s (the proposal's, sigma_at); none where a run is missing, failed or does not
+  // report obs. At a table cell the member's own emulator knots are used.
+  const auto extra = [&](const std::string& label, const std::string& obs, double y, double y_se, double s,
                          const Member& x) -> std::optional<ExtraMeasurement> {
     if (!at.count(label)) return std::nullopt;
     const Condition& c = *at.at(label);
     ExtraMeasurement e;
     e.cell.observable = obs;
     e.cell.y = y;
-    e.cell.sigma = std::sqrt(sigma[obs] * sigma[obs] + y_se * y_se);
+    e.cell.sigma = std::sqrt(s * s + y_se * y_se);
     for (size_t k = 0; k < p.tab.cells.size(); ++k)
       if (p.tab.cells[k].observable == obs && p.tab.conditions[p.tab.cell_condition[k]].label == label) {
         e.null = p.baselines[x.refit][k];
@@ -210,8 +209,10 @@ void add_refit_separations(Procedure& p, const FreshCheck& a, const FreshCheck& 
   };
   for (size_t i = 0; i < p.next.proposals.size(); ++i) {
     Proposal& q = p.next.proposals[i];
-    for (const Member& m : sb) ex[i].first.push_back(extra(q.condition, q.observable, q.model_a, q.se_a, m));
-    for (const Member& m : sa) ex[i].second.push_back(extra(q.condition, q.observable, q.model_b, q.se_b, m));
+    for (const Member& m : sb)
+      ex[i].first.push_back(extra(q.condition, q.observable, q.model_a, q.se_a, q.sigma, m));
+    for (const Member& m : sa)
+      ex[i].second.push_back(extra(q.condition, q.observable, q.model_b, q.se_b, q.sigma, m));
     if (!ex[i].first.front() || !ex[i].second.front()) continue;  // the fitted members must be known
     has[i] = true;
     q.refit_separation = rises({i});
@@ -391,12 +392,26 @@ MeasurementNoise measurement_noise(const Procedure& p) {
   for (const Cell& c : p.tab.cells) n.inflation[c.observable] = p.inflation(c.observable);
   const std::map<std::string, double> assay_inflation = assays_inflation(p);
   for (const auto& [obs, sd] : p.d.assays) n.sigma[obs] = sd, n.inflation[obs] = assay_inflation.at(obs);
+  if (!p.baselines.empty() && p.baselines[0].size() == p.tab.cells.size()) {
+    std::vector<Cell> se2 = p.tab.cells;  // median_sigma over the baseline's squared SEs
+    for (size_t k = 0; k < se2.size(); ++k) se2[k].sigma = p.baselines[0][k].se * p.baselines[0][k].se;
+    for (const auto& [obs, v] : median_sigma(se2))
+      if (!p.d.assays.count(obs) && std::isfinite(v)) n.typical_se2[obs] = v;
+  }
   return n;
+}
+
+double sigma_at(const MeasurementNoise& n, const std::string& obs, double se_x, double se_y) {
+  const double s = n.sigma.at(obs);
+  const auto t = n.typical_se2.find(obs);
+  if (t == n.typical_se2.end()) return s;
+  const double excess = 0.5 * (se_x * se_x + se_y * se_y) - t->second;
+  return std::isfinite(excess) && excess > 0 ? std::sqrt(s * s + excess) : s;
 }
 
 double separation_of(const MeasurementNoise& n, const std::string& obs, const Prediction& x,
                      const Prediction& y) {
-  const double s = n.sigma.at(obs);
+  const double s = sigma_at(n, obs, x.se, y.se);
   return std::fabs(x.mean - y.mean) / std::sqrt(s * s + x.se * x.se + y.se * y.se);
 }
 
@@ -426,7 +441,7 @@ Proposal compare_at(const Procedure& p, const Variant& a, const Variant& b, cons
                   y.mean,
                   x.se,
                   y.se,
-                  n.sigma.at(obs),
+                  sigma_at(n, obs, x.se, y.se),
                   separation_of(n, obs, x, y),
                   in_table,
                   p.d.assays.count(obs) > 0,
@@ -507,7 +522,7 @@ void run_next_experiment(Procedure& p) {
   p.next.effect_a = a.effect;
   p.next.effect_b = b.effect;
   const MeasurementNoise noise = measurement_noise(p);
-  std::map<std::string, double> sigma = noise.sigma, inflation = noise.inflation;
+  std::map<std::string, double> inflation = noise.inflation;
   // The table's own conditions, from the fresh runs (no new run).
   double best = -1;
   size_t base = 0;
@@ -519,7 +534,7 @@ void run_next_experiment(Procedure& p) {
                b.after[k].mean,
                a.after[k].se,
                b.after[k].se,
-               sigma[obs],
+               sigma_at(noise, obs, a.after[k].se, b.after[k].se),
                separation_of(noise, obs, a.after[k], b.after[k]),
                true,
                false,
@@ -562,7 +577,7 @@ void run_next_experiment(Procedure& p) {
     as.separation = std::sqrt(as.separation);
     if (as.conditions > 1) p.next.series.push_back(as);
   }
-  add_refit_separations(p, a, b, wanted, sigma, inflation);
+  add_refit_separations(p, a, b, wanted, inflation);
   p.next.needed = needed_separation(chi2_of(a.gaps_after), p.tab.cells.size(), p.d.rule, p.verdict.seed_luck);
   std::sort(p.next.series.begin(), p.next.series.end(), [](const AssaySeries& x, const AssaySeries& y) {
     return judged_separation(x.refit_separation, x.separation) >

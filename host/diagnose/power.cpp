@@ -257,28 +257,35 @@ void run_beyond(Procedure& p) {
   }
   p.run();
   const std::map<std::string, double> sigma = median_sigma(p.tab.cells);
+  const MeasurementNoise noise = measurement_noise(p);  // sigma_at: the spread of the runs at c in the noise
   // The largest shift of r's probe over the baseline at c, over the observables both report with these seeds:
-  // z = |Δ| / √(σ² + se_probe² + se_base²), each se the larger of the seeds' spread and their own window
-  // errors scaled to the baseline's seed spread (Procedure::within_inflation).
+  // z = |Δ| / √(σ_c² + se_probe² + se_base²), each se the larger of the seeds' spread and their own window
+  // errors scaled to the baseline's seed spread (Procedure::within_inflation), σ_c the measurement's noise
+  // there (sigma_at: the table's σ, with the excess of the runs' spread at c over the table's typical).
   struct Tried {
     Condition* c;
     double z;
     std::string observable;
     size_t seeds;
     size_t repeats;  // of the measurement, for kVisibleZ there (repeats_for); 0: none will do
+    double sigma;    // the measurement's noise there (sigma_at)
   };
   const auto shift_at = [&](const Reach& r, Tried& t, const std::vector<uint64_t>& seeds) {
     const Variant v = p.variant(r.effect, r.strongest);
-    t.z = 0.0, t.repeats = 0;
+    t.z = 0.0;
+    t.repeats = 0;
+    t.sigma = 0.0;
     for (const auto& [obs, sd] : sigma) {
       if (!p.book.reports(*t.c, v, seeds, obs) || !p.book.reports(*t.c, none, seeds, obs)) continue;
       const Prediction x = p.book.predict(*t.c, v, seeds, obs, p.inflation(obs)),
                        y = p.book.predict(*t.c, none, seeds, obs, p.inflation(obs));
-      const double z = std::fabs(x.mean - y.mean) / std::sqrt(sd * sd + x.se * x.se + y.se * y.se);
+      const double s = noise.sigma.count(obs) ? sigma_at(noise, obs, x.se, y.se) : sd;
+      const double z = std::fabs(x.mean - y.mean) / std::sqrt(s * s + x.se * x.se + y.se * y.se);
       if (!std::isfinite(z) || z <= t.z) continue;
       t.z = z;
       t.observable = obs;
-      t.repeats = repeats_for(x.mean - y.mean, sd, x.se * x.se + y.se * y.se, kVisibleZ);
+      t.sigma = s;
+      t.repeats = repeats_for(x.mean - y.mean, s, x.se * x.se + y.se * y.se, kVisibleZ);
     }
   };
   std::vector<std::vector<Tried>> tried(p.reach.size());
@@ -293,7 +300,7 @@ void run_beyond(Procedure& p) {
         continue;
       }
       r.beyond_tried.push_back(c.label);
-      Tried t{&c, 0.0, "", p.probe_seeds.size(), 0};
+      Tried t{&c, 0.0, "", p.probe_seeds.size(), 0, 0.0};
       shift_at(r, t, p.probe_seeds);
       tried[i].push_back(t);
     }
@@ -345,6 +352,7 @@ void run_beyond(Procedure& p) {
     const Tried& t = *largest(tried[i]);
     Reach& r = p.reach[i];
     r.beyond_z = t.z, r.beyond_condition = t.c->label, r.beyond_observable = t.observable;
+    r.beyond_sigma = t.sigma;
     r.beyond_seeds = t.seeds == 0 ? p.probe_seeds.size() : t.seeds;
     // Repeats are advised only on a shift the baseline's seeds all confirm (or that had no others).
     r.beyond_repeats = r.beyond_seeds >= p.base_seeds.size() ? t.repeats : 0;

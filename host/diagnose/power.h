@@ -103,6 +103,7 @@ struct Reach {
   // next_experiment.h; > 1 only where beyond_z is under it): 0 when no number of repeats would, or when the
   // baseline's seeds did not all run there (a shift seen on one pair is not a claim).
   size_t beyond_repeats = 0;
+  double beyond_sigma = 0.0;  // one measurement's noise there, as assumed (sigma_at, next_experiment.h)
   // The fresh runs at the fitted strength against the control (fresh_shift), where the shrink made them.
   bool fresh = false;
   double fresh_at = 0.0, fresh_max_z = 0.0, fresh_chi2_excess = 0.0;

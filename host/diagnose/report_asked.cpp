@@ -52,16 +52,18 @@ std::vector<AskedMeasurement> asked_measurements(const Report& r) {
       add(from("bound", b.effect, *k, k->repeats, k->separation));
   }
   // Where a candidate the table cannot see would show (beyond_clause): once at kVisibleZ, or repeated. Its
-  // noise is the table's median σ of the observable, or an assay's stated one.
+  // noise is the one the reach assumed there (sigma_at), else the table's median σ of the observable, or an
+  // assay's stated one.
   const std::map<std::string, double> sigma = median_sigma(r.cells);
   for (const Reach& x : r.reach) {
     if (x.visible || x.beyond_tried.empty() || x.beyond_observable.empty()) continue;
     const size_t k = x.beyond_z >= kVisibleZ ? 1 : x.beyond_repeats > 1 ? x.beyond_repeats : 0;
     if (k == 0) continue;
     const bool assay = r.spec->assays.count(x.beyond_observable) > 0 && !sigma.count(x.beyond_observable);
-    const double s = sigma.count(x.beyond_observable) ? sigma.at(x.beyond_observable)
-                     : assay                          ? r.spec->assays.at(x.beyond_observable)
-                                                      : std::nan("");
+    const double s = x.beyond_sigma > 0                 ? x.beyond_sigma
+                     : sigma.count(x.beyond_observable) ? sigma.at(x.beyond_observable)
+                     : assay                            ? r.spec->assays.at(x.beyond_observable)
+                                                        : std::nan("");
     if (!std::isfinite(s)) continue;
     add({"reach", x.effect, x.beyond_condition, x.beyond_observable, s, k, x.beyond_z, false, assay,
          x.strongest});

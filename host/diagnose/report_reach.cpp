@@ -111,6 +111,7 @@ nlohmann::json reach_json(const Report& r) {
                    {"beyond_max_abs_z", x.beyond_z},
                    {"beyond_seeds", x.beyond_seeds},
                    {"beyond_repeats", x.beyond_repeats},
+                   {"beyond_sigma", x.beyond_sigma},
                    {"fresh", x.fresh ? nlohmann::json{{"strength", x.fresh_at},
                                                       {"max_abs_z", x.fresh_max_z},
                                                       {"cell", r.cells[x.fresh_cell].observable + " at " +
