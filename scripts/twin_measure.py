@@ -4,11 +4,12 @@
 A diagnosis's report ends, when the data leave it undecided, with the measurements to make next
 (docs/diagnosis.md; report.md's "Measurements to make next", diagnosis.json's `measure_next`): the one that
 separates two tied effects, the one that would close an open strength interval, and where a candidate the table
-cannot see would show, each with its noise and how often to make it (a measurement made k times is entered as
-their mean, sigma/sqrt(k), n = k). In a laboratory the engineer makes them. On
-a twin the truth can be asked: this script runs `wetdem twin` on the twin's own file at the proposed conditions
-(truth and seeds as in the twin, the noise of each measurement the report assumed, drawn from a noise seed of
-its own) and appends those rows to the table. Diagnosing the new table again closes the loop:
+cannot see would show, each with how often to make it. In a laboratory the engineer makes them, as the table's
+rows were made. On a twin the truth can be asked: this script runs `wetdem twin` on the twin's own file at the
+proposed conditions (its truth, seeds and instrument noise, drawn from a noise seed of its own; the report's sigma
+only for an observable the twin has no noise for) and appends those rows to the table. A measurement made k times
+runs k times the truth's seeds (new ones) with the noise over sqrt(k); its row's n counts those runs. Diagnosing the new
+table again closes the loop:
 
     scripts/twin_measure.py TWIN.toml OBS.csv DIAGNOSIS_DIR --out OBS2.csv --store STORE [--noise-seed N]
     build/host/wetdem diagnose D.toml --observations OBS2.csv --out DIAG2 --store STORE
@@ -94,6 +95,26 @@ def toml_value(v):
         return v
     except ValueError:
         return json.dumps(v)
+
+
+def twin_noise(text):
+    """The twin file's [noise] table ({observable: sd}), read without a TOML library (a lent machine may lack one)."""
+    out, inside = {}, False
+    for line in text.splitlines():
+        head = line.split("#")[0].strip()
+        if head.startswith("["):
+            inside = head == "[noise]"
+            continue
+        m = re.match(r'^"?([A-Za-z0-9_.]+)"?\s*=\s*([-+0-9.eE]+)\s*$', head) if inside else None
+        if m:
+            out[m.group(1)] = float(m.group(2))
+    return out
+
+
+def twin_seeds(text):
+    """The twin file's truth seeds (seeds = [..])."""
+    m = re.search(r"^seeds\s*=\s*\[([^\]]*)\]", text, flags=re.M)
+    return [int(x) for x in m.group(1).replace(",", " ").split()] if m else []
 
 
 def twin_for(twin_text, points, noise, noise_seed):
@@ -184,49 +205,57 @@ def main():
         print("nothing to measure: the diagnosis asks for no measurement this table can take")
         return 3
 
-    # One twin call at the new points, every observable asked for with the noise the report assumed.
-    points = []
-    for full, _, _, _ in todo:
-        if full not in points:
-            points.append(full)
-    for r in rows:  # a point of the table (a twin needs two conditions; its runs are in the store)
-        if len(points) >= 2:
-            break
-        p = {k: r[k].strip() for k in keys}
-        if p not in points:
-            points.append(p)
-    # One noise per observable in a twin file: the largest asked for (they share the table's median). A measurement
-    # made k times is entered as their mean, with sigma/sqrt(k): the twin draws that mean's noise (its truth's runs
-    # are the table's; a laboratory's repeats would also fill the drum afresh).
-    noise = {}
-    for _, observable, sigma, repeats in todo:
-        noise[observable] = max(sigma / math.sqrt(repeats), noise.get(observable, 0.0))
     if any(k > 1 for *_, k in todo) and "n" not in header:
         header.insert(header.index("note") if "note" in header else len(header), "n")
         for r in rows:
             r["n"] = ""
-    work = tempfile.mkdtemp(prefix="twin_measure_")
-    tf = os.path.join(work, "twin.toml")
+    # As the table's rows were made: the twin's own instrument noise (its [noise]; the report's sigma for an
+    # observable it has none of, an assay), and the twin's truth seeds. A measurement made k times is k
+    # measurements of k drums: k times the truth's seeds (new ones, after the twin's) and the instrument's noise
+    # over sqrt(k), so that the bed's own spread shrinks with the repeats as a laboratory's would.
+    instrument = twin_noise(twin_text)
+    seeds = twin_seeds(twin_text)
+    if not seeds:
+        sys.exit(f"{a.twin}: no seeds = [...] list")
     # The case path relative to the twin file, as wetdem reads it.
     text = re.sub(r'^case\s*=\s*"([^"]+)"', lambda m: f'case = "{os.path.join(twin_dir, m.group(1))}"', twin_text,
                   flags=re.M)
-    open(tf, "w").write(twin_for(text, points, noise, a.noise_seed))
-    cmd = [a.wetdem, "twin", tf, "--out", os.path.join(work, "twin"), "--store", a.store, "--jobs", str(a.jobs),
-           "--quiet"] + (["--batch", str(a.batch)] if a.batch else [])
-    r = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    if r.returncode != 0:
-        sys.exit(f"wetdem twin failed ({r.returncode}):\n{r.stdout}")
-    with open(os.path.join(work, "twin", "observations.csv"), newline="") as f:
-        measured = list(csv.DictReader(f))
+    measured = {}
+    for k in sorted({rep for *_, rep in todo}):
+        group = [t for t in todo if t[3] == k]
+        points = []
+        for full, _, _, _ in group:
+            if full not in points:
+                points.append(full)
+        for r in rows:  # a point of the table (a twin needs two conditions)
+            if len(points) >= 2:
+                break
+            p = {key: r[key].strip() for key in keys}
+            if p not in points:
+                points.append(p)
+        noise = {}
+        for _, observable, sigma, _ in group:
+            noise[observable] = instrument.get(observable, sigma) / math.sqrt(k)
+        more = [max(seeds) + 1 + j for j in range(len(seeds) * (k - 1))]
+        work = tempfile.mkdtemp(prefix="twin_measure_")
+        tf = os.path.join(work, "twin.toml")
+        body = re.sub(r"^seeds\s*=.*$", f"seeds = {seeds + more}", text, count=1, flags=re.M)
+        open(tf, "w").write(twin_for(body, points, noise, a.noise_seed + k - 1))
+        cmd = [a.wetdem, "twin", tf, "--out", os.path.join(work, "twin"), "--store", a.store, "--jobs", str(a.jobs),
+               "--quiet"] + (["--batch", str(a.batch)] if a.batch else [])
+        r = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        if r.returncode != 0:
+            sys.exit(f"wetdem twin failed ({r.returncode}):\n{r.stdout}")
+        with open(os.path.join(work, "twin", "observations.csv"), newline="") as f:
+            measured[k] = list(csv.DictReader(f))
     added, what = [], []
     for full, observable, _, repeats in todo:
-        row = next((m for m in measured if m["observable"] == observable and same_condition(m, full)), None)
+        row = next((m for m in measured[repeats] if m["observable"] == observable and same_condition(m, full)),
+                   None)
         if row is None:
             sys.exit(f"wetdem twin gave no {observable} at {full}")
         row = {h: row.get(h, "") for h in header}
-        row["note"] = "measured next"
-        if repeats > 1:
-            row["n"] = str(repeats)
+        row["note"] = "measured next"  # n: the truth runs behind it, as the twin counts them (k x its seeds)
         added.append(row)
         what.append(f"{observable} at {', '.join(f'{k}={v}' for k, v in full.items())}"
                     + (f" ({repeats} times)" if repeats > 1 else ""))

@@ -77,7 +77,9 @@ std::string asked_markdown(const Report& r) {
   std::string md =
       "## Measurements to make next\n\n"
       "What the paragraph above asks a laboratory to measure, in its order; a measurement made k times is "
-      "entered in the table as the mean of the k (σ/√k, `n` = k). Sections below give the alternatives.\n\n"
+      "entered in the table as the mean of the k (σ/√k), its `n` the repeats behind it. The noise is the one "
+      "the report assumed there: the table's, and more where the runs spread more. Sections below give the "
+      "alternatives.\n\n"
       "| for | measure | at | times | noise of one (σ) | what one shows (σ) |\n|---|---|---|---|---|---|\n";
   for (const AskedMeasurement& m : asked) {
     const std::string why =

@@ -49,7 +49,7 @@ if args[0] == "twin":
         for p in t["points"]:
             for o, s in t["noise"].items():
                 pct = float(str(p.get("liquid.content", "0")).split()[0])
-                f.write(",".join(json.dumps(str(p[k])) for k in keys) + f",{o},{0.5 + pct / 100},{s},2,twin\n")
+                f.write(",".join(json.dumps(str(p[k])) for k in keys) + f",{o},{0.5 + pct / 100},{s},{len(t['seeds'])},twin\n")
 elif args[0] == "check":
     print("# resolved\n[drum]\nrotation_rad_per_s = 3.141592653589793\n\n[run]\nduration_s = 3")
 elif args[0] == "diagnose":
@@ -122,13 +122,13 @@ text, out = measure(diagnosis(asked("liquid.content=2.5 %", "liquid_free_fractio
 lines = open(out).read().splitlines()
 if lines[:6] != open(obs).read().splitlines():
     fail("the old rows are not kept first and as they were")
-if lines[6:] != ['"2.5 %","30",liquid_free_fraction,0.525,0.0256,2,measured next',
-                 '"20 %","30",liquid_free_fraction,0.7,0.0256,2,measured next']:
-    fail(f"new rows: {lines[6:]}")
+if lines[6:] != ['"2.5 %","30",liquid_free_fraction,0.525,0.02,2,measured next',
+                 '"20 %","30",liquid_free_fraction,0.7,0.02,2,measured next']:
+    fail(f"new rows (the twin's own instrument noise, 0.02, not the report's 0.0256): {lines[6:]}")
 made = tomllib.load(open(os.path.join(root, "tie-and-bound.twin.toml"), "rb"))
 if made["seeds"] != [11, 12] or made["truth"] != {"absorption.capacity": 0.05} or made["noise_seed"] != 77:
     fail(f"the twin file does not keep the truth and seeds or take the noise seed: {made}")
-if "conditions" in made or made["noise"] != {"liquid_free_fraction": 0.0256}:
+if "conditions" in made or made["noise"] != {"liquid_free_fraction": 0.02}:
     fail(f"the twin file keeps the table's [conditions] or other noises: {made}")
 if [p["liquid.content"] for p in made["points"]] != ["2.5 %", "20 %"] or made["points"][0]["drum.rpm"] != 30:
     fail(f"the twin file's points: {made['points']}")
@@ -154,27 +154,39 @@ text, out = measure(diagnosis(asked("liquid.content=10 %, run.duration=12 s", "a
 lines = open(out).read().splitlines()
 if lines[0] != "liquid.content,drum.rpm,run.duration,observable,value,sigma,n,note" \
         or lines[1] != '"0 %","30","3 s",aor_deg_mean,33.7,1.0,2,twin' \
-        or lines[-1] != '"10 %","30","12 s",aor_deg_mean,0.6,0.025,2,measured next':
+        or lines[-1] != '"10 %","30","12 s",aor_deg_mean,0.6,1.0,2,measured next':
     fail(f"the new column:\n{open(out).read()}")
 
-# 4. A measurement made 4 times: entered as the mean of 4, sigma / 2 and n = 4; in the table already, the row is
-# replaced by the new mean.
+# 4. A measurement made 4 times: 4 times the truth's seeds (n = 8 runs), the instrument's noise / 2; in the table
+# already, the row is replaced by the new mean.
 text, out = measure(diagnosis(asked("liquid.content=20 %", "liquid_free_fraction", 0.02, 4, "bound")), "repeated")
 lines = open(out).read().splitlines()
-if lines[-1] != '"20 %","30",liquid_free_fraction,0.7,0.01,4,measured next' or "(4 times)" not in text:
+if lines[-1] != '"20 %","30",liquid_free_fraction,0.7,0.01,8,measured next' or "(4 times)" not in text:
     fail(f"a measurement made 4 times:\n{text}{open(out).read()}")
 made = tomllib.load(open(os.path.join(root, "repeated.twin.toml"), "rb"))
 if made["noise"] != {"liquid_free_fraction": 0.01}:
     fail(f"the twin draws the mean of 4 with sigma/2: {made['noise']}")
+if made["seeds"] != [11, 12, 13, 14, 15, 16, 17, 18]:
+    fail(f"4 measurements are 4 times the truth's seeds, new ones after the twin's: {made['seeds']}")
+# An observable the twin has no noise for (an assay): the report's sigma.
+text, out = measure(diagnosis(asked("liquid.content=20 %", "f_wet_mean", 0.03)), "assay")
+if open(out).read().splitlines()[-1] != '"20 %","30",f_wet_mean,0.7,0.03,2,measured next':
+    fail(f"an observable without the twin's noise takes the report's sigma:\n{text}{open(out).read()}")
+# Measurements made once and twice, at one call of this script: one twin each (seeds and noise of their own).
+text, out = measure(diagnosis(asked("liquid.content=2.5 %", "liquid_free_fraction", 0.02),
+                              asked("liquid.content=20 %", "aor_deg_mean", 1.0, 2, "reach")), "mixed")
+if open(out).read().splitlines()[6:] != ['"2.5 %","30",liquid_free_fraction,0.525,0.02,2,measured next',
+                                         '"20 %","30",aor_deg_mean,0.7,0.7071067811865475,4,measured next']:
+    fail(f"once and twice at one call:\n{text}{open(out).read()}")
 text, out = measure(diagnosis(asked("liquid.content=10 %", "liquid_free_fraction", 0.02, 4, "bound")),
                     "repeated-in-table")
 lines = open(out).read().splitlines()
 if len(lines) != 6 or '"10 %","30",liquid_free_fraction,0.56,0.02,2,twin' in lines \
-        or lines[-1] != '"10 %","30",liquid_free_fraction,0.6,0.01,4,measured next':
+        or lines[-1] != '"10 %","30",liquid_free_fraction,0.6,0.01,8,measured next':
     fail(f"a row of the table made again 4 times replaces it:\n{open(out).read()}")
 # Made 3 times with sigma 0.02: sigma / sqrt(3).
 text, out = measure(diagnosis(asked("liquid.content=2.5 %", "liquid_free_fraction", 0.02, 3)), "tie-repeated")
-if open(out).read().splitlines()[-1] != '"2.5 %","30",liquid_free_fraction,0.525,0.011547005383792516,3,measured next':
+if open(out).read().splitlines()[-1] != '"2.5 %","30",liquid_free_fraction,0.525,0.011547005383792516,6,measured next':
     fail(f"a measurement made 3 times:\n{text}{open(out).read()}")
 
 # 5. twin_matrix.py --measure-next 2, run here and as a --script (a lent GPU): the first report asks for the 20 %
