@@ -247,6 +247,9 @@ def reach(j, out):
         top = max(table[i], beyond[i], r["fresh"]["max_abs_z"] if r.get("fresh") else 0.0)
         where = (f"table: {r['cell']}" if table[i] >= beyond[i]
                  else f"beyond: {r['beyond_observable']} at {r['beyond_condition']}")
+        # Under 3 sigma in one measurement but shown when repeated (power.cpp, beyond_repeats): say how often.
+        if table[i] < beyond[i] < 3.0 and int(r.get("beyond_repeats") or 0) > 1:
+            where += f" (3 σ when measured {int(r['beyond_repeats'])} times)"
         ax.text(top, i, f"  {where}", va="center", fontsize=6.5)
         lab = f"{r['effect']} up to {r['strongest_probed']:.3g}"
         if r.get("extended_from", 0) > 0:
