@@ -279,7 +279,7 @@ void run_beyond(Procedure& p) {
       if (!p.book.reports(*t.c, v, seeds, obs) || !p.book.reports(*t.c, none, seeds, obs)) continue;
       const Prediction x = p.book.predict(*t.c, v, seeds, obs, p.inflation(obs)),
                        y = p.book.predict(*t.c, none, seeds, obs, p.inflation(obs));
-      const double s = noise.sigma.count(obs) ? sigma_at(noise, obs, x.se, y.se) : sd;
+      const double s = sigma_at(noise, obs, x.se, y.se);  // sd, widened where the runs at c spread more
       const double z = std::fabs(x.mean - y.mean) / std::sqrt(s * s + x.se * x.se + y.se * y.se);
       if (!std::isfinite(z) || z <= t.z) continue;
       t.z = z;
