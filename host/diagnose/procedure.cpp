@@ -141,7 +141,7 @@ Procedure::Procedure(const DiagnosisSpec& d_, const DiagnoseOptions& o_)
   }
   for (size_t k = 0; k < tab.cells.size(); ++k)
     tab.cells[k].condition = tab.conditions[tab.cell_condition[k]].si;
-  base_steps = book.particle_steps(tab.conditions.front(), variant("", 0));
+  for (const Condition& c : tab.conditions) base_steps.push_back(book.particle_steps(c, variant("", 0)));
 }
 
 Variant Procedure::variant(const std::string& effect, double s, size_t j, double shape) const {
@@ -157,10 +157,10 @@ Variant Procedure::variant(const std::string& effect, double s, size_t j, double
 }
 
 double Procedure::cost(const Variant& v) const {
-  if (!(base_steps > 0)) return 0.0;
   double worst = 0;
-  for (const Condition& c : tab.conditions) worst = std::max(worst, book.particle_steps(c, v));
-  return worst / base_steps;
+  for (size_t i = 0; i < tab.conditions.size() && i < base_steps.size(); ++i)
+    if (base_steps[i] > 0) worst = std::max(worst, book.particle_steps(tab.conditions[i], v) / base_steps[i]);
+  return worst;
 }
 
 std::string Procedure::want(const Variant& v, const std::vector<uint64_t>& seeds) {

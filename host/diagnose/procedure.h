@@ -174,7 +174,8 @@ class Procedure {
   std::vector<ModelFacts> models;      // per setting
   std::vector<std::string> effects;    // the candidates that can act in the model
   std::vector<uint64_t> base_seeds, fresh_seeds, probe_seeds;
-  double base_steps = 0.0;  // particle-steps of one baseline run (the cost unit of max_cost)
+  // Per table condition: the particle-steps of one baseline run there (the cost unit of max_cost there).
+  std::vector<double> base_steps;
 
   // Filled by the stages, in order.
   std::vector<std::vector<Prediction>> baselines, seed1;  // per refit setting: mean over the seeds, seed 1
@@ -201,9 +202,11 @@ class Procedure {
   // The effect (none: "") at strength s, refit setting j, shape value (NaN: the effect's default shape).
   Variant variant(const std::string& effect, double s, size_t j = 0,
                   double shape = std::numeric_limits<double>::quiet_NaN()) const;
-  // The most particle-steps v needs at any condition of the table, in baseline runs (0 when unknown): the
-  // cost guard's measure (want refuses above max_cost). Particle-steps, not steps: a finer scaling multiplies
-  // the particles as well as the steps (scale 0.4: 4.6x the particles), and counted in steps it ran as cheap.
+  // The most particle-steps v needs at any condition of the table, each in baseline runs at that same
+  // condition (0 when unknown): the cost guard's measure (want refuses above max_cost). Per condition, so
+  // that a table with one long row (a 12 s run beside 3 s ones) does not count every variant's long run
+  // against the short baseline and cap every probe. Particle-steps, not steps: a finer scaling multiplies the
+  // particles as well as the steps (scale 0.4: 4.6x the particles), and counted in steps it ran as cheap.
   double cost(const Variant& v) const;
   // Every condition of the table, with these seeds. "" when wanted; else why it will not run (its cost).
   std::string want(const Variant& v, const std::vector<uint64_t>& seeds);
