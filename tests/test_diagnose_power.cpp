@@ -195,6 +195,19 @@ TEST(DiagnosePower, ThePairScreenCatchesWhatTheSeedsWouldConfirm) {
 
 using namespace wetdem::diagnose;
 
+// Where the strongest strength shows beyond the table by z >= 3 σ, the strength that would show by 3 σ in
+// proportion is run there as well (power.h, weaker_reach_strength): strongest × 3/z to 3 digits, none when
+// the shift is under 3 σ or the proportional strength is within 10 % of the strongest (not worth a run).
+TEST(DiagnosePower, AWeakerStrengthIsRunWhereTheStrongestShowsWellAbove3Sigma) {
+  EXPECT_DOUBLE_EQ(weaker_reach_strength(0.1, 4.0), 0.075);
+  EXPECT_DOUBLE_EQ(weaker_reach_strength(28.0, 9.0), 9.33);
+  EXPECT_DOUBLE_EQ(weaker_reach_strength(0.1, 3.46), 0.0867) << "the micro CI's cohesion beyond the table";
+  EXPECT_DOUBLE_EQ(weaker_reach_strength(0.1, 3.2), 0.0) << "0.0938 is within 10 % of 0.1";
+  EXPECT_DOUBLE_EQ(weaker_reach_strength(0.1, 2.9), 0.0) << "under 3 σ: nothing shows to scale from";
+  EXPECT_DOUBLE_EQ(weaker_reach_strength(0.0, 5.0), 0.0);
+  EXPECT_DOUBLE_EQ(weaker_reach_strength(0.1, std::nan("")), 0.0);
+}
+
 // The reach steps past the file's strongest probe (power.h, next_reach_strength) by the probes' ratio, at
 // least 3x, to the end of the range the model can realise, and stops where less than a quarter more is left.
 TEST(DiagnosePower, TheReachStepsPastTheProbesToTheEndOfTheRange) {

@@ -104,6 +104,12 @@ struct Reach {
   // baseline's seeds did not all run there (a shift seen on one pair is not a claim).
   size_t beyond_repeats = 0;
   double beyond_sigma = 0.0;  // one measurement's noise there, as assumed (sigma_at, next_experiment.h)
+  // Where the strongest shows there by kVisibleZ on the baseline's seeds, the strength that would in
+  // proportion (strongest × kVisibleZ / beyond_z, weaker_reach_strength) is run there as well, on the same
+  // seeds, and its shift of the same observable measured: a shift is linear in a weak strength only roughly
+  // (0 when not run).
+  double beyond_weaker = 0.0;
+  double beyond_weaker_z = 0.0;
   // The fresh runs at the fitted strength against the control (fresh_shift), where the shrink made them.
   bool fresh = false;
   double fresh_at = 0.0, fresh_max_z = 0.0, fresh_chi2_excess = 0.0;
@@ -116,6 +122,10 @@ struct Reach {
   double visible_from = 0.0;
   std::string extension_stop;
 };
+
+// The strength at which a shift of z (>= kVisibleZ) at `strongest` would be kVisibleZ, were it proportional
+// to the strength, to 3 digits; 0 when that is within 10 % of `strongest` (no weaker run worth making).
+double weaker_reach_strength(double strongest, double z);
 
 // The next strength past `strongest` for a candidate the table does not show (extend_reach): one step of the
 // probes' largest ratio (at least 3x, as the fit extends its range: fit.h, next_edge_knot), to 3 digits,

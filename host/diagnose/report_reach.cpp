@@ -70,6 +70,8 @@ std::string reach_markdown(const Report& r) {
                            x.beyond_seeds > 1 ? fmt::format("; {} runs each there", x.beyond_seeds) : "");
     if (x.beyond_repeats > 1)
       beyond += fmt::format("; {} σ when measured {} times", kVisibleZ, x.beyond_repeats);
+    if (x.beyond_weaker > 0)
+      beyond += fmt::format("; at {:.3g}: {:.1f} σ", x.beyond_weaker, x.beyond_weaker_z);
     const std::string fresh =
         x.fresh ? fmt::format("{:.1f} σ ({} at {}), χ² excess {:.1f}, at {:.3g}", x.fresh_max_z,
                               r.cells[x.fresh_cell].observable, r.cell_condition[x.fresh_cell],
@@ -112,6 +114,8 @@ nlohmann::json reach_json(const Report& r) {
                    {"beyond_seeds", x.beyond_seeds},
                    {"beyond_repeats", x.beyond_repeats},
                    {"beyond_sigma", x.beyond_sigma},
+                   {"beyond_weaker_strength", x.beyond_weaker},
+                   {"beyond_weaker_max_abs_z", x.beyond_weaker_z},
                    {"fresh", x.fresh ? nlohmann::json{{"strength", x.fresh_at},
                                                       {"max_abs_z", x.fresh_max_z},
                                                       {"cell", r.cells[x.fresh_cell].observable + " at " +
