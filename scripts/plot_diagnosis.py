@@ -242,15 +242,15 @@ def reach(j, out):
     fresh = [(i, r["fresh"]["max_abs_z"]) for i, r in enumerate(rows) if r.get("fresh")]
     if fresh:
         ax.plot([f[1] for f in fresh], [f[0] for f in fresh], "k^", ms=6, label="fresh runs at the fitted strength")
-    # Where the strongest showed beyond the table by 3 sigma, the strength that would in proportion ran there too
-    # (power.cpp, beyond_weaker): its measured shift, on the same row.
-    weaker = [(i, r["beyond_weaker_max_abs_z"], r["beyond_weaker_strength"]) for i, r in enumerate(rows)
-              if (r.get("beyond_weaker_strength") or 0) > 0]
+    # Where the strongest showed beyond the table by 3 sigma, weaker strengths ran there too (power.cpp,
+    # beyond_weaker): each one's measured shift, on the same row.
+    weaker = [(i, w["max_abs_z"], w["strength"]) for i, r in enumerate(rows)
+              for w in ((r.get("beyond_weaker") or {}).get("runs") or [])]
     if weaker:
         ax.plot([w[1] for w in weaker], [w[0] for w in weaker], "D", color="saddlebrown", ms=5,
-                label="beyond, at the weaker strength 3 σ needs in proportion")
+                label="beyond, at weaker strengths (the same seeds)")
         for i, z, s in weaker:
-            ax.annotate(f"at {s:.3g}", (z, i), textcoords="offset points", xytext=(0, -9), ha="center", fontsize=6)
+            ax.annotate(f"{s:.3g}", (z, i), textcoords="offset points", xytext=(0, -9), ha="center", fontsize=6)
     labels = []
     for i, r in enumerate(rows):
         top = max(table[i], beyond[i], r["fresh"]["max_abs_z"] if r.get("fresh") else 0.0)

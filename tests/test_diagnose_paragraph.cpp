@@ -536,24 +536,24 @@ TEST(DiagnoseParagraph, AnUnseenCandidateNamesTheRepeatsThatWouldShowIt) {
                 "the strength, 3 σ there needs about 0.075)"),
       std::string::npos)
       << once;
-  // That weaker strength ran there too (run_beyond): what it measured replaces the estimate, both ways.
-  r.reach[0].beyond_weaker = 0.075, r.reach[0].beyond_weaker_z = 3.3;
+  // Weaker strengths ran there too (run_beyond): what they measured replaces the estimate, both ways.
+  r.reach[0].beyond_weaker = {{0.075, 3.3}};
   const std::string shown = verdict_paragraph(r);
   EXPECT_NE(
-      shown.find("(run there at 0.075 as well, what 3 σ needs in proportion, it differs by 3.3 σ: a truth "
-                 "from about 0.075 shows there)"),
+      shown.find(
+          "(run there on the same seeds at 0.075 (3.3 σ) as well: a truth from about 0.075 shows there)"),
       std::string::npos)
       << shown;
   EXPECT_EQ(shown.find("needs about"), std::string::npos)
       << "an estimate beside the measured shift: " << shown;
-  r.reach[0].beyond_weaker_z = 1.2;
+  r.reach[0].beyond_weaker = {{0.075, 1.2}, {0.0866, 2.6}};
   const std::string under = verdict_paragraph(r);
-  EXPECT_NE(
-      under.find("run there at 0.075, what 3 σ needs in proportion, it differs by only 1.2 σ, so 3 σ there "
-                 "needs a strength between 0.075 and 0.1)"),
-      std::string::npos)
+  EXPECT_NE(under.find(
+                "run there on the same seeds at 0.075 (1.2 σ), 0.0866 (2.6 σ), so 3 σ there needs a strength "
+                "between 0.0866 and 0.1)"),
+            std::string::npos)
       << under;
-  r.reach[0].beyond_weaker = 0.0, r.reach[0].beyond_weaker_z = 0.0;
+  r.reach[0].beyond_weaker.clear();
   r.reach[0].beyond_z = 1.8, r.reach[0].beyond_seeds = 4;
   r.reach[0].beyond_repeats = 0;  // the runs' own error hides it: no number of repeats would
   const std::string silent = verdict_paragraph(r);

@@ -195,17 +195,44 @@ TEST(DiagnosePower, ThePairScreenCatchesWhatTheSeedsWouldConfirm) {
 
 using namespace wetdem::diagnose;
 
-// Where the strongest strength shows beyond the table by z >= 3 σ, the strength that would show by 3 σ in
-// proportion is run there as well (power.h, weaker_reach_strength): strongest × 3/z to 3 digits, none when
-// the shift is under 3 σ or the proportional strength is within 10 % of the strongest (not worth a run).
-TEST(DiagnosePower, AWeakerStrengthIsRunWhereTheStrongestShowsWellAbove3Sigma) {
-  EXPECT_DOUBLE_EQ(weaker_reach_strength(0.1, 4.0), 0.075);
-  EXPECT_DOUBLE_EQ(weaker_reach_strength(28.0, 9.0), 9.33);
-  EXPECT_DOUBLE_EQ(weaker_reach_strength(0.1, 3.46), 0.0867) << "the micro CI's cohesion beyond the table";
-  EXPECT_DOUBLE_EQ(weaker_reach_strength(0.1, 3.2), 0.0) << "0.0938 is within 10 % of 0.1";
-  EXPECT_DOUBLE_EQ(weaker_reach_strength(0.1, 2.9), 0.0) << "under 3 σ: nothing shows to scale from";
-  EXPECT_DOUBLE_EQ(weaker_reach_strength(0.0, 5.0), 0.0);
-  EXPECT_DOUBLE_EQ(weaker_reach_strength(0.1, std::nan("")), 0.0);
+// Where the strongest strength shows beyond the table by z >= 3 σ, weaker strengths run there too (power.h,
+// next_weaker_strength): first the one that would show by 3 σ in proportion (strongest × 3/z, 3 digits),
+// then, once one fell short, the geometric middle of the bracket; none when nothing shows, or the step lands
+// within 10 % of a strength already run (not worth a run).
+TEST(DiagnosePower, WeakerStrengthsBracketWhereAShiftBeyondTheTableStartsToShow) {
+  EXPECT_DOUBLE_EQ(next_weaker_strength(0.1, 4.0, {}), 0.075);
+  EXPECT_DOUBLE_EQ(next_weaker_strength(28.0, 9.0, {}), 9.33);
+  EXPECT_DOUBLE_EQ(next_weaker_strength(0.1, 3.46, {}), 0.0867) << "the micro CI's cohesion beyond the table";
+  EXPECT_DOUBLE_EQ(next_weaker_strength(0.1, 3.2, {}), 0.0) << "0.0938 is within 10 % of 0.1";
+  EXPECT_DOUBLE_EQ(next_weaker_strength(0.1, 2.9, {}), 0.0) << "under 3 σ: nothing shows to scale from";
+  EXPECT_DOUBLE_EQ(next_weaker_strength(0.0, 5.0, {}), 0.0);
+  EXPECT_DOUBLE_EQ(next_weaker_strength(0.1, std::nan(""), {}), 0.0);
+  // The flowing viscous-weak twin's table: 0.1 Pa s at 6.0 σ, its proportional 0.0503 at 1.8 σ: the middle.
+  const std::vector<WeakerRun> fell{{0.0503, 1.8}};
+  EXPECT_DOUBLE_EQ(next_weaker_strength(0.1, 5.97, fell), 0.0709);
+  WeakerBracket b = weaker_bracket(0.1, 5.97, fell);
+  EXPECT_DOUBLE_EQ(b.from, 0.1);
+  EXPECT_DOUBLE_EQ(b.below, 0.0503);
+  // The middle shows: the bracket closes from above; it is now 0.0503-0.0709, and its middle is next.
+  const std::vector<WeakerRun> closed{{0.0503, 1.8}, {0.0709, 3.4}};
+  b = weaker_bracket(0.1, 5.97, closed);
+  EXPECT_DOUBLE_EQ(b.from, 0.0709);
+  EXPECT_DOUBLE_EQ(b.from_z, 3.4);
+  EXPECT_DOUBLE_EQ(b.below, 0.0503);
+  EXPECT_DOUBLE_EQ(next_weaker_strength(0.1, 5.97, closed), 0.0597);
+  // A proportional step that shows again steps on from it (0.0868 at 3.6 σ: 0.0723).
+  const std::vector<WeakerRun> shown{{0.0868, 3.6}};
+  b = weaker_bracket(0.1, 3.46, shown);
+  EXPECT_DOUBLE_EQ(b.from, 0.0868);
+  EXPECT_DOUBLE_EQ(b.below, 0.0);
+  EXPECT_DOUBLE_EQ(next_weaker_strength(0.1, 3.46, shown), 0.0723);
+  // A bracket narrower than 10 % either side of its middle is closed.
+  EXPECT_DOUBLE_EQ(next_weaker_strength(0.1, 5.0, {{0.085, 2.5}, {0.092, 3.1}}), 0.0);
+  // A shift that is not monotonic in the strength (noise): the bracket takes the weakest that showed and the
+  // strongest under it that fell short.
+  b = weaker_bracket(0.1, 5.0, {{0.05, 3.2}, {0.07, 2.4}});
+  EXPECT_DOUBLE_EQ(b.from, 0.05);
+  EXPECT_DOUBLE_EQ(b.below, 0.0);
 }
 
 // The reach steps past the file's strongest probe (power.h, next_reach_strength) by the probes' ratio, at

@@ -123,25 +123,29 @@ std::string beyond_clause(const Reach& x) {
   // The runs beyond the table are of the strongest strength only: the promise is for that strength, and a
   // weaker truth shifts less (the flowing viscous-weak twin, 0.03 Pa s: promised 4.0 σ at 0.1 Pa s, measured
   // 1.1 σ; docs/validation.md). In proportion to the strength (a small shift is linear in it) 3 σ needs
-  // strongest × 3/z: said as an estimate.
-  // When that weaker strength ran there too (run_beyond, beyond_weaker), its measured shift replaces the
-  // estimate: at or over kVisibleZ, a truth from about it shows there; under, 3 σ needs a strength between it
-  // and the strongest (the shift fell faster than the strength).
+  // strongest × 3/z: said as an estimate where no weaker run was made.
+  // When weaker strengths ran there too (run_beyond, beyond_weaker), what they measured replaces the
+  // estimate: the weakest that reached kVisibleZ, and the strongest under it that fell short
+  // (weaker_bracket).
   const std::string at = fmt::format("{} = {:.3g}", effect_spec(x.effect).strength, x.strongest);
   if (x.beyond_z >= kVisibleZ) {
     std::string weaker =
         fmt::format("a weaker one shifts less: in proportion to the strength, 3 σ there needs about {:.3g}",
                     x.strongest * kVisibleZ / x.beyond_z);
-    if (x.beyond_weaker > 0 && x.beyond_weaker_z >= kVisibleZ)
-      weaker = fmt::format(
-          "run there at {:.3g} as well, what 3 σ needs in proportion, it differs by {:.1f} σ: a "
-          "truth from about {:.3g} shows there",
-          x.beyond_weaker, x.beyond_weaker_z, x.beyond_weaker);
-    else if (x.beyond_weaker > 0)
-      weaker = fmt::format(
-          "a weaker one shifts less: run there at {:.3g}, what 3 σ needs in proportion, it "
-          "differs by only {:.1f} σ, so 3 σ there needs a strength between {:.3g} and {:.3g}",
-          x.beyond_weaker, x.beyond_weaker_z, x.beyond_weaker, x.strongest);
+    if (!x.beyond_weaker.empty()) {
+      std::string runs;
+      for (const WeakerRun& w : x.beyond_weaker)
+        runs += fmt::format("{}{:.3g} ({:.1f} σ)", runs.empty() ? "" : ", ", w.strength, w.z);
+      const WeakerBracket b = weaker_bracket(x.strongest, x.beyond_z, x.beyond_weaker);
+      weaker = b.below > 0 ? fmt::format(
+                                 "a weaker one shifts less: run there on the same seeds at {}, so 3 σ there "
+                                 "needs a strength between {:.3g} and {:.3g}",
+                                 runs, b.below, b.from)
+                           : fmt::format(
+                                 "run there on the same seeds at {} as well: a truth from about {:.3g} "
+                                 "shows there",
+                                 runs, b.from);
+    }
     return fmt::format(
         "; **to see it, measure {} at {}**, where {} of it at {} and of the model differ by "
         "{:.1f} σ ({})",

@@ -161,10 +161,27 @@ double reach_screen_z(size_t replicates, size_t probe_seeds) {
   return kVisibleZ * std::sqrt(double(np) / double(std::max(np, replicates)));
 }
 
-double weaker_reach_strength(double strongest, double z) {
-  if (!(z >= kVisibleZ) || !(strongest > 0)) return 0.0;
-  const double s = rounded_strength(strongest * kVisibleZ / z);
-  return s < 0.9 * strongest ? s : 0.0;
+WeakerBracket weaker_bracket(double strongest, double z, const std::vector<WeakerRun>& runs) {
+  WeakerBracket b;
+  if (!(z >= kVisibleZ) || !(strongest > 0)) return b;
+  b.from = strongest, b.from_z = z;
+  for (const WeakerRun& w : runs)
+    if (w.z >= kVisibleZ && w.strength < b.from) b.from = w.strength, b.from_z = w.z;
+  for (const WeakerRun& w : runs)
+    if (!(w.z >= kVisibleZ) && w.strength < b.from && w.strength > b.below)
+      b.below = w.strength, b.below_z = w.z;
+  return b;
+}
+
+double next_weaker_strength(double strongest, double z, const std::vector<WeakerRun>& runs) {
+  const WeakerBracket b = weaker_bracket(strongest, z, runs);
+  if (!(b.from > 0)) return 0.0;
+  const double s =
+      rounded_strength(b.below > 0 ? std::sqrt(b.below * b.from) : b.from * kVisibleZ / b.from_z);
+  if (!(s > 0) || s >= 0.9 * b.from || (b.below > 0 && s <= 1.1 * b.below)) return 0.0;
+  for (const WeakerRun& w : runs)
+    if (std::fabs(s - w.strength) < 0.1 * w.strength) return 0.0;
+  return s;
 }
 
 double next_reach_strength(double strongest, const std::vector<double>& probes, double hi) {
@@ -368,41 +385,59 @@ void run_beyond(Procedure& p) {
   }
   // The promise is for the strongest strength; a weaker truth shifts less (the flowing viscous-weak twin,
   // 0.03 Pa s: promised 4.0 σ at 0.1 Pa s, measured 1.1 σ; docs/validation.md). Where the strongest shows by
-  // kVisibleZ on the baseline's seeds, the strength that would in proportion runs there too, on those seeds,
-  // so the report says what it measured instead of what a straight line gives.
-  std::vector<std::pair<size_t, Tried>> weaker;
+  // kVisibleZ on the baseline's seeds, weaker strengths run there too, on those seeds (next_weaker_strength:
+  // the proportional one, then the bracket's middle), so the report says from about which strength it shows
+  // there as measured, not as a straight line gives.
+  struct Weaker {
+    size_t i;
+    Tried t;
+    bool done;
+  };
+  std::vector<Weaker> weaker;
   for (size_t i = 0; i < p.reach.size(); ++i) {
-    Reach& r = p.reach[i];
-    if (tried[i].empty() || r.beyond_z < kVisibleZ || r.beyond_seeds < p.base_seeds.size()) continue;
-    const double s = weaker_reach_strength(r.strongest, r.beyond_z);
-    if (s <= 0) continue;
-    const Variant v = p.variant(r.effect, s);
-    if (const std::string f = p.failure(v, p.probe_seeds); !f.empty()) {
-      p.notes.push_back(
-          fmt::format("reach: {} failed before ({}); not run at {}", v.label(), f, r.beyond_condition));
-      continue;
-    }
-    try {
-      p.book.want(*largest(tried[i])->c, v, p.base_seeds);
-      weaker.emplace_back(i, *largest(tried[i]));
-      r.beyond_weaker = s;
-    } catch (const study::StudyError& e) {
-      p.notes.push_back(
-          fmt::format("reach: {} at {}: cannot be run: {}", v.label(), r.beyond_condition, e.what()));
-    }
+    const Reach& r = p.reach[i];
+    if (!tried[i].empty() && r.beyond_z >= kVisibleZ && r.beyond_seeds >= p.base_seeds.size())
+      weaker.push_back({i, *largest(tried[i]), false});
   }
-  if (weaker.empty()) return;
-  p.run();
-  for (auto& [i, t] : weaker) {
-    Reach& r = p.reach[i];
-    const Variant v = p.variant(r.effect, r.beyond_weaker);
-    if (const std::string why = p.book.failure({*t.c}, v, p.base_seeds); !why.empty()) {
-      p.notes.push_back(fmt::format("reach: {} at {}: {}", v.label(), t.c->label, why));
-      r.beyond_weaker = 0.0;
-      continue;
+  for (int step = 0; step < kWeakerSteps; ++step) {
+    std::vector<std::pair<Weaker*, double>> asked;
+    for (Weaker& w : weaker) {
+      const Reach& r = p.reach[w.i];
+      const double s = w.done ? 0.0 : next_weaker_strength(r.strongest, r.beyond_z, r.beyond_weaker);
+      if (s <= 0) {
+        w.done = true;
+        continue;
+      }
+      const Variant v = p.variant(r.effect, s);
+      if (const std::string f = p.failure(v, p.probe_seeds); !f.empty()) {
+        p.notes.push_back(
+            fmt::format("reach: {} failed before ({}); not run at {}", v.label(), f, w.t.c->label));
+        w.done = true;
+        continue;
+      }
+      try {
+        p.book.want(*w.t.c, v, p.base_seeds);
+        asked.emplace_back(&w, s);
+      } catch (const study::StudyError& e) {
+        p.notes.push_back(
+            fmt::format("reach: {} at {}: cannot be run: {}", v.label(), w.t.c->label, e.what()));
+        w.done = true;
+      }
     }
-    shift_at(r, t, p.base_seeds, r.beyond_weaker, r.beyond_observable);
-    r.beyond_weaker_z = t.z;
+    if (asked.empty()) break;
+    p.run();
+    for (auto& [w, s] : asked) {
+      Reach& r = p.reach[w->i];
+      const Variant v = p.variant(r.effect, s);
+      if (const std::string why = p.book.failure({*w->t.c}, v, p.base_seeds); !why.empty()) {
+        p.notes.push_back(fmt::format("reach: {} at {}: {}", v.label(), w->t.c->label, why));
+        w->done = true;
+        continue;
+      }
+      Tried t = w->t;
+      shift_at(r, t, p.base_seeds, s, r.beyond_observable);
+      r.beyond_weaker.push_back({s, t.z});
+    }
   }
 }
 

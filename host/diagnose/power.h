@@ -80,6 +80,12 @@ bool names_unseen_lead(const Shift& sh, size_t n, double chi2_control, double ch
 // share the refit setting; false otherwise.
 bool fresh_shift_of(const Procedure& p, const std::string& effect, Shift* out, double* strength);
 
+// A weaker strength run beyond the table where the strongest showed (Reach::beyond_weaker): its shift there.
+struct WeakerRun {
+  double strength = 0.0;
+  double z = 0.0;
+};
+
 struct Reach {
   std::string effect;
   double strongest = 0.0;    // the strongest strength with probe runs at every condition (0: none could run)
@@ -104,12 +110,10 @@ struct Reach {
   // baseline's seeds did not all run there (a shift seen on one pair is not a claim).
   size_t beyond_repeats = 0;
   double beyond_sigma = 0.0;  // one measurement's noise there, as assumed (sigma_at, next_experiment.h)
-  // Where the strongest shows there by kVisibleZ on the baseline's seeds, the strength that would in
-  // proportion (strongest × kVisibleZ / beyond_z, weaker_reach_strength) is run there as well, on the same
-  // seeds, and its shift of the same observable measured: a shift is linear in a weak strength only roughly
-  // (0 when not run).
-  double beyond_weaker = 0.0;
-  double beyond_weaker_z = 0.0;
+  // Where the strongest shows there by kVisibleZ on the baseline's seeds, weaker strengths run there too, on
+  // the same seeds, up to kWeakerSteps of them (next_weaker_strength), each with its shift of the same
+  // observable: a shift is linear in a weak strength only roughly. In the order run; empty when none ran.
+  std::vector<WeakerRun> beyond_weaker;
   // The fresh runs at the fitted strength against the control (fresh_shift), where the shrink made them.
   bool fresh = false;
   double fresh_at = 0.0, fresh_max_z = 0.0, fresh_chi2_excess = 0.0;
@@ -123,9 +127,23 @@ struct Reach {
   std::string extension_stop;
 };
 
-// The strength at which a shift of z (>= kVisibleZ) at `strongest` would be kVisibleZ, were it proportional
-// to the strength, to 3 digits; 0 when that is within 10 % of `strongest` (no weaker run worth making).
-double weaker_reach_strength(double strongest, double z);
+// How many weaker strengths run_beyond tries where the strongest shows beyond the table.
+constexpr int kWeakerSteps = 2;
+
+// The weakest strength that shows at that condition, as far as the runs there tell (the strongest, shifting
+// by z, and the weaker runs): `from`, the weakest strength whose shift reaches kVisibleZ, and `below`, the
+// strongest one under it whose shift fell short (0: none did). Pure (tests).
+struct WeakerBracket {
+  double from = 0.0, from_z = 0.0;
+  double below = 0.0, below_z = 0.0;
+};
+WeakerBracket weaker_bracket(double strongest, double z, const std::vector<WeakerRun>& runs);
+
+// The next weaker strength to run there: while none has fallen short, the one at which the weakest that
+// shows would shift by kVisibleZ were the shift proportional to the strength (from × kVisibleZ / from_z);
+// once one has, the geometric middle of the bracket. To 3 digits; 0 when that is within 10 % of a strength
+// already run, or nothing shows (z under kVisibleZ). Pure (tests).
+double next_weaker_strength(double strongest, double z, const std::vector<WeakerRun>& runs);
 
 // The next strength past `strongest` for a candidate the table does not show (extend_reach): one step of the
 // probes' largest ratio (at least 3x, as the fit extends its range: fit.h, next_edge_knot), to 3 digits,

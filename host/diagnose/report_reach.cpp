@@ -18,6 +18,15 @@ std::string inflation_text(const std::map<std::string, double>& f) {
   return out.empty() ? "none needed" : out;
 }
 
+// The weaker strengths run where the strongest showed beyond the table, and the bracket they give
+// (weaker_bracket: shows_from, the weakest that reached 3 σ; short_at, the strongest under it that did not).
+nlohmann::json weaker_json(const Reach& x) {
+  nlohmann::json runs = nlohmann::json::array();
+  for (const WeakerRun& w : x.beyond_weaker) runs.push_back({{"strength", w.strength}, {"max_abs_z", w.z}});
+  const WeakerBracket b = weaker_bracket(x.strongest, x.beyond_z, x.beyond_weaker);
+  return {{"runs", runs}, {"shows_from", b.from}, {"short_at", b.below}};
+}
+
 }  // namespace
 
 std::string reach_stop_words(const std::string& stop) {
@@ -70,8 +79,8 @@ std::string reach_markdown(const Report& r) {
                            x.beyond_seeds > 1 ? fmt::format("; {} runs each there", x.beyond_seeds) : "");
     if (x.beyond_repeats > 1)
       beyond += fmt::format("; {} σ when measured {} times", kVisibleZ, x.beyond_repeats);
-    if (x.beyond_weaker > 0)
-      beyond += fmt::format("; at {:.3g}: {:.1f} σ", x.beyond_weaker, x.beyond_weaker_z);
+    for (const WeakerRun& w : x.beyond_weaker)
+      beyond += fmt::format("; at {:.3g}: {:.1f} σ", w.strength, w.z);
     const std::string fresh =
         x.fresh ? fmt::format("{:.1f} σ ({} at {}), χ² excess {:.1f}, at {:.3g}", x.fresh_max_z,
                               r.cells[x.fresh_cell].observable, r.cell_condition[x.fresh_cell],
@@ -114,8 +123,7 @@ nlohmann::json reach_json(const Report& r) {
                    {"beyond_seeds", x.beyond_seeds},
                    {"beyond_repeats", x.beyond_repeats},
                    {"beyond_sigma", x.beyond_sigma},
-                   {"beyond_weaker_strength", x.beyond_weaker},
-                   {"beyond_weaker_max_abs_z", x.beyond_weaker_z},
+                   {"beyond_weaker", weaker_json(x)},
                    {"fresh", x.fresh ? nlohmann::json{{"strength", x.fresh_at},
                                                       {"max_abs_z", x.fresh_max_z},
                                                       {"cell", r.cells[x.fresh_cell].observable + " at " +
