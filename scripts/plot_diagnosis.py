@@ -253,7 +253,8 @@ def reach(j, out):
             ax.annotate(f"{s:.3g}", (z, i), textcoords="offset points", xytext=(0, -9), ha="center", fontsize=6)
     labels = []
     for i, r in enumerate(rows):
-        top = max(table[i], beyond[i], r["fresh"]["max_abs_z"] if r.get("fresh") else 0.0)
+        top = max([table[i], beyond[i], r["fresh"]["max_abs_z"] if r.get("fresh") else 0.0] +
+                  [w[1] for w in weaker if w[0] == i])
         where = (f"table: {r['cell']}" if table[i] >= beyond[i]
                  else f"beyond: {r['beyond_observable']} at {r['beyond_condition']}")
         # Under 3 sigma in one measurement but shown when repeated (power.cpp, beyond_repeats): say how often.
@@ -267,7 +268,8 @@ def reach(j, out):
     ax.axvline(3.0, color="tab:red", ls=":", lw=1.2, label="3 σ: a cell shows it")
     ax.set_yticks(y, labels, fontsize=7)
     ax.invert_yaxis()
-    right = max(max(table), max(beyond), max((f[1] for f in fresh), default=0.0), 3.0)
+    right = max(max(table), max(beyond), max((f[1] for f in fresh), default=0.0),
+                max((w[1] for w in weaker), default=0.0), 3.0)
     ax.set_xlim(0, right * 1.9)
     ax.set_xlabel("largest shift of one cell (σ of the cell's noise and the runs' own)")
     ax.set_title("What this table can see: each candidate against the model without it", fontsize=9)
