@@ -249,8 +249,6 @@ def reach(j, out):
     if weaker:
         ax.plot([w[1] for w in weaker], [w[0] for w in weaker], "D", color="saddlebrown", ms=5,
                 label="beyond, at weaker strengths (the same seeds)")
-        for i, z, s in weaker:
-            ax.annotate(f"{s:.3g}", (z, i), textcoords="offset points", xytext=(0, -9), ha="center", fontsize=6)
     labels = []
     for i, r in enumerate(rows):
         top = max([table[i], beyond[i], r["fresh"]["max_abs_z"] if r.get("fresh") else 0.0] +
@@ -260,6 +258,10 @@ def reach(j, out):
         # Under 3 sigma in one measurement but shown when repeated (power.cpp, beyond_repeats): say how often.
         if table[i] < beyond[i] < 3.0 and int(r.get("beyond_repeats") or 0) > 1:
             where += f" (3 σ when measured {int(r['beyond_repeats'])} times)"
+        # The weaker strengths run there, in the text (markers close together would hide their labels).
+        runs = [f"{w[2]:.3g}: {w[1]:.1f} σ" for w in weaker if w[0] == i]
+        if runs:
+            where += "\n  weaker, there: " + ", ".join(runs)
         ax.text(top, i, f"  {where}", va="center", fontsize=6.5)
         lab = f"{r['effect']} up to {r['strongest_probed']:.3g}"
         if r.get("extended_from", 0) > 0:
