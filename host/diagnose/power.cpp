@@ -178,7 +178,8 @@ double next_weaker_strength(double strongest, double z, const std::vector<Weaker
   if (!(b.from > 0)) return 0.0;
   const double s =
       rounded_strength(b.below > 0 ? std::sqrt(b.below * b.from) : b.from * kVisibleZ / b.from_z);
-  if (!(s > 0) || s >= 0.9 * b.from || (b.below > 0 && s <= 1.1 * b.below)) return 0.0;
+  // Within 10 % of a strength already run (the bracket's ends among them): not worth a run.
+  if (!(s > 0) || std::fabs(s - strongest) < 0.1 * strongest) return 0.0;
   for (const WeakerRun& w : runs)
     if (std::fabs(s - w.strength) < 0.1 * w.strength) return 0.0;
   return s;
