@@ -563,3 +563,57 @@ TEST(DiagnoseParagraph, AnUnseenCandidateNamesTheRepeatsThatWouldShowIt) {
       << silent;
   EXPECT_EQ(silent.find("times**"), std::string::npos) << silent;
 }
+
+// A table without a gap says what it rules out (limits.h): a limit bracketed by runs with its interpolation,
+// one under the weakest run, the shape a sink's limit holds at, and a visible candidate still allowed at its
+// strongest run; a candidate the table cannot see is left to the blind sentence.
+TEST(DiagnoseParagraph, NoGapSaysWhatTheTableRulesOut) {
+  Report r = unexplained(0.0);
+  r.verdict.kind = "no_gap";
+  r.verdict.ranking.clear();
+  r.gaps[1].significant = false;
+  const std::string plain = verdict_paragraph(r);
+  EXPECT_EQ(plain.find("rules out"), std::string::npos) << plain;
+  r.limits = {limit_of("cohesion", {{0.003, 2.1}, {0.01, 41.0}}, kRuleOutDelta),
+              limit_of("absorption", {{0.05, 753.4}}, kRuleOutDelta),
+              limit_of("evaporation", {{0.1, 4.2}}, kRuleOutDelta),
+              limit_of("viscous", {{0.1, 1.0}}, kRuleOutDelta)};
+  for (const char* e : {"cohesion", "absorption", "evaporation", "viscous"}) {
+    Reach x;
+    x.effect = e;
+    x.visible = std::string(e) != "viscous";
+    r.reach.push_back(x);
+  }
+  const std::string p = verdict_paragraph(r);
+  EXPECT_NE(p.find("**What this table rules out**"), std::string::npos) << p;
+  EXPECT_NE(p.find("`cohesion` from w (J/m2) = 0.01 (Δχ² +41.0; 0.003 is allowed (+2.1), so the limit lies "
+                   "between them, about 0.00"),
+            std::string::npos)
+      << p;
+  EXPECT_NE(p.find("`absorption` from pore capacity (fraction of own volume) = 0.05 at rate k (1/s) = 3 "
+                   "(Δχ² +753.4; no weaker strength was run)"),
+            std::string::npos)
+      << p;
+  EXPECT_NE(p.find("Still allowed at the strongest strength run: `evaporation` (0.1, Δχ² +4.2);"),
+            std::string::npos)
+      << p;
+  const std::string ruled = p.substr(0, p.find("cannot see"));
+  EXPECT_EQ(ruled.find("`viscous`"), std::string::npos) << p;
+  // A candidate the gap search sees only when strong, ruled out below that by the direct comparison: the
+  // "seen only when strong" entry says so.
+  r.cell_condition.assign(3, "liquid.content=5 %");
+  r.limits.push_back(limit_of("scale", {{0.2, 18.1}, {0.4, 97.7}}, kRuleOutDelta));
+  Reach x;
+  x.effect = "scale";
+  x.visible = true;
+  x.strongest = 0.4, x.extended_from = 0.3, x.visible_from = 0.4, x.max_z = 4.2;
+  r.reach.push_back(x);
+  const std::string q = verdict_paragraph(r);
+  const std::string strong = q.substr(q.find("Seen only when strong"));
+  EXPECT_NE(strong.find("`scale` moves no cell by 3 σ up to the strongest strength probed before"),
+            std::string::npos)
+      << q;
+  EXPECT_NE(strong.find("set against its runs directly, the observations rule it out from 0.2"),
+            std::string::npos)
+      << q;
+}

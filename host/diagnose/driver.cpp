@@ -10,6 +10,7 @@
 
 #include "diagnose/baseline.h"
 #include "diagnose/fit_stage.h"
+#include "diagnose/limits.h"
 #include "diagnose/next_bound.h"
 #include "diagnose/next_experiment.h"
 #include "diagnose/power.h"
@@ -133,6 +134,7 @@ void run_after_verdict(Procedure& p, StageClock& clock) {
     clock.done("bound experiment");
   }
   run_reach(p);  // 8. what the table can see of each candidate (its strongest probe if none shows it)
+  p.limits = table_limits(p);  // 8b. what a table without a gap rules out (no runs)
   clock.done("reach");
 }
 

@@ -173,6 +173,16 @@ std::string code_list(const std::vector<std::string>& v) {
   return s;
 }
 
+// Where a table without a gap rules a candidate out at a strength its reach calls unseen (limits.h): the
+// direct comparison is the sharper test, and the silence of the gap search holds only below it.
+std::string directly_ruled_clause(const Report& r, const std::string& effect) {
+  for (const Limit& l : r.limits)
+    if (l.effect == effect && l.ruled_out_from > 0)
+      return fmt::format(" (set against its runs directly, the observations rule it out from {:.3g}: above)",
+                         l.ruled_out_from);
+  return "";
+}
+
 // The candidates this table cannot show (power.h): what the verdict is silent on, where each comes closest,
 // and where it would show.
 std::string blind_sentence(const Report& r) {
@@ -191,7 +201,8 @@ std::string blind_sentence(const Report& r) {
                       x.extension_stop.empty() || x.extension_stop == "reach_steps"
                           ? std::string()
                           : ", " + reach_stop_words(x.extension_stop),
-                      r.cells[x.cell].observable, r.cell_condition[x.cell], beyond_clause(x));
+                      r.cells[x.cell].observable, r.cell_condition[x.cell], beyond_clause(x)) +
+                      directly_ruled_clause(r, x.effect);
     ++n;
   }
   if (n == 0) return "";
@@ -211,15 +222,61 @@ std::string strong_only_sentence(const Report& r) {
     list += list.empty() ? "" : "; ";
     list += fmt::format(
         "`{}` moves no cell by 3 σ up to the strongest strength probed before, {} = {:.3g}, but does "
-        "at {:.3g} ({:.1f} σ on {} at {})",
+        "at {:.3g} ({:.1f} σ on {} at {}){}",
         x.effect, effect_spec(x.effect).strength, x.extended_from, x.visible_from, x.max_z,
-        r.cells[x.cell].observable, r.cell_condition[x.cell]);
+        r.cells[x.cell].observable, r.cell_condition[x.cell], directly_ruled_clause(r, x.effect));
   }
   if (list.empty()) return "";
   return fmt::format(
       " **Seen only when strong:** {}. Below that strength this table cannot tell it from the model, so "
       "the verdict neither finds nor excludes it there; stronger, it would have moved a cell.",
       list);
+}
+
+// What a table without a gap rules out (limits.h): each candidate's limit where its runs bracket one, and
+// the visible ones the observations still allow at the strongest strength run. The unseen ones are the
+// blind sentence's.
+std::string limits_sentence(const Report& r) {
+  std::string out, allowed;
+  for (const Limit& l : r.limits) {
+    const auto reach =
+        std::find_if(r.reach.begin(), r.reach.end(), [&](const Reach& x) { return x.effect == l.effect; });
+    const EffectSpec& e = effect_spec(l.effect);
+    if (l.ruled_out_from > 0) {
+      const LimitRun& ro = *std::find_if(l.runs.begin(), l.runs.end(),
+                                         [&](const LimitRun& x) { return x.strength == l.ruled_out_from; });
+      std::string under = "no weaker strength was run";
+      if (l.allowed_to > 0) {
+        const LimitRun& a = *std::find_if(l.runs.begin(), l.runs.end(),
+                                          [&](const LimitRun& x) { return x.strength == l.allowed_to; });
+        under = fmt::format("{:.3g} is allowed ({:+.1f}), so the limit lies between them, about {:.3g}",
+                            a.strength, a.delta, l.about);
+      }
+      // A second parameter changes the fingerprint (a slow sink drains less within the run): the limit
+      // holds at the shape its runs had.
+      const std::string at_shape =
+          e.shape.empty() ? std::string() : fmt::format(" at {} = {:g}", e.shape, e.default_shape());
+      out += fmt::format("{}`{}` from {} = {:.3g}{} (Δχ² {:+.1f}; {})", out.empty() ? "" : "; ", l.effect,
+                         e.strength, l.ruled_out_from, at_shape, ro.delta, under);
+    } else if (reach != r.reach.end() && reach->visible && !l.runs.empty()) {
+      allowed += fmt::format("{}`{}` ({:.3g}, Δχ² {:+.1f})", allowed.empty() ? "" : ", ", l.effect,
+                             l.runs.back().strength, l.runs.back().delta);
+    }
+  }
+  if (out.empty() && allowed.empty()) return "";
+  const double t = r.limits.front().threshold;
+  std::string s = fmt::format(
+      " **What this table rules out**, each candidate's runs set against the observations directly (a "
+      "sharper test than the search for a gap, where many small shifts add up; a strength whose runs they "
+      "reject by Δχ² ≥ {:.1f}, a {:g} σ shift they do not show, and by {:g} × what seed noise alone gives): "
+      "{}.",
+      t, kVisibleZ, kRuleOutNoiseZ, out.empty() ? std::string("no candidate at any strength run") : out);
+  if (!allowed.empty())
+    s += fmt::format(
+        " Still allowed at the strongest strength run: {}; the table can show such a shift, but these "
+        "observations do not reject it.",
+        allowed);
+  return s;
 }
 
 std::string verdict_core(const Report& r);
@@ -313,8 +370,9 @@ std::string passed_over_sentence(const Report& r) {
 }  // namespace
 
 std::string verdict_paragraph(const Report& r) {
-  return verdict_core(r) + bound_sentence(r) + passed_over_sentence(r) + seen_sentence(r) +
-         escalation_sentence(r) + luck_sentence(r) + blind_sentence(r) + strong_only_sentence(r);
+  return verdict_core(r) + limits_sentence(r) + bound_sentence(r) + passed_over_sentence(r) +
+         seen_sentence(r) + escalation_sentence(r) + luck_sentence(r) + blind_sentence(r) +
+         strong_only_sentence(r);
 }
 
 namespace {

@@ -14,6 +14,7 @@
 #include "diagnose/driver.h"
 #include "diagnose/effects.h"
 #include "diagnose/files.h"
+#include "diagnose/limits.h"
 #include "diagnose/power.h"
 #include "diagnose/runbook.h"
 #include "diagnose/table.h"
@@ -191,7 +192,8 @@ class Procedure {
   NextExperiment next;
   BoundExperiment bound;  // the measurement that would close an open interval (next_bound.h)
   SecondRound second;
-  std::vector<Reach> reach;  // what the table can see of every candidate (power.h)
+  std::vector<Reach> reach;   // what the table can see of every candidate (power.h)
+  std::vector<Limit> limits;  // what a no_gap table rules out of each (limits.h)
   std::map<std::string, std::set<double>> reach_strengths;  // per effect: strengths run past its probes
   std::vector<std::string> unseen;           // fitted candidates whose runs the table cannot see (power.h)
   std::vector<std::string> unseen_rejected;  // of them, tied held out but clearly worse on fresh runs

@@ -75,6 +75,7 @@ Report make_report(const Procedure& p, double wall_s, std::vector<StageCost> sta
   r.bound = p.bound;
   r.second = p.second;
   r.reach = p.reach;
+  r.limits = p.limits;
   r.within_inflation = p.within_inflation;
   r.unseen = p.unseen;
   r.seen_on_fresh = p.seen_on_fresh;
@@ -335,6 +336,7 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
   if (!r.bound.effect.empty()) j["bound_experiment"] = bound_json(r);
   j["second"] = second_json(r);
   j["reach"] = reach_json(r);
+  j["limits"] = limits_json(r);
   j["measure_next"] = asked_json(r);
   j["within_inflation"] = r.within_inflation;
   // Unseen: the probes cannot show them apart from noise (power.h); such a candidate is named only as tied
@@ -458,6 +460,7 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
   md += bound_markdown(r);
   md += second_markdown(r);
   md += reach_markdown(r);
+  md += limits_markdown(r);
   if (!r.notes.empty()) {
     md += "## Runs that could not be made\n\n";
     for (const std::string& n : r.notes) md += "- " + n + "\n";

@@ -37,9 +37,10 @@ struct Report {
   std::vector<FreshCheck>
       confirmations;  // the chosen one's fresh checks the confirmation rounds re-fitted from
   NextExperiment next;
-  BoundExperiment bound;     // the measurement that would close the chosen effect's open interval
-  SecondRound second;        // a second effect on top of the first (second_effect.h)
-  std::vector<Reach> reach;  // what the table can see of each candidate (power.h)
+  BoundExperiment bound;      // the measurement that would close the chosen effect's open interval
+  SecondRound second;         // a second effect on top of the first (second_effect.h)
+  std::vector<Reach> reach;   // what the table can see of each candidate (power.h)
+  std::vector<Limit> limits;  // what a no_gap table rules out of each (limits.h)
   std::map<std::string, double> within_inflation;  // per observable (baseline.h)
   std::vector<std::string> unseen;                 // fitted, but the probes cannot show them (power.h)
   std::vector<std::string> seen_on_fresh;          // unseen on their probes, shown by their fresh runs
@@ -96,6 +97,10 @@ std::string reach_markdown(const Report& r);
 // Why a candidate's reach stopped where it still does not show (Reach::extension_stop), in words.
 std::string reach_stop_words(const std::string& stop);
 nlohmann::json reach_json(const Report& r);
+// What a no_gap table rules out of each candidate (limits.h): report.md's section and diagnosis.json's
+// "limits" (report_limits.cpp; nothing for another verdict).
+std::string limits_markdown(const Report& r);
+nlohmann::json limits_json(const Report& r);
 
 // The measurement that would separate two tied effects (next_experiment.h): report.md's section (empty when
 // nothing was proposed) and diagnosis.json's "next_experiment" (report_next.cpp).

@@ -62,4 +62,9 @@ expect "$D/dn/diagnosis.json" 'all(r["beyond_weaker"]["runs"] or r["beyond_max_a
   "a shift beyond the table well over 3 sigma got no run at a weaker strength" "$D/dn/report.md"
 expect "$D/dn/diagnosis.json" 'all(r["visible"] or ("`" + r["effect"] + "`") in j["paragraph"].split("cannot see")[-1] for r in j["reach"])' \
   "the paragraph does not name a candidate the table cannot see" "$D/dn/report.md"
+# What a table without a gap rules out (limits.h): each run's flag follows its Δχ² and threshold, every
+# candidate ruled out is named in the paragraph, and a verdict with a gap has none.
+expect "$D/dn/diagnosis.json" 'j["limits"] and all(all((x["delta_chi2"] >= x["rule_out_at"]) == x["ruled_out"] for x in l["runs"]) and (l["ruled_out_from"] == 0 or ("`" + l["effect"] + "` from") in j["paragraph"]) for l in j["limits"])' \
+  "the limits of a table without a gap are inconsistent or not reported" "$D/dn/report.md"
+expect "$D/ds/diagnosis.json" 'j["limits"] == []' "limits reported for a verdict with a gap"
 echo "micro diagnosis e2e: $(($(date +%s) - t0)) s"

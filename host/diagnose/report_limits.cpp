@@ -1,0 +1,73 @@
+// The report's section and diagnosis.json's "limits": what a table without a gap rules out (limits.h).
+#include <fmt/format.h>
+
+#include <string>
+
+#include "diagnose/report.h"
+
+namespace wetdem::diagnose {
+
+namespace {
+
+std::string runs_text(const Limit& l) {
+  std::string s;
+  for (const LimitRun& x : l.runs)
+    s += fmt::format("{}{:.3g} ({:+.1f} ± {:.1f}{})", s.empty() ? "" : ", ", x.strength, x.delta, x.noise_sd,
+                     ruled_out(x, l.threshold) ? ", out" : "");
+  return s;
+}
+
+std::string strength_or_dash(double s) {
+  return s > 0 ? fmt::format("{:.3g}", s) : std::string("-");
+}
+
+}  // namespace
+
+std::string limits_markdown(const Report& r) {
+  if (r.limits.empty()) return "";
+  std::string md = fmt::format(
+      "## What this table rules out\n\nThe model needs no effect here; this is how strong each candidate "
+      "could be and still not show. Each candidate's runs at every condition of the table (the strengths the "
+      "stages ran, at its default shape) are set against the observations: Δχ² = Σ [(y − run)² − (y − "
+      "model)² − {:.2f} se_run²] / (σ² + se_run²) over the cells the run moves (the last term the run's own "
+      "seed noise, (2/P − 2/R) / (2/P + 1/R) of its knot's se²), whose mean, were the model right, is the "
+      "run's shift Σ z² (the table above); with one run a probe, it scatters about that by the seeds' noise "
+      "too. A strength is ruled out (`out`) where Δχ² ≥ {:.1f} ({:g}² × the table's scatter factor {:.2f}, "
+      "max(1, χ²/(n − 1))): a {:g} σ shift of one cell the observations do not show; and ≥ {:g} × its "
+      "scatter for a run that shifts nothing (± below), so that seed noise alone rarely rules a run out. The "
+      "limit lies between "
+      "the strongest run allowed and the weakest from which every stronger run is ruled out (about: "
+      "√Δχ² interpolated in log strength); strengths weaker than those run are not tested.\n\n"
+      "| effect | strength | runs: strength (Δχ² ± scatter) | ruled out from | allowed up to | limit about "
+      "|\n"
+      "|---|---|---|---|---|---|\n",
+      limit_noise_share(size_t(r.spec->probe_seeds), size_t(r.spec->replicates)), r.limits.front().threshold,
+      kVisibleZ, r.limits.front().threshold / kRuleOutDelta, kVisibleZ, kRuleOutNoiseZ);
+  for (const Limit& l : r.limits)
+    md += fmt::format("| {} | {} | {} | {} | {} | {} |\n", l.effect, effect_spec(l.effect).strength,
+                      runs_text(l), strength_or_dash(l.ruled_out_from), strength_or_dash(l.allowed_to),
+                      strength_or_dash(l.about));
+  return md + "\n";
+}
+
+nlohmann::json limits_json(const Report& r) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const Limit& l : r.limits) {
+    nlohmann::json runs = nlohmann::json::array();
+    for (const LimitRun& x : l.runs)
+      runs.push_back({{"strength", x.strength},
+                      {"delta_chi2", x.delta},
+                      {"noise_sd", x.noise_sd},
+                      {"rule_out_at", rule_out_at(x, l.threshold)},
+                      {"ruled_out", ruled_out(x, l.threshold)}});
+    out.push_back({{"effect", l.effect},
+                   {"runs", runs},
+                   {"threshold", l.threshold},
+                   {"ruled_out_from", l.ruled_out_from},
+                   {"allowed_to", l.allowed_to},
+                   {"about", l.about}});
+  }
+  return out;
+}
+
+}  // namespace wetdem::diagnose
