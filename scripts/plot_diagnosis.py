@@ -10,6 +10,8 @@ ranking.png      held-out chi^2 of every fitted candidate against the null model
 reach.png        what the table can see: each candidate's largest shift (sigma) in the table at the strongest
                  strength that ran (stepped past the file's probes where it showed nothing), beyond the table,
                  and on its fresh runs, against the 3 sigma from which a cell shows it
+limits.png       after a no_gap: each candidate's runs set against the observations (signed sqrt of the chi^2
+                 difference, in sigma), ruled out (filled) past the threshold, and the limit that brackets
 next_experiment.png  when two effects tie: the best measurements that would separate them (and pairs of them,
                  and an assay on every sample), each as the fitted models' separation and what is left once each
                  model re-fits its strength to the other's value, against the separation the verdict needs
@@ -226,6 +228,55 @@ def main(d):
     plt.close(fig)
     next_experiment(j, out)
     reach(j, out)
+    limits(j, out)
+
+
+def limits(j, out):
+    """What a table without a gap rules out (diagnosis.md, stage 8b; limits.h): every run of every candidate."""
+    rows = [x for x in (j.get("limits") or []) if x.get("runs")]
+    if not rows:
+        return
+    fig, ax = plt.subplots(figsize=(9.5, 1.3 + 0.55 * len(rows)))
+
+    def signed_root(d):
+        return (1 if d >= 0 else -1) * abs(d) ** 0.5
+
+    right = 3.0
+    for i, x in enumerate(rows):
+        for r in x["runs"]:
+            v = signed_root(r["delta_chi2"])
+            right = max(right, v)
+            out_ = r["ruled_out"]
+            ax.plot(v, i, "o", ms=7, color="tab:red" if out_ else "white", mec="tab:red" if out_ else "tab:gray")
+            # The run's own threshold (2 x its scatter when that is past the table's): a tick on the row.
+            ax.plot(signed_root(r["rule_out_at"]), i, "|", color="tab:red", ms=11, alpha=0.5)
+            ax.annotate(f"{r['strength']:.3g}", (v, i), textcoords="offset points", xytext=(0, 7), ha="center",
+                        fontsize=6.5)
+    labels = []
+    for x in rows:
+        if x["ruled_out_from"] > 0:
+            lab = f"{x['effect']}: out from {x['ruled_out_from']:.3g}"
+            if x.get("about", 0) > 0:
+                lab += f"\n(limit about {x['about']:.3g})"
+        else:
+            lab = f"{x['effect']}: allowed to {x['allowed_to']:.3g}"
+        labels.append(lab)
+    t = rows[0]["threshold"] ** 0.5
+    ax.axvline(t, color="tab:red", ls=":", lw=1.2, label=f"√Δχ² = {t:.2g}: a {t:.2g} σ shift not shown")
+    ax.axvline(0, color="k", lw=0.6)
+    ax.plot([], [], "o", color="tab:red", label="ruled out")
+    ax.plot([], [], "o", color="white", mec="tab:gray", label="allowed")
+    ax.plot([], [], "|", color="tab:red", alpha=0.5, ms=11, label="that run's threshold (with its seed scatter)")
+    ax.set_yticks(range(len(rows)), labels, fontsize=7)
+    ax.set_ylim(len(rows) - 0.4, -0.7)
+    ax.set_xlim(min(-3.0, ax.get_xlim()[0]), right * 1.1)
+    ax.set_xlabel("signed √Δχ²: how far the observations reject the run, in σ (strength above each marker)")
+    ax.set_title("What this table rules out: each candidate's runs against the observations", fontsize=9)
+    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.12 - 0.4 / len(rows)), ncol=2,
+              frameon=False)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "limits.png"), dpi=120, bbox_inches="tight")
+    plt.close(fig)
 
 
 def reach(j, out):

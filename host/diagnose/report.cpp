@@ -371,7 +371,7 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
     const std::string cmd = fmt::format("/usr/bin/python3 '{}' '{}' > '{}' 2>&1", script, dir,
                                         (fs::path(dir) / "figures" / "plot.log").string());
     if (fs::exists(script) && std::system(cmd.c_str()) == 0)
-      for (const char* f : {"gap_map", "observables", "ranking", "reach", "next_experiment"})
+      for (const char* f : {"gap_map", "observables", "ranking", "reach", "limits", "next_experiment"})
         if (fs::exists(fs::path(dir) / "figures" / (std::string(f) + ".png")))
           figs += fmt::format("![{}](figures/{}.png)\n\n", f, f);
   }
