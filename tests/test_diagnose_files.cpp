@@ -63,6 +63,7 @@ TEST(DiagnoseFiles, ShippedFilesParse) {
   EXPECT_TRUE(d.second_effect) << "a partial verdict fits a second effect unless the file says not";
   EXPECT_EQ(d.reach_conditions, 5u) << "a candidate the table cannot see is tried beyond it by default";
   EXPECT_EQ(d.reach_steps, 2) << "and past the file's strongest probe, two steps";
+  EXPECT_EQ(d.limit_steps, 1) << "a no_gap's limits get one round of bracketing runs";
   EXPECT_EQ(d.next_refit, 3u)
       << "the next experiment re-fits both tied models at three conditions by default";
   EXPECT_FALSE(
@@ -145,6 +146,7 @@ TEST(DiagnoseFiles, BadDiagnosisFilesNameTheKey) {
   EXPECT_NE(err("reach_conditions = -1\n").find("reach_conditions: an integer in [0, 20]"),
             std::string::npos);
   EXPECT_NE(err("reach_steps = 11\n").find("reach_steps: an integer in [0, 10]"), std::string::npos);
+  EXPECT_NE(err("limit_steps = -1\n").find("limit_steps: an integer in [0, 10]"), std::string::npos);
   EXPECT_NE(err("next_refit = 11\n").find("next_refit: an integer in [0, 10]"), std::string::npos);
   EXPECT_NE(err("effects = [\"cohesion\"]\n[probes]\ncohesion = [0.1, 0.01]\n").find("ascending"),
             std::string::npos);

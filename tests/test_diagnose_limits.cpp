@@ -95,6 +95,22 @@ TEST(DiagnoseLimits, TheBracketIsTheRuledOutTailAndTheRunUnderIt) {
   EXPECT_DOUBLE_EQ(l.ruled_out_from, 0.03);
 }
 
+// The runs that bracket a limit: one probe step under a weakest run that is already ruled out (floored at
+// the physical range), the middle of a bracket wider than kLimitRatio, nothing for a narrow bracket, for a
+// candidate nothing rules out, or for a step onto a strength already run.
+TEST(DiagnoseLimits, TheNextRunBracketsTheLimit) {
+  using wetdem::diagnose::next_limit_strength;
+  EXPECT_DOUBLE_EQ(next_limit_strength(limit_of("absorption", {{0.03, 22.4}}, 9.0), 3.0, 1e-3), 0.01);
+  EXPECT_DOUBLE_EQ(next_limit_strength(limit_of("cohesion", {{0.003, 2.5}, {0.01, 89.5}}, 9.0), 3.33, 1e-4),
+                   0.00548);
+  EXPECT_DOUBLE_EQ(next_limit_strength(limit_of("spread", {{0.3, 1.0}, {0.7, 26.4}}, 9.0), 3.0, 0.0), 0.0);
+  EXPECT_DOUBLE_EQ(next_limit_strength(limit_of("viscous", {{0.03, -3.1}, {0.1, 5.0}}, 9.0), 3.33, 1e-4),
+                   0.0);
+  EXPECT_DOUBLE_EQ(next_limit_strength(limit_of("scale", {{0.0012, 30.0}}, 9.0), 3.0, 0.001), 0.001);
+  EXPECT_DOUBLE_EQ(next_limit_strength(limit_of("scale", {{0.001, 12.0}, {0.0012, 30.0}}, 9.0), 3.0, 0.001),
+                   0.0);
+}
+
 // Observations drawn from the model (48 cells, unit noise) and probes made as Procedure::probe makes them:
 // the model's mean over R = 2 seeds plus one probe run's difference from the model's run on seed 1, each run
 // with unit seed noise, its knot SE √(2 + 1/2). A run that shifts nothing is rarely ruled out: its own noise

@@ -134,8 +134,11 @@ void run_after_verdict(Procedure& p, StageClock& clock) {
     clock.done("bound experiment");
   }
   run_reach(p);  // 8. what the table can see of each candidate (its strongest probe if none shows it)
-  p.limits = table_limits(p);  // 8b. what a table without a gap rules out (no runs)
   clock.done("reach");
+  if (p.verdict.kind == "no_gap") {
+    run_limits(p);  // 8b. what a table without a gap rules out
+    clock.done("limits");
+  }
 }
 
 }  // namespace

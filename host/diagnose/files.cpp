@@ -97,6 +97,7 @@ DiagnosisSpec parse_diagnosis_file(const std::string& path_in) {
                   "assays",
                   "reach_conditions",
                   "reach_steps",
+                  "limit_steps",
                   "second_effect",
                   "set",
                   "probes",
@@ -231,6 +232,12 @@ DiagnosisSpec parse_diagnosis_file(const std::string& path_in) {
     if (!r || *r < 0 || *r > 10)
       throw DiagnoseError(fmt::format("{}: reach_steps: an integer in [0, 10]", path));
     d.reach_steps = int(*r);
+  }
+  if (root.contains("limit_steps")) {
+    const auto r = root["limit_steps"].value<int64_t>();
+    if (!r || *r < 0 || *r > 10)
+      throw DiagnoseError(fmt::format("{}: limit_steps: an integer in [0, 10]", path));
+    d.limit_steps = int(*r);
   }
   if (const auto* t = root["set"].as_table()) d.set = overrides_of(*t, path, "set");
   // [probes] (strengths) and [shapes] (second parameters): positive, ascending, inside the physical range

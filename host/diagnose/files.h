@@ -50,6 +50,10 @@ struct DiagnosisSpec {
   // extend_reach): each one run per condition at the probes' step (x3), up to the physical range and
   // max_cost, until it shows. "Unseen up to 0.03 Pa s" says little when the range goes to 1.
   int reach_steps = 2;
+  // Rounds of runs that bracket what a no_gap table rules out (limits.h, run_limits): one strength more per
+  // candidate a round (one run per condition), under its weakest run when every run is ruled out, else the
+  // middle of a wide bracket. 0: the limits come from the runs the other stages made.
+  int limit_steps = 1;
   int replicates = 2;  // baseline and shrink seeds
   // Seeds per probe knot (1..replicates): the baseline's first seeds, as common random numbers. One seed is
   // enough where an effect shifts a mean; an effect that widens the run-to-run scatter (lubrication on the

@@ -4,7 +4,11 @@
 #include <cmath>
 #include <set>
 
+#include <fmt/format.h>
+
+#include "diagnose/fit.h"
 #include "diagnose/procedure.h"
+#include "diagnose/shrink.h"
 
 namespace wetdem::diagnose {
 
@@ -91,12 +95,14 @@ std::vector<Limit> table_limits(const Procedure& p) {
   const std::vector<Prediction>& model = p.baselines[0];
   const double threshold = kRuleOutDelta * limit_scale(p.tab.cells, model);
   for (const std::string& e : p.effects) {
-    // The strengths run at every condition of the table: the catalogue's probes (the screen ran one) and
-    // those the reach stepped past them, at the default shape (the screen's and the reach's).
+    // The strengths run at every condition of the table: the catalogue's probes (the screen ran one), those
+    // the reach stepped past them and those run_limits ran, at the default shape (the screen's and theirs).
     std::set<double> strengths;
     if (auto it = p.d.probes.find(e); it != p.d.probes.end())
       strengths.insert(it->second.begin(), it->second.end());
     if (auto it = p.reach_strengths.find(e); it != p.reach_strengths.end())
+      strengths.insert(it->second.begin(), it->second.end());
+    if (auto it = p.limit_strengths.find(e); it != p.limit_strengths.end())
       strengths.insert(it->second.begin(), it->second.end());
     std::vector<LimitRun> runs;
     for (const double s : strengths) {
@@ -110,6 +116,48 @@ std::vector<Limit> table_limits(const Procedure& p) {
     if (!runs.empty()) out.push_back(limit_of(e, std::move(runs), threshold));
   }
   return out;
+}
+
+double next_limit_strength(const Limit& l, double step, double phys_lo) {
+  if (!(l.ruled_out_from > 0)) return 0.0;
+  double s = 0.0;
+  if (!(l.allowed_to > 0))
+    s = std::max(phys_lo, rounded_strength(l.ruled_out_from / std::max(step, 1.25)));
+  else if (l.ruled_out_from / l.allowed_to > kLimitRatio)
+    s = rounded_strength(std::sqrt(l.ruled_out_from * l.allowed_to));
+  if (!(s > 0) || s >= l.ruled_out_from) return 0.0;
+  for (const LimitRun& x : l.runs)
+    if (std::fabs(s / x.strength - 1.0) < 0.1) return 0.0;
+  return s;
+}
+
+void run_limits(Procedure& p) {
+  p.limits = table_limits(p);
+  for (int round = 0; round < p.d.limit_steps && !p.limits.empty(); ++round) {
+    std::vector<Variant> asked;
+    for (const Limit& l : p.limits) {
+      const EffectSpec& spec = effect_spec(l.effect);
+      const auto it = p.d.probes.find(l.effect);
+      const double s =
+          next_limit_strength(l, probe_step(it != p.d.probes.end() ? it->second : spec.probes), spec.phys_lo);
+      if (!(s > 0)) continue;
+      const Variant v = p.variant(l.effect, s);
+      if (!p.failure(v, p.probe_seeds).empty()) continue;  // failed before: noted then
+      if (const std::string why = p.want(v, p.probe_seeds); !why.empty()) {
+        p.notes.push_back(fmt::format("limits: {} {}", v.label(), why));
+        continue;
+      }
+      p.limit_strengths[l.effect].insert(s);
+      asked.push_back(v);
+    }
+    if (asked.empty()) break;
+    p.run();
+    for (const Variant& v : asked)
+      if (const std::string why = p.failure(v, p.probe_seeds); !why.empty())
+        p.notes.push_back(
+            fmt::format("limits: {} failed ({}); the limit is bracketed without it", v.label(), why));
+    p.limits = table_limits(p);
+  }
 }
 
 }  // namespace wetdem::diagnose

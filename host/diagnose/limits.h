@@ -72,4 +72,18 @@ Limit limit_of(const std::string& effect, std::vector<LimitRun> runs, double thr
 // Every candidate's limit from the runs the procedure has, for a `no_gap` verdict (empty otherwise).
 std::vector<Limit> table_limits(const Procedure& p);
 
+// A bracket wider than this ratio is split by run_limits.
+constexpr double kLimitRatio = 2.5;
+
+// The next strength to run to bracket a limit (0: none): when every run is ruled out, one step under the
+// weakest (`step`, the probes' ratio: probe_step, fit.h), floored at phys_lo; when the bracket is wider than
+// kLimitRatio, its geometric middle. To 3 digits; 0 when that is within 10 % of a strength already run, or
+// nothing is ruled out (no limit to bracket: the reach says where a candidate would show). Pure (tests).
+double next_limit_strength(const Limit& l, double step, double phys_lo);
+
+// Stage 8b: p.limits, after up to limit_steps rounds of next_limit_strength runs (one run per condition at
+// the probe seeds, every candidate that asks for one in a round run together; the cost guard and failures as
+// anywhere, noted).
+void run_limits(Procedure& p);
+
 }  // namespace wetdem::diagnose
