@@ -105,7 +105,10 @@ def row_of(d, t):
     upto = int(sub[len("diagnosis_m"):]) if sub != "diagnosis" else 0
     measured = [m for e in rounds if int(re.search(r"_m(\d+)", e["table"]).group(1)) <= upto for m in e["measured"]]
     best = next((r for r in j.get("ranking") or [] if r["effect"] == j["effect"]), None)
-    return {"twin": t["name"], "truth": t.get("effect"), "truth_strength": t.get("strength"),
+    # After a no_gap: what the table rules out of the truth's candidate (diagnosis.md, stage 8b).
+    lim = next((x for x in j.get("limits") or [] if x["effect"] == t.get("effect")), None)
+    return {"truth_limit": None if not lim else {k: lim[k] for k in ("ruled_out_from", "allowed_to", "about")},
+            "twin": t["name"], "truth": t.get("effect"), "truth_strength": t.get("strength"),
             "perturbed": bool(t.get("perturb")), "also": t.get("also_effect"),
             "also_strength": t.get("also_strength"), "verdict": j["verdict"], "effect": j["effect"],
             "tied": j.get("tied") or [],
@@ -328,6 +331,10 @@ def summarize(rows, wall, device, out_dir, spec_path):
     named = [r for r in eff if r["verdict"] in ("effect", "partial") and r["truth"] in (r["effect"], r.get("second"))]
     both = [r for r in eff if r.get("also") and r["verdict"] in ("effect", "partial")
             and {r["truth"], r["also"]} == {r["effect"], r.get("second")}]
+    # A no_gap twin whose truth its table's limits rule out: a confident wrong exclusion (the limit of a sink
+    # holds at the candidate's default rate).
+    no_gap_eff = [r for r in eff if r["verdict"] == "no_gap" and r.get("truth_limit")]
+    wrongly_out = [r for r in no_gap_eff if 0 < r["truth_limit"]["ruled_out_from"] <= (r["truth_strength"] or 0)]
     quiet = [r for r in rows if not is_effect_twin(r)]
     confident_wrong = [r for r in quiet if r["verdict"] == "effect"]
     out = {"matrix": spec_path, "rows": rows, "effect_twins": len(eff), "top1": len(right),
@@ -340,6 +347,7 @@ def summarize(rows, wall, device, out_dir, spec_path):
            "named_first_or_second": len(named), "both_withheld_named": len(both),
            "found_other_candidate": len(other), "other_candidate_within_25pc": len(other_within),
            "nulls_and_outside": len(quiet), "confident_wrong": len(confident_wrong),
+           "no_gap_effect_twins_with_limits": len(no_gap_eff), "truth_ruled_out": len(wrongly_out),
            "device": device, "wall_s": wall}
     json.dump(out, open(os.path.join(out_dir, "matrix.json"), "w"), indent=2)
     md = ["| twin | truth | truth strength | also differs | signal max z | verdict | chosen (tied) | "
@@ -359,9 +367,13 @@ def summarize(rows, wall, device, out_dir, spec_path):
         if r.get("also"):
             also = f"yes (`{r['also']}` {r['also_strength']:.3g})"
         sig = r.get("signal")
+        lim, limit = r.get("truth_limit"), ""
+        if r["verdict"] == "no_gap" and lim:
+            limit = (f" (out from {lim['ruled_out_from']:.3g})" if lim["ruled_out_from"] > 0
+                     else f" (allowed to {lim['allowed_to']:.3g})")
         md.append(f"| {r['twin']} | {r['truth'] or 'none'} | {ts} | {also} | "
                   f"{'' if not sig else '%.1f' % sig['max_abs_z']} | "
-                  f"{r['verdict']}{after_measuring(r)} | {chosen} | {fit} | {'' if s is None else f'{100 * s:.0f} %'} | "
+                  f"{r['verdict']}{limit}{after_measuring(r)} | {chosen} | {fit} | {'' if s is None else f'{100 * s:.0f} %'} | "
                   f"{'' if r['wall_s'] is None else '%.0f s' % r['wall_s']} |")
     md.append("")
     md += confusion(rows)[0]
@@ -380,6 +392,8 @@ def summarize(rows, wall, device, out_dir, spec_path):
            f"{sum(1 for r in eff if r.get('also'))} (its strength within ±25 % for {len(other_within)}), both "
            f"withheld differences named: {len(both)}; "
            if any(r.get("also") for r in eff) else "")
+        + (f"effect twins with no gap whose truth the table's limits rule out: {len(wrongly_out)}/{len(no_gap_eff)}; "
+           if no_gap_eff else "")
         + f"nulls and outside effects given an `effect` verdict (a confident wrong answer): "
         f"{len(confident_wrong)}/{len(quiet)}. Device {device}; wall {wall:.0f} s (the twins' computing calls, twin runs included, summed).")
     open(os.path.join(out_dir, "matrix.md"), "w").write("\n".join(md) + "\n")

@@ -31,6 +31,14 @@ strength = 0.7
 also_effect = "scale"
 also_strength = 0.2
 [[twin]]
+name = "viscous-hidden"
+effect = "viscous"
+strength = 0.03
+[[twin]]
+name = "cohesion-wrongly-excluded"
+effect = "cohesion"
+strength = 0.006
+[[twin]]
 name = "null-called-effect"
 [[twin]]
 name = "outside-hedged"
@@ -50,6 +58,13 @@ def diagnosis(verdict, effect=None, strength=None, interval=None, shrink=None, s
     return j
 
 
+def no_gap(effect, ruled_out_from, allowed_to):
+    j = diagnosis("no_gap")
+    j["limits"] = [{"effect": effect, "ruled_out_from": ruled_out_from, "allowed_to": allowed_to, "about": 0.0,
+                    "runs": []}]
+    return j
+
+
 twins = {
     # named, strength within 25 % (0.022 vs 0.02), interval covering it
     "absorption-right": diagnosis("effect", "absorption", 0.022, [0.01, 0.03], 0.8),
@@ -57,6 +72,10 @@ twins = {
     "cohesion-with-a-stranger": diagnosis("partial", "cohesion", 0.02, [0.015, 0.03], 0.4, second="evaporation"),
     # the other withheld difference (itself a candidate) named alone: counted apart
     "spread-as-its-other-difference": diagnosis("effect", "scale", 0.21, [0.1, 0.3], 0.6),
+    # no gap, and the limits allow the truth (viscous allowed up to 0.1 against 0.03)
+    "viscous-hidden": no_gap("viscous", 0.0, 0.1),
+    # no gap, and the limits rule the truth out (cohesion out from 0.003 against 0.006): a wrong exclusion
+    "cohesion-wrongly-excluded": no_gap("cohesion", 0.003, 0.0),
     # a null given an effect: a confident wrong answer
     "null-called-effect": diagnosis("effect", "spread", 0.3, [0.1, 0.5], 0.5),
     # an outside effect given a partial: hedged, not confident
@@ -74,16 +93,17 @@ r = subprocess.run([sys.executable, os.path.join(src, "scripts", "twin_matrix.py
 if r.returncode != 0:
     sys.exit(f"FAIL: twin_matrix.py --summarize: {r.returncode}\n{r.stdout}\n{r.stderr}")
 m = json.load(open(os.path.join(d, "out", "matrix.json")))
-want = {"effect_twins": 3, "top1": 1, "truth_chosen_first": 2, "strength_within_25pc": 1,
+want = {"effect_twins": 5, "no_gap_effect_twins_with_limits": 2, "truth_ruled_out": 1, "top1": 1, "truth_chosen_first": 2, "strength_within_25pc": 1,
         "interval_covers_truth": 1, "found_other_candidate": 1, "other_candidate_within_25pc": 1,
         "nulls_and_outside": 2, "confident_wrong": 1, "median_held_out_shrink": 0.8,
-        "wall_s": 700.0 + 4 * 3.0}
+        "wall_s": 700.0 + 6 * 3.0}
 bad = {k: (m.get(k), v) for k, v in want.items() if m.get(k) != v}
 if bad:
     sys.exit(f"FAIL: matrix.json (got, want): {bad}")
 md = open(os.path.join(d, "out", "matrix.md")).read()
 for needle in ["| absorption-right | absorption | 0.02 |", "0.022 [0.01, 0.03]", "| 700 s |",
-               "| null-called-effect | none |"]:
+               "| null-called-effect | none |", "no_gap (allowed to 0.1)", "no_gap (out from 0.003)",
+               "whose truth the table's limits rule out: 1/2"]:
     if needle not in md:
         sys.exit(f"FAIL: matrix.md lacks {needle!r}")
 shutil.rmtree(d)  # kept on a failure, for the post-mortem
