@@ -616,4 +616,8 @@ TEST(DiagnoseParagraph, NoGapSaysWhatTheTableRulesOut) {
   EXPECT_NE(strong.find("set against its runs directly, the observations rule it out from 0.2"),
             std::string::npos)
       << q;
+  // Ruled out only where the gap search shows it too: nothing to add.
+  r.limits.back() = limit_of("scale", {{0.2, 3.0}, {0.4, 97.7}}, kRuleOutDelta);
+  const std::string same = verdict_paragraph(r);
+  EXPECT_EQ(same.find("set against its runs directly"), std::string::npos) << same;
 }

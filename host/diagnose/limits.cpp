@@ -34,9 +34,9 @@ LimitRun limit_run(const std::vector<Cell>& cells, const std::vector<Prediction>
     const double term = (z * z - z0 * z0 - share * se2) / v;
     if (!std::isfinite(term)) continue;
     out.delta += term;
-    // Its scatter without a shift: A = y - run and B = y - model are Gaussian with variances σ² + 2s²/P -
-    // s²/R and σ² + s²/R and covariance σ² (s² the runs' seed noise, se_run² / (2/P + 1/R)), so
-    // var(A² - B²) = 2 (var A² + var B² - 2 σ⁴).
+    // Its scatter without a shift: A = y - run and B = y - model are Gaussian with variances
+    // a = σ² + 2s²/P - s²/R and b = σ² + s²/R and covariance c = σ² (s² the runs' seed noise,
+    // se_run² / (2/P + 1/R); the probe seeds among the model's), so var(A² - B²) = 2 (a² + b² - 2c²).
     const double n2 = se2 / (2.0 / np + 1.0 / r);
     const double va = s2 + 2.0 * n2 / np - n2 / r, vb = s2 + n2 / r;
     var += 2.0 * (va * va + vb * vb - 2.0 * s2 * s2) / (v * v);

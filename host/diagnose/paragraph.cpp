@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "diagnose/effects.h"
 #include "diagnose/paragraph_next.h"
@@ -173,11 +174,13 @@ std::string code_list(const std::vector<std::string>& v) {
   return s;
 }
 
-// Where a table without a gap rules a candidate out at a strength its reach calls unseen (limits.h): the
-// direct comparison is the sharper test, and the silence of the gap search holds only below it.
-std::string directly_ruled_clause(const Report& r, const std::string& effect) {
+// Where a table without a gap rules a candidate out at a strength its reach calls unseen (limits.h), below
+// `seen_from` (where the gap search would show it): the direct comparison is the sharper test, and the
+// silence of the gap search holds only below it.
+std::string directly_ruled_clause(const Report& r, const std::string& effect,
+                                  double seen_from = std::numeric_limits<double>::infinity()) {
   for (const Limit& l : r.limits)
-    if (l.effect == effect && l.ruled_out_from > 0)
+    if (l.effect == effect && l.ruled_out_from > 0 && l.ruled_out_from < seen_from)
       return fmt::format(" (set against its runs directly, the observations rule it out from {:.3g}: above)",
                          l.ruled_out_from);
   return "";
@@ -224,7 +227,8 @@ std::string strong_only_sentence(const Report& r) {
         "`{}` moves no cell by 3 σ up to the strongest strength probed before, {} = {:.3g}, but does "
         "at {:.3g} ({:.1f} σ on {} at {}){}",
         x.effect, effect_spec(x.effect).strength, x.extended_from, x.visible_from, x.max_z,
-        r.cells[x.cell].observable, r.cell_condition[x.cell], directly_ruled_clause(r, x.effect));
+        r.cells[x.cell].observable, r.cell_condition[x.cell],
+        directly_ruled_clause(r, x.effect, x.visible_from));
   }
   if (list.empty()) return "";
   return fmt::format(
