@@ -270,13 +270,9 @@ def limits(j, out):
     ax.set_yticks(range(len(rows)), labels, fontsize=7)
     ax.set_ylim(len(rows) - 0.4, -0.7)
     ax.set_xlim(min(-3.0, ax.get_xlim()[0]), right * 1.1)
-    ax.set_xlabel("signed √Δχ²: how far the observations reject the run, in σ (strength above each marker)")
-    ax.set_title("What this table rules out: each candidate's runs against the observations", fontsize=9)
-    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.12 - 0.4 / len(rows)), ncol=2,
-              frameon=False)
-    fig.tight_layout()
-    fig.savefig(os.path.join(out, "limits.png"), dpi=120, bbox_inches="tight")
-    plt.close(fig)
+    finish_rows(fig, ax, len(rows), "signed √Δχ²: how far the observations reject the run, in σ (strength above "
+                "each marker)", "What this table rules out: each candidate's runs against the observations",
+                os.path.join(out, "limits.png"), 0.12)
 
 
 def reach(j, out):
@@ -324,12 +320,18 @@ def reach(j, out):
     right = max(max(table), max(beyond), max((f[1] for f in fresh), default=0.0),
                 max((w[1] for w in weaker), default=0.0), 3.0)
     ax.set_xlim(0, right * 1.9)
-    ax.set_xlabel("largest shift of one cell (σ of the cell's noise and the runs' own)")
-    ax.set_title("What this table can see: each candidate against the model without it", fontsize=9)
-    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.1 - 0.4 / len(rows)), ncol=2,
-              frameon=False)
+    finish_rows(fig, ax, len(rows), "largest shift of one cell (σ of the cell's noise and the runs' own)",
+                "What this table can see: each candidate against the model without it",
+                os.path.join(out, "reach.png"), 0.1)
+
+
+def finish_rows(fig, ax, n, xlabel, title, path, gap):
+    """A figure of one row per candidate: its labels, the legend under it (`gap` below the axes), saved."""
+    ax.set_xlabel(xlabel)
+    ax.set_title(title, fontsize=9)
+    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -gap - 0.4 / n), ncol=2, frameon=False)
     fig.tight_layout()
-    fig.savefig(os.path.join(out, "reach.png"), dpi=120, bbox_inches="tight")
+    fig.savefig(path, dpi=120, bbox_inches="tight")
     plt.close(fig)
 
 
