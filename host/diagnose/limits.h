@@ -3,9 +3,9 @@
 // still hide in the noise, which is what an engineer deciding whether to model it asks. Every candidate's
 // runs at every condition of the table (its probes, at the default shape) are set against the observations:
 // a strength whose runs the observations reject against the model without the effect by a χ² difference
-// past kRuleOutDelta is ruled out; the weakest strength from which every stronger run is
-// ruled out, and the strongest run under it that is not, bracket the limit. No run is made here: the bracket
-// is as fine as the probes the earlier stages ran.
+// past kRuleOutDelta is ruled out; the weakest strength from which every stronger run is ruled out, and the
+// strongest run under it that is not, bracket the limit. The earlier stages' runs rarely bracket it (the
+// screen ran one probe), so run_limits adds `limit_steps` rounds of one strength more per candidate.
 #pragma once
 
 #include <string>
