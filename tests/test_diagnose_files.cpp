@@ -63,7 +63,7 @@ TEST(DiagnoseFiles, ShippedFilesParse) {
   EXPECT_TRUE(d.second_effect) << "a partial verdict fits a second effect unless the file says not";
   EXPECT_EQ(d.reach_conditions, 5u) << "a candidate the table cannot see is tried beyond it by default";
   EXPECT_EQ(d.reach_steps, 2) << "and past the file's strongest probe, two steps";
-  EXPECT_EQ(d.limit_steps, 1) << "a no_gap's limits get one round of bracketing runs";
+  EXPECT_EQ(d.limit_steps, 2) << "a no_gap's limits get two rounds of bracketing runs";
   EXPECT_EQ(d.next_refit, 3u)
       << "the next experiment re-fits both tied models at three conditions by default";
   EXPECT_FALSE(

@@ -52,8 +52,9 @@ struct DiagnosisSpec {
   int reach_steps = 2;
   // Rounds of runs that bracket what a no_gap table rules out (limits.h, run_limits): one strength more per
   // candidate a round (one run per condition), under its weakest run when every run is ruled out, else the
-  // middle of a wide bracket. 0: the limits come from the runs the other stages made.
-  int limit_steps = 1;
+  // middle of a wide bracket. 0: the limits come from the runs the other stages made. Two close every limit
+  // of the flowing viscous-weak twin's table (one left absorption unbracketed; docs/validation.md).
+  int limit_steps = 2;
   int replicates = 2;  // baseline and shrink seeds
   // Seeds per probe knot (1..replicates): the baseline's first seeds, as common random numbers. One seed is
   // enough where an effect shifts a mean; an effect that widens the run-to-run scatter (lubrication on the
