@@ -253,13 +253,21 @@ def limits(j, out):
             ax.annotate(f"{r['strength']:.3g}", (v, i), textcoords="offset points", xytext=(0, 7), ha="center",
                         fontsize=6.5)
     labels = []
-    for x in rows:
+    # An effect with a second parameter has a row per value run, the default first, and a limit with that
+    # parameter free (limits_free_shape), said on its first row.
+    free = {f["effect"]: f for f in j.get("limits_free_shape") or []}
+    for i, x in enumerate(rows):
+        f = free.get(x["effect"])
+        name = x["effect"] + (f" ({f['shape_name'].split(' (')[0]} = {x['shape']:g})" if f and x.get("shape") else "")
         if x["ruled_out_from"] > 0:
-            lab = f"{x['effect']}: out from {x['ruled_out_from']:.3g}"
+            lab = f"{name}: out from {x['ruled_out_from']:.3g}"
             if x.get("about", 0) > 0:
                 lab += f"\n(limit about {x['about']:.3g})"
         else:
-            lab = f"{x['effect']}: allowed to {x['allowed_to']:.3g}"
+            lab = f"{name}: allowed to {x['allowed_to']:.3g}"
+        if f and (i == 0 or rows[i - 1]["effect"] != x["effect"]):
+            lab += (f"\n[{f['shape_name'].split(' (')[0]} free: out from {f['ruled_out_from']:.3g}]"
+                    if f["ruled_out_from"] > 0 else f"\n[{f['shape_name'].split(' (')[0]} free: not ruled out]")
         labels.append(lab)
     t = rows[0]["threshold"] ** 0.5
     ax.axvline(t, color="tab:red", ls=":", lw=1.2, label=f"√Δχ² = {t:.2g}: a {t:.2g} σ shift not shown")

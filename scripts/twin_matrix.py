@@ -106,8 +106,14 @@ def row_of(d, t):
     measured = [m for e in rounds if int(re.search(r"_m(\d+)", e["table"]).group(1)) <= upto for m in e["measured"]]
     best = next((r for r in j.get("ranking") or [] if r["effect"] == j["effect"]), None)
     # After a no_gap: what the table rules out of the truth's candidate (diagnosis.md, stage 8b).
+    # The default shape's row comes first; a sink run at other rates too is ruled out only from where every
+    # rate rules it out (limits_free_shape), so a truth at another rate is judged against that.
     lim = next((x for x in j.get("limits") or [] if x["effect"] == t.get("effect")), None)
-    return {"truth_limit": None if not lim else {k: lim[k] for k in ("ruled_out_from", "allowed_to", "about")},
+    free = next((x for x in j.get("limits_free_shape") or [] if x["effect"] == t.get("effect")), None)
+    truth_limit = None if not lim else {k: lim[k] for k in ("ruled_out_from", "allowed_to", "about")}
+    if truth_limit and free:
+        truth_limit.update(ruled_out_from=free["ruled_out_from"], free_shape=True)
+    return {"truth_limit": truth_limit,
             "twin": t["name"], "truth": t.get("effect"), "truth_strength": t.get("strength"),
             "perturbed": bool(t.get("perturb")), "also": t.get("also_effect"),
             "also_strength": t.get("also_strength"), "verdict": j["verdict"], "effect": j["effect"],
@@ -331,8 +337,8 @@ def summarize(rows, wall, device, out_dir, spec_path):
     named = [r for r in eff if r["verdict"] in ("effect", "partial") and r["truth"] in (r["effect"], r.get("second"))]
     both = [r for r in eff if r.get("also") and r["verdict"] in ("effect", "partial")
             and {r["truth"], r["also"]} == {r["effect"], r.get("second")}]
-    # A no_gap twin whose truth its table's limits rule out: a confident wrong exclusion (the limit of a sink
-    # holds at the candidate's default rate).
+    # A no_gap twin whose truth its table's limits rule out: a confident wrong exclusion (a sink's limit with
+    # its rate free where the diagnosis ran other rates, else at the candidate's default rate).
     no_gap_eff = [r for r in eff if r["verdict"] == "no_gap" and r.get("truth_limit")]
     wrongly_out = [r for r in no_gap_eff if 0 < r["truth_limit"]["ruled_out_from"] <= (r["truth_strength"] or 0)]
     quiet = [r for r in rows if not is_effect_twin(r)]
@@ -369,8 +375,9 @@ def summarize(rows, wall, device, out_dir, spec_path):
         sig = r.get("signal")
         lim, limit = r.get("truth_limit"), ""
         if r["verdict"] == "no_gap" and lim:
-            limit = (f" (out from {lim['ruled_out_from']:.3g})" if lim["ruled_out_from"] > 0
-                     else f" (allowed to {lim['allowed_to']:.3g})")
+            free = ", rate free" if lim.get("free_shape") else ""
+            limit = (f" (out from {lim['ruled_out_from']:.3g}{free})" if lim["ruled_out_from"] > 0
+                     else f" (not ruled out{free})" if free else f" (allowed to {lim['allowed_to']:.3g})")
         md.append(f"| {r['twin']} | {r['truth'] or 'none'} | {ts} | {also} | "
                   f"{'' if not sig else '%.1f' % sig['max_abs_z']} | "
                   f"{r['verdict']}{limit}{after_measuring(r)} | {chosen} | {fit} | {'' if s is None else f'{100 * s:.0f} %'} | "

@@ -109,6 +109,53 @@ TEST(DiagnoseLimits, TheNextRunBracketsTheLimit) {
   EXPECT_DOUBLE_EQ(next_limit_strength(limit_of("scale", {{0.0012, 30.0}}, 9.0), 3.0, 0.001), 0.001);
   EXPECT_DOUBLE_EQ(next_limit_strength(limit_of("scale", {{0.001, 12.0}, {0.0012, 30.0}}, 9.0), 3.0, 0.001),
                    0.0);
+  // Another shape of a sink (climb): nothing ruled out there yet, so one step up, capped at the range's end;
+  // at the end, nothing more. The default shape does not climb: the reach says where it would show.
+  const Limit slow = limit_of("absorption", {{0.05, 2.0}}, 9.0);
+  EXPECT_DOUBLE_EQ(next_limit_strength(slow, 3.0, 1e-3, 0.3, true), 0.15);
+  EXPECT_DOUBLE_EQ(next_limit_strength(slow, 3.0, 1e-3, 0.3, false), 0.0);
+  EXPECT_DOUBLE_EQ(next_limit_strength(limit_of("absorption", {{0.15, 2.0}}, 9.0), 3.0, 1e-3, 0.3, true),
+                   0.3);
+  EXPECT_DOUBLE_EQ(next_limit_strength(limit_of("absorption", {{0.3, 2.0}}, 9.0), 3.0, 1e-3, 0.3, true), 0.0);
+  // Ruled out at that shape too: bracketed downward as any limit.
+  EXPECT_DOUBLE_EQ(next_limit_strength(limit_of("absorption", {{0.05, 40.0}}, 9.0), 3.0, 1e-3, 0.3, true),
+                   0.0167);
+}
+
+// The limit with the second parameter free (a profile over the shapes run): ruled out only where every shape
+// rules it out, so set by the shape that allows the most; open when one shape rules out none of its runs.
+// An effect run at one shape only, or without a second parameter, has none.
+TEST(DiagnoseLimits, TheFreeShapeLimitIsWhereEveryShapeRulesOut) {
+  using wetdem::diagnose::default_limit;
+  using wetdem::diagnose::free_shape_limits;
+  const auto at = [](Limit l, double shape) {
+    l.shape = shape;
+    return l;
+  };
+  std::vector<Limit> ls = {at(limit_of("absorption", {{0.01, 2.0}, {0.05, 40.0}}, 9.0), 3.0),
+                           at(limit_of("absorption", {{0.05, 3.0}, {0.15, 50.0}}, 9.0), 0.3),
+                           at(limit_of("absorption", {{0.05, 90.0}}, 9.0), 30.0),
+                           limit_of("cohesion", {{0.01, 41.0}}, 9.0)};
+  ASSERT_EQ(default_limit(ls, "absorption"), &ls[0]);
+  ASSERT_EQ(default_limit(ls, "cohesion"), &ls[3]);
+  EXPECT_EQ(default_limit(ls, "viscous"), nullptr);
+  auto f = free_shape_limits(ls);
+  ASSERT_EQ(f.size(), 1u);
+  EXPECT_EQ(f[0].effect, "absorption");
+  EXPECT_EQ(f[0].shapes, (std::vector<double>{0.3, 3.0, 30.0}));
+  EXPECT_DOUBLE_EQ(f[0].ruled_out_from, 0.15);
+  EXPECT_DOUBLE_EQ(f[0].binding, 0.3);
+  EXPECT_TRUE(f[0].open.empty());
+  // The slow rate rules out none of its runs: with the rate free, nothing is ruled out.
+  ls[1] = at(limit_of("absorption", {{0.05, 3.0}, {0.15, 5.0}}, 9.0), 0.3);
+  f = free_shape_limits(ls);
+  ASSERT_EQ(f.size(), 1u);
+  EXPECT_DOUBLE_EQ(f[0].ruled_out_from, 0.0);
+  ASSERT_EQ(f[0].open.size(), 1u);
+  EXPECT_DOUBLE_EQ(f[0].open[0].first, 0.3);
+  EXPECT_DOUBLE_EQ(f[0].open[0].second, 0.15);
+  // One shape run: nothing to profile.
+  EXPECT_TRUE(free_shape_limits({ls[0], ls[3]}).empty());
 }
 
 // Observations drawn from the model (48 cells, unit noise) and probes made as Procedure::probe makes them:

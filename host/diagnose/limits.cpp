@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "diagnose/effects.h"
 #include "diagnose/fit.h"
 #include "diagnose/procedure.h"
 #include "diagnose/shrink.h"
@@ -74,8 +75,8 @@ Limit limit_of(const std::string& effect, std::vector<LimitRun> runs, double thr
   // an allowed stronger one is not a limit (seed noise, or a response that turns back).
   size_t first = runs.size();
   while (first > 0 && ruled_out(runs[first - 1], threshold)) --first;
-  if (first < runs.size()) l.ruled_out_from = runs[first].strength;
-  if (first > 0) l.allowed_to = runs[first - 1].strength;
+  if (first < runs.size()) l.ruled_out_from = runs[first].strength, l.ruled_delta = runs[first].delta;
+  if (first > 0) l.allowed_to = runs[first - 1].strength, l.allowed_delta = runs[first - 1].delta;
   if (l.ruled_out_from > 0 && l.allowed_to > 0) {
     // In √Δ, a shift in units of the noise (Δ ~ Σ z² grows as the square of a small effect's shift), linear
     // in log strength between the two runs: b's √Δ >= √threshold > a's.
@@ -89,43 +90,106 @@ Limit limit_of(const std::string& effect, std::vector<LimitRun> runs, double thr
   return l;
 }
 
+std::vector<FreeShapeLimit> free_shape_limits(const std::vector<Limit>& limits) {
+  std::vector<FreeShapeLimit> out;
+  for (const Limit& l : limits) {
+    if (!(l.shape > 0) || l.runs.empty()) continue;
+    auto it =
+        std::find_if(out.begin(), out.end(), [&](const FreeShapeLimit& f) { return f.effect == l.effect; });
+    if (it == out.end()) it = out.insert(out.end(), FreeShapeLimit{l.effect, {}, 0.0, 0.0, {}});
+    it->shapes.push_back(l.shape);
+  }
+  out.erase(
+      std::remove_if(out.begin(), out.end(), [](const FreeShapeLimit& f) { return f.shapes.size() < 2; }),
+      out.end());
+  for (FreeShapeLimit& f : out) {
+    std::sort(f.shapes.begin(), f.shapes.end());
+    for (const double sh : f.shapes) {
+      const Limit& l = *std::find_if(limits.begin(), limits.end(),
+                                     [&](const Limit& x) { return x.effect == f.effect && x.shape == sh; });
+      if (!(l.ruled_out_from > 0))
+        f.open.emplace_back(sh, l.runs.back().strength);
+      else if (l.ruled_out_from > f.ruled_out_from)
+        f.ruled_out_from = l.ruled_out_from, f.binding = sh;
+    }
+    if (!f.open.empty()) f.ruled_out_from = f.binding = 0.0;
+  }
+  return out;
+}
+
+const Limit* default_limit(const std::vector<Limit>& limits, const std::string& effect) {
+  const EffectSpec& e = effect_spec(effect);
+  const double d = e.shapes.empty() ? 0.0 : e.default_shape();
+  for (const Limit& l : limits)
+    if (l.effect == effect && l.shape == d) return &l;
+  return nullptr;
+}
+
+namespace {
+
+// The shapes whose limits table_limits takes: none (0) for an effect without a second parameter; else the
+// default first, then the listed ones (the diagnosis file's [shapes], else the catalogue's).
+std::vector<double> limit_shapes(const Procedure& p, const std::string& effect) {
+  const EffectSpec& spec = effect_spec(effect);
+  if (spec.shapes.empty()) return {0.0};
+  std::vector<double> out = {spec.default_shape()};
+  const auto it = p.d.shapes.find(effect);
+  for (const double sh : it != p.d.shapes.end() ? it->second : spec.shapes)
+    if (std::find(out.begin(), out.end(), sh) == out.end()) out.push_back(sh);
+  return out;
+}
+
+}  // namespace
+
 std::vector<Limit> table_limits(const Procedure& p) {
   std::vector<Limit> out;
   if (p.verdict.kind != "no_gap" || p.baselines.empty()) return out;
   const std::vector<Prediction>& model = p.baselines[0];
   const double threshold = kRuleOutDelta * limit_scale(p.tab.cells, model);
   for (const std::string& e : p.effects) {
-    // The strengths run at every condition of the table: the catalogue's probes (the screen ran one), those
-    // the reach stepped past them and those run_limits ran, at the default shape (the screen's and theirs).
-    std::set<double> strengths;
-    if (auto it = p.d.probes.find(e); it != p.d.probes.end())
-      strengths.insert(it->second.begin(), it->second.end());
-    if (auto it = p.reach_strengths.find(e); it != p.reach_strengths.end())
-      strengths.insert(it->second.begin(), it->second.end());
-    if (auto it = p.limit_strengths.find(e); it != p.limit_strengths.end())
-      strengths.insert(it->second.begin(), it->second.end());
-    std::vector<LimitRun> runs;
-    for (const double s : strengths) {
-      const Variant v = p.variant(e, s);
-      if (!p.book.has_summaries(p.tab.conditions, v, p.probe_seeds) || !p.failure(v, p.probe_seeds).empty())
-        continue;
-      LimitRun x = limit_run(p.tab.cells, model, p.probe(v, 0), p.probe_seeds.size(), p.base_seeds.size());
-      x.strength = s;
-      runs.push_back(x);
+    const std::vector<double> shapes = limit_shapes(p, e);
+    for (const double sh : shapes) {
+      // The strengths run at every condition of the table: at the default shape the catalogue's probes (the
+      // screen ran one), those the reach stepped past them and those run_limits ran; at another shape only
+      // run_limits'.
+      std::set<double> strengths;
+      if (sh == shapes.front()) {
+        if (auto it = p.d.probes.find(e); it != p.d.probes.end())
+          strengths.insert(it->second.begin(), it->second.end());
+        if (auto it = p.reach_strengths.find(e); it != p.reach_strengths.end())
+          strengths.insert(it->second.begin(), it->second.end());
+      }
+      if (auto it = p.limit_strengths.find({e, sh}); it != p.limit_strengths.end())
+        strengths.insert(it->second.begin(), it->second.end());
+      std::vector<LimitRun> runs;
+      for (const double s : strengths) {
+        const Variant v = sh > 0 ? p.variant(e, s, 0, sh) : p.variant(e, s);
+        if (!p.book.has_summaries(p.tab.conditions, v, p.probe_seeds) || !p.failure(v, p.probe_seeds).empty())
+          continue;
+        LimitRun x = limit_run(p.tab.cells, model, p.probe(v, 0), p.probe_seeds.size(), p.base_seeds.size());
+        x.strength = s;
+        runs.push_back(x);
+      }
+      if (runs.empty()) continue;
+      out.push_back(limit_of(e, std::move(runs), threshold));
+      out.back().shape = sh;
     }
-    if (!runs.empty()) out.push_back(limit_of(e, std::move(runs), threshold));
   }
   return out;
 }
 
-double next_limit_strength(const Limit& l, double step, double phys_lo) {
-  if (!(l.ruled_out_from > 0)) return 0.0;
+double next_limit_strength(const Limit& l, double step, double phys_lo, double phys_hi, bool climb) {
+  step = std::max(step, 1.25);
   double s = 0.0;
-  if (!(l.allowed_to > 0))
-    s = std::max(phys_lo, rounded_strength(l.ruled_out_from / std::max(step, 1.25)));
-  else if (l.ruled_out_from / l.allowed_to > kLimitRatio)
+  if (!(l.ruled_out_from > 0)) {
+    if (!climb || l.runs.empty() || !(l.runs.back().strength < phys_hi)) return 0.0;
+    s = std::min(phys_hi, rounded_strength(l.runs.back().strength * step));
+  } else if (!(l.allowed_to > 0)) {
+    s = std::max(phys_lo, rounded_strength(l.ruled_out_from / step));
+  } else if (l.ruled_out_from / l.allowed_to > kLimitRatio) {
     s = rounded_strength(std::sqrt(l.ruled_out_from * l.allowed_to));
-  if (!(s > 0) || s >= l.ruled_out_from) return 0.0;
+  }
+  if (!(s > 0) || (l.ruled_out_from > 0 && s >= l.ruled_out_from)) return 0.0;
   for (const LimitRun& x : l.runs)
     if (std::fabs(s / x.strength - 1.0) < 0.1) return 0.0;
   return s;
@@ -135,20 +199,35 @@ void run_limits(Procedure& p) {
   p.limits = table_limits(p);
   for (int round = 0; round < p.d.limit_steps && !p.limits.empty(); ++round) {
     std::vector<Variant> asked;
-    for (const Limit& l : p.limits) {
-      const EffectSpec& spec = effect_spec(l.effect);
-      const auto it = p.d.probes.find(l.effect);
-      const double s =
-          next_limit_strength(l, probe_step(it != p.d.probes.end() ? it->second : spec.probes), spec.phys_lo);
-      if (!(s > 0)) continue;
-      const Variant v = p.variant(l.effect, s);
-      if (!p.failure(v, p.probe_seeds).empty()) continue;  // failed before: noted then
+    const auto ask = [&](const std::string& effect, double shape, double s) {
+      const Variant v = shape > 0 ? p.variant(effect, s, 0, shape) : p.variant(effect, s);
+      if (!p.failure(v, p.probe_seeds).empty()) return;  // failed before: noted then
       if (const std::string why = p.want(v, p.probe_seeds); !why.empty()) {
         p.notes.push_back(fmt::format("limits: {} {}", v.label(), why));
-        continue;
+        return;
       }
-      p.limit_strengths[l.effect].insert(s);
+      p.limit_strengths[{effect, shape}].insert(s);
       asked.push_back(v);
+    };
+    for (const std::string& e : p.effects) {
+      const Limit* d = default_limit(p.limits, e);
+      if (!d) continue;
+      const EffectSpec& spec = effect_spec(e);
+      const auto it = p.d.probes.find(e);
+      const double step = probe_step(it != p.d.probes.end() ? it->second : spec.probes);
+      for (const double sh : limit_shapes(p, e)) {
+        const auto l = std::find_if(p.limits.begin(), p.limits.end(),
+                                    [&](const Limit& x) { return x.effect == e && x.shape == sh; });
+        if (l == p.limits.end()) {
+          // Another shape, not run yet: from where the default shape is ruled out (nothing to profile
+          // before).
+          if (d->ruled_out_from > 0) ask(e, sh, d->ruled_out_from);
+          continue;
+        }
+        const bool other = &*l != d;
+        if (const double s = next_limit_strength(*l, step, spec.phys_lo, spec.phys_hi, other); s > 0)
+          ask(e, sh, s);
+      }
     }
     if (asked.empty()) break;
     p.run();

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "diagnose/cells.h"
@@ -51,16 +52,35 @@ double limit_scale(const std::vector<Cell>& cells, const std::vector<Prediction>
 
 struct Limit {
   std::string effect;
+  // The second parameter's value its runs had (effects.h; 0: the effect has none). An effect with one has a
+  // limit per listed shape (a slow sink drains less within a run, so it hides more capacity).
+  double shape = 0.0;
   std::vector<LimitRun> runs;        // ascending strength
   double threshold = kRuleOutDelta;  // kRuleOutDelta × limit_scale (each run's own: rule_out_at)
-  // The weakest strength run from which every stronger run is ruled out (0: none is).
-  double ruled_out_from = 0.0;
-  // The strongest run under ruled_out_from (every run when none is ruled out); 0: none ran under it.
-  double allowed_to = 0.0;
+  // The weakest strength run from which every stronger run is ruled out (0: none is), and its Δ.
+  double ruled_out_from = 0.0, ruled_delta = 0.0;
+  // The strongest run under ruled_out_from (every run when none is ruled out; 0: none ran under it), its Δ.
+  double allowed_to = 0.0, allowed_delta = 0.0;
   // Where Δ crosses the threshold between allowed_to and ruled_out_from (the larger of their rule_out_at),
   // √Δ (a shift in units of the noise) linear in log strength (0: not bracketed by runs on both sides).
   double about = 0.0;
 };
+
+// An effect with a second parameter, its limit with that parameter left free (a profile over the listed
+// shapes, as the fit's): a strength is ruled out only where it is ruled out at every shape, so the limit is
+// the largest of the shapes' ruled_out_from, set by `binding` (0 when some shape rules out none of its runs:
+// `open` lists them, with the strongest strength each ran). Shapes outside the listed range are not tested.
+struct FreeShapeLimit {
+  std::string effect;
+  std::vector<double> shapes;  // ascending, those with runs
+  double ruled_out_from = 0.0;
+  double binding = 0.0;
+  std::vector<std::pair<double, double>> open;  // (shape, strongest strength run) where nothing is ruled out
+};
+// One per effect with limits at more than one shape (limits: table_limits'). Pure (tests).
+std::vector<FreeShapeLimit> free_shape_limits(const std::vector<Limit>& limits);
+// The limit at an effect's default shape (its only one when it has none); nullptr when it has none.
+const Limit* default_limit(const std::vector<Limit>& limits, const std::string& effect);
 
 // The Δ from which a run is ruled out: max(threshold, kRuleOutNoiseZ × noise_sd); and whether it is.
 double rule_out_at(const LimitRun& x, double threshold);
@@ -69,7 +89,9 @@ bool ruled_out(const LimitRun& x, double threshold);
 // The bracket of one candidate's runs (sorted by strength here). Pure (tests).
 Limit limit_of(const std::string& effect, std::vector<LimitRun> runs, double threshold);
 
-// Every candidate's limit from the runs the procedure has, for a `no_gap` verdict (empty otherwise).
+// Every candidate's limit from the runs the procedure has, for a `no_gap` verdict (empty otherwise): one per
+// shape that has runs, the default shape first (the screen's probes, the reach's and run_limits' runs; the
+// other listed shapes only run_limits').
 std::vector<Limit> table_limits(const Procedure& p);
 
 // A bracket wider than this ratio is split by run_limits.
@@ -78,12 +100,17 @@ constexpr double kLimitRatio = 2.5;
 // The next strength to run to bracket a limit (0: none): when every run is ruled out, one step under the
 // weakest (`step`, the probes' ratio: probe_step, fit.h), floored at phys_lo; when the bracket is wider than
 // kLimitRatio, its geometric middle. To 3 digits; 0 when that is within 10 % of a strength already run, or
-// nothing is ruled out (no limit to bracket: the reach says where a candidate would show). Pure (tests).
-double next_limit_strength(const Limit& l, double step, double phys_lo);
+// nothing is ruled out (no limit to bracket: the reach says where a candidate would show), unless `climb`
+// (a shape other than the default, run for the free-shape limit: nothing ruled out yet there means the
+// limit with the shape free lies higher): then one step over the strongest run, capped at phys_hi. Pure.
+double next_limit_strength(const Limit& l, double step, double phys_lo, double phys_hi = 0.0,
+                           bool climb = false);
 
 // Stage 8b: p.limits, after up to limit_steps rounds of next_limit_strength runs (one run per condition at
 // the probe seeds, every candidate that asks for one in a round run together; the cost guard and failures as
-// anywhere, noted).
+// anywhere, noted). An effect with a second parameter, once its default shape rules a strength out, runs its
+// other listed shapes from that strength (climbing where it is not ruled out), so that its limit holds with
+// the shape free (free_shape_limits).
 void run_limits(Procedure& p);
 
 }  // namespace wetdem::diagnose

@@ -179,10 +179,11 @@ std::string code_list(const std::vector<std::string>& v) {
 // silence of the gap search holds only below it.
 std::string directly_ruled_clause(const Report& r, const std::string& effect,
                                   double seen_from = std::numeric_limits<double>::infinity()) {
-  for (const Limit& l : r.limits)
-    if (l.effect == effect && l.ruled_out_from > 0 && l.ruled_out_from < seen_from)
-      return fmt::format(" (set against its runs directly, the observations rule it out from {:.3g}: above)",
-                         l.ruled_out_from);
+  // The reach ran the default shape: so is this limit (the free-shape one is in the limits sentence).
+  const Limit* l = default_limit(r.limits, effect);
+  if (l && l->ruled_out_from > 0 && l->ruled_out_from < seen_from)
+    return fmt::format(" (set against its runs directly, the observations rule it out from {:.3g}: above)",
+                       l->ruled_out_from);
   return "";
 }
 
@@ -242,26 +243,37 @@ std::string strong_only_sentence(const Report& r) {
 // blind sentence's.
 std::string limits_sentence(const Report& r) {
   std::string out, allowed;
+  const std::vector<FreeShapeLimit> free = free_shape_limits(r.limits);
   for (const Limit& l : r.limits) {
+    if (&l != default_limit(r.limits, l.effect)) continue;  // other shapes: in the free-shape clause
     const auto reach =
         std::find_if(r.reach.begin(), r.reach.end(), [&](const Reach& x) { return x.effect == l.effect; });
     const EffectSpec& e = effect_spec(l.effect);
     if (l.ruled_out_from > 0) {
-      const LimitRun& ro = *std::find_if(l.runs.begin(), l.runs.end(),
-                                         [&](const LimitRun& x) { return x.strength == l.ruled_out_from; });
       std::string under = "no weaker strength was run";
-      if (l.allowed_to > 0) {
-        const LimitRun& a = *std::find_if(l.runs.begin(), l.runs.end(),
-                                          [&](const LimitRun& x) { return x.strength == l.allowed_to; });
+      if (l.allowed_to > 0)
         under = fmt::format("{:.3g} is allowed ({:+.1f}), so the limit lies between them, about {:.3g}",
-                            a.strength, a.delta, l.about);
-      }
+                            l.allowed_to, l.allowed_delta, l.about);
       // A second parameter changes the fingerprint (a slow sink drains less within the run): the limit
-      // holds at the shape its runs had.
+      // holds at the shape its runs had, and with the shape free only as the profile over shapes says.
       const std::string at_shape =
-          e.shape.empty() ? std::string() : fmt::format(" at {} = {:g}", e.shape, e.default_shape());
-      out += fmt::format("{}`{}` from {} = {:.3g}{} (Δχ² {:+.1f}; {})", out.empty() ? "" : "; ", l.effect,
-                         e.strength, l.ruled_out_from, at_shape, ro.delta, under);
+          e.shape.empty() ? std::string() : fmt::format(" at {} = {:g}", e.shape, l.shape);
+      std::string profile;
+      const auto f = std::find_if(free.begin(), free.end(),
+                                  [&](const FreeShapeLimit& x) { return x.effect == l.effect; });
+      if (f != free.end() && f->ruled_out_from > 0)
+        profile = fmt::format("; at every {} run ({:g}–{:g}), from {:.3g} (set by {:g})", e.shape,
+                              f->shapes.front(), f->shapes.back(), f->ruled_out_from, f->binding);
+      else if (f != free.end())
+        profile = fmt::format(
+            "; but at {} = {:g} no run up to {:.3g} is ruled out, so with the {} free ({:g}–{:g} run) it is "
+            "not",
+            e.shape, f->open.front().first, f->open.front().second, e.shape, f->shapes.front(),
+            f->shapes.back());
+      else if (!e.shape.empty())
+        profile = fmt::format("; other values of the {} were not run", e.shape);
+      out += fmt::format("{}`{}` from {} = {:.3g}{} (Δχ² {:+.1f}; {}{})", out.empty() ? "" : "; ", l.effect,
+                         e.strength, l.ruled_out_from, at_shape, l.ruled_delta, under, profile);
     } else if (reach != r.reach.end() && reach->visible && !l.runs.empty()) {
       allowed += fmt::format("{}`{}` ({:.3g}, Δχ² {:+.1f})", allowed.empty() ? "" : ", ", l.effect,
                              l.runs.back().strength, l.runs.back().delta);

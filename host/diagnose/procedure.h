@@ -194,7 +194,8 @@ class Procedure {
   SecondRound second;
   std::vector<Reach> reach;   // what the table can see of every candidate (power.h)
   std::vector<Limit> limits;  // what a no_gap table rules out of each (limits.h)
-  std::map<std::string, std::set<double>> limit_strengths;  // per effect: strengths run to bracket its limit
+  // per (effect, shape; 0: none): strengths run to bracket its limit
+  std::map<std::pair<std::string, double>, std::set<double>> limit_strengths;
   std::map<std::string, std::set<double>> reach_strengths;  // per effect: strengths run past its probes
   std::vector<std::string> unseen;           // fitted candidates whose runs the table cannot see (power.h)
   std::vector<std::string> unseen_rejected;  // of them, tied held out but clearly worse on fresh runs

@@ -337,6 +337,7 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
   j["second"] = second_json(r);
   j["reach"] = reach_json(r);
   j["limits"] = limits_json(r);
+  j["limits_free_shape"] = free_shape_limits_json(r);
   j["measure_next"] = asked_json(r);
   j["within_inflation"] = r.within_inflation;
   // Unseen: the probes cannot show them apart from noise (power.h); such a candidate is named only as tied

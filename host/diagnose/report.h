@@ -101,6 +101,8 @@ nlohmann::json reach_json(const Report& r);
 // "limits" (report_limits.cpp; nothing for another verdict).
 std::string limits_markdown(const Report& r);
 nlohmann::json limits_json(const Report& r);
+// Each effect with a second parameter, its limit with that parameter free (limits.h, free_shape_limits).
+nlohmann::json free_shape_limits_json(const Report& r);
 
 // The measurement that would separate two tied effects (next_experiment.h): report.md's section (empty when
 // nothing was proposed) and diagnosis.json's "next_experiment" (report_next.cpp).

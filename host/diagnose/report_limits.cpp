@@ -21,6 +21,12 @@ std::string strength_or_dash(double s) {
   return s > 0 ? fmt::format("{:.3g}", s) : std::string("-");
 }
 
+// "rate k (1/s) = 3" for an effect with a second parameter, "-" without.
+std::string shape_text(const Limit& l) {
+  const EffectSpec& e = effect_spec(l.effect);
+  return e.shape.empty() ? std::string("-") : fmt::format("{} = {:g}", e.shape, l.shape);
+}
+
 }  // namespace
 
 std::string limits_markdown(const Report& r) {
@@ -37,17 +43,33 @@ std::string limits_markdown(const Report& r) {
       "scatter for a run that shifts nothing (± below), so that seed noise alone rarely rules a run out. The "
       "limit lies between "
       "the strongest run allowed and the weakest from which every stronger run is ruled out (about: "
-      "√Δχ² interpolated in log strength); strengths weaker than those run are not tested.\n\n"
-      "| effect | strength | runs: strength (Δχ² ± scatter) | ruled out from | allowed up to | limit about "
-      "|\n"
-      "|---|---|---|---|---|---|\n",
+      "√Δχ² interpolated in log strength); strengths weaker than those run are not tested. An effect with a "
+      "second parameter has a row per value run (the default first; the others from where the default is "
+      "ruled out), and its limit with that parameter free is where every value rules it out.\n\n"
+      "| effect | strength | at | runs: strength (Δχ² ± scatter) | ruled out from | allowed up to | limit "
+      "about |\n"
+      "|---|---|---|---|---|---|---|\n",
       limit_noise_share(size_t(r.spec->probe_seeds), size_t(r.spec->replicates)), r.limits.front().threshold,
       kVisibleZ, r.limits.front().threshold / kRuleOutDelta, kVisibleZ, kRuleOutNoiseZ);
   for (const Limit& l : r.limits)
-    md += fmt::format("| {} | {} | {} | {} | {} | {} |\n", l.effect, effect_spec(l.effect).strength,
-                      runs_text(l), strength_or_dash(l.ruled_out_from), strength_or_dash(l.allowed_to),
-                      strength_or_dash(l.about));
-  return md + "\n";
+    md += fmt::format("| {} | {} | {} | {} | {} | {} | {} |\n", l.effect, effect_spec(l.effect).strength,
+                      shape_text(l), runs_text(l), strength_or_dash(l.ruled_out_from),
+                      strength_or_dash(l.allowed_to), strength_or_dash(l.about));
+  md += "\n";
+  for (const FreeShapeLimit& f : free_shape_limits(r.limits)) {
+    const EffectSpec& e = effect_spec(f.effect);
+    std::string shapes;
+    for (const double sh : f.shapes) shapes += fmt::format("{}{:g}", shapes.empty() ? "" : ", ", sh);
+    md += f.ruled_out_from > 0
+              ? fmt::format(
+                    "With the {} free ({} run), `{}` is ruled out from {} = {:.3g} (set by {:g}); "
+                    "values outside those run are not tested.\n\n",
+                    e.shape, shapes, f.effect, e.strength, f.ruled_out_from, f.binding)
+              : fmt::format(
+                    "With the {} free ({} run), `{}` is not ruled out: at {:g} no run up to {:.3g} is.\n\n",
+                    e.shape, shapes, f.effect, f.open.front().first, f.open.front().second);
+  }
+  return md;
 }
 
 nlohmann::json limits_json(const Report& r) {
@@ -61,11 +83,27 @@ nlohmann::json limits_json(const Report& r) {
                       {"rule_out_at", rule_out_at(x, l.threshold)},
                       {"ruled_out", ruled_out(x, l.threshold)}});
     out.push_back({{"effect", l.effect},
+                   {"shape", l.shape > 0 ? nlohmann::json(l.shape) : nlohmann::json()},
                    {"runs", runs},
                    {"threshold", l.threshold},
                    {"ruled_out_from", l.ruled_out_from},
                    {"allowed_to", l.allowed_to},
                    {"about", l.about}});
+  }
+  return out;
+}
+
+nlohmann::json free_shape_limits_json(const Report& r) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const FreeShapeLimit& f : free_shape_limits(r.limits)) {
+    nlohmann::json open = nlohmann::json::array();
+    for (const auto& [sh, s] : f.open) open.push_back({{"shape", sh}, {"strongest_run", s}});
+    out.push_back({{"effect", f.effect},
+                   {"shape_name", effect_spec(f.effect).shape},
+                   {"shapes", f.shapes},
+                   {"ruled_out_from", f.ruled_out_from},
+                   {"binding_shape", f.binding},
+                   {"open", open}});
   }
   return out;
 }
