@@ -34,7 +34,7 @@ std::string limits_markdown(const Report& r) {
   std::string md = fmt::format(
       "## What this table rules out\n\nThe model needs no effect here; this is how strong each candidate "
       "could be and still not show. Each candidate's runs at every condition of the table (the strengths the "
-      "stages ran, at its default shape) are set against the observations: Δχ² = Σ [(y − run)² − (y − "
+      "stages ran; other shapes as below) are set against the observations: Δχ² = Σ [(y − run)² − (y − "
       "model)² − {:.2f} se_run²] / (σ² + se_run²) over the cells the run moves (the last term the run's own "
       "seed noise, (2/P − 2/R) / (2/P + 1/R) of its knot's se²), whose mean, were the model right, is the "
       "run's shift Σ z² (the table above); with one run a probe, it scatters about that by the seeds' noise "
