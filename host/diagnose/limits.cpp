@@ -224,7 +224,16 @@ void run_limits(Procedure& p) {
           if (d->ruled_out_from > 0) ask(e, sh, d->ruled_out_from);
           continue;
         }
+        // Another shape matters only where it sets the limit with the shape free: it climbs while it rules
+        // nothing out, and brackets only when it binds (the others' brackets would not move that limit).
         const bool other = &*l != d;
+        if (other && l->ruled_out_from > 0) {
+          const std::vector<FreeShapeLimit> free = free_shape_limits(p.limits);
+          const auto f =
+              std::find_if(free.begin(), free.end(), [&](const FreeShapeLimit& x) { return x.effect == e; });
+          // Open at some shape (nothing there ruled out), or ruled out below the binding shape (ties bind).
+          if (f == free.end() || !(f->ruled_out_from > 0) || l->ruled_out_from < f->ruled_out_from) continue;
+        }
         if (const double s = next_limit_strength(*l, step, spec.phys_lo, spec.phys_hi, other); s > 0)
           ask(e, sh, s);
       }

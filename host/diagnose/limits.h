@@ -109,8 +109,8 @@ double next_limit_strength(const Limit& l, double step, double phys_lo, double p
 // Stage 8b: p.limits, after up to limit_steps rounds of next_limit_strength runs (one run per condition at
 // the probe seeds, every candidate that asks for one in a round run together; the cost guard and failures as
 // anywhere, noted). An effect with a second parameter, once its default shape rules a strength out, runs its
-// other listed shapes from that strength (climbing where it is not ruled out), so that its limit holds with
-// the shape free (free_shape_limits).
+// other listed shapes from that strength, climbing where it is not ruled out and bracketing at the shape that
+// binds, so that its limit holds with the shape free (free_shape_limits).
 void run_limits(Procedure& p);
 
 }  // namespace wetdem::diagnose
