@@ -96,6 +96,10 @@ def last_diagnosis(d):
     return rounds[-1][1] if rounds else "diagnosis"
 
 
+# The case key of each candidate's second parameter (host/diagnose/effects.cpp), to find a truth's own rate.
+SHAPE_KEYS = {"absorption": "absorption.rate"}
+
+
 def row_of(d, t):
     sub = last_diagnosis(d)
     j = json.load(open(os.path.join(d, sub, "diagnosis.json")))
@@ -106,12 +110,19 @@ def row_of(d, t):
     measured = [m for e in rounds if int(re.search(r"_m(\d+)", e["table"]).group(1)) <= upto for m in e["measured"]]
     best = next((r for r in j.get("ranking") or [] if r["effect"] == j["effect"]), None)
     # After a no_gap: what the table rules out of the truth's candidate (diagnosis.md, stage 8b).
-    # The default shape's row comes first; a sink run at other rates too is ruled out only from where every
-    # rate rules it out (limits_free_shape), so a truth at another rate is judged against that.
-    lim = next((x for x in j.get("limits") or [] if x["effect"] == t.get("effect")), None)
+    # The default shape's row comes first. A sink whose truth rate was run is judged against that rate's row
+    # (the report claims it); at another rate, against the limit with the rate free (limits_free_shape: ruled
+    # out only where every rate run rules it out).
+    lims = [x for x in j.get("limits") or [] if x["effect"] == t.get("effect")]
+    lim = lims[0] if lims else None
     free = next((x for x in j.get("limits_free_shape") or [] if x["effect"] == t.get("effect")), None)
-    truth_limit = None if not lim else {k: lim[k] for k in ("ruled_out_from", "allowed_to", "about")}
-    if truth_limit and free:
+    truth_shape = (t.get("truth") or {}).get(SHAPE_KEYS.get(t.get("effect"), ""))
+    at_truth = next((x for x in lims if truth_shape is not None and x.get("shape")
+                     and abs(x["shape"] / float(truth_shape) - 1) < 1e-9), None)
+    truth_limit = None if not lim else {k: (at_truth or lim)[k] for k in ("ruled_out_from", "allowed_to", "about")}
+    if truth_limit and at_truth and free:
+        truth_limit["at_shape"] = at_truth["shape"]
+    elif truth_limit and free:
         truth_limit.update(ruled_out_from=free["ruled_out_from"], free_shape=True)
     return {"truth_limit": truth_limit,
             "twin": t["name"], "truth": t.get("effect"), "truth_strength": t.get("strength"),
@@ -375,7 +386,8 @@ def summarize(rows, wall, device, out_dir, spec_path):
         sig = r.get("signal")
         lim, limit = r.get("truth_limit"), ""
         if r["verdict"] == "no_gap" and lim:
-            free = ", rate free" if lim.get("free_shape") else ""
+            free = (", rate free" if lim.get("free_shape")
+                    else f", at rate {lim['at_shape']:g}" if lim.get("at_shape") else "")
             limit = (f" (out from {lim['ruled_out_from']:.3g}{free})" if lim["ruled_out_from"] > 0
                      else f" (not ruled out{free})" if free else f" (allowed to {lim['allowed_to']:.3g})")
         md.append(f"| {r['twin']} | {r['truth'] or 'none'} | {ts} | {also} | "

@@ -42,6 +42,12 @@ strength = 0.006
 name = "absorption-at-a-slow-rate"
 effect = "absorption"
 strength = 0.02
+truth = { "absorption.capacity" = 0.02, "absorption.rate" = 0.5 }
+[[twin]]
+name = "absorption-at-a-rate-run"
+effect = "absorption"
+strength = 0.04
+truth = { "absorption.capacity" = 0.04, "absorption.rate" = 30.0 }
 [[twin]]
 name = "null-called-effect"
 [[twin]]
@@ -62,10 +68,13 @@ def diagnosis(verdict, effect=None, strength=None, interval=None, shrink=None, s
     return j
 
 
-def no_gap(effect, ruled_out_from, allowed_to, free_shape=None):
+def no_gap(effect, ruled_out_from, allowed_to, free_shape=None, rows=()):
     j = diagnosis("no_gap")
     j["limits"] = [{"effect": effect, "ruled_out_from": ruled_out_from, "allowed_to": allowed_to, "about": 0.0,
                     "runs": []}]
+    # further rows of a sink at other rates: (rate, ruled_out_from)
+    j["limits"] += [{"effect": effect, "shape": r, "ruled_out_from": f, "allowed_to": 0.0, "about": 0.0,
+                     "runs": []} for r, f in rows]
     if free_shape is not None:
         j["limits_free_shape"] = [{"effect": effect, "ruled_out_from": free_shape, "shapes": [0.3, 3.0, 30.0]}]
     return j
@@ -84,7 +93,10 @@ twins = {
     "cohesion-wrongly-excluded": no_gap("cohesion", 0.003, 0.0),
     # no gap; the default rate rules the truth out (0.01 against 0.02), but at the slow rate nothing is: with
     # the rate free the truth is allowed, not a wrong exclusion
-    "absorption-at-a-slow-rate": no_gap("absorption", 0.01, 0.003, free_shape=0.0),
+    "absorption-at-a-slow-rate": no_gap("absorption", 0.01, 0.003, free_shape=0.0, rows=[(0.3, 0.0), (30.0, 0.01)]),
+    # no gap, the truth at a rate that was run, and that rate's row rules it out (0.03 against 0.04), although
+    # with the rate free nothing is: judged at its own rate, a wrong exclusion
+    "absorption-at-a-rate-run": no_gap("absorption", 0.01, 0.003, free_shape=0.0, rows=[(0.3, 0.0), (30.0, 0.03)]),
     # a null given an effect: a confident wrong answer
     "null-called-effect": diagnosis("effect", "spread", 0.3, [0.1, 0.5], 0.5),
     # an outside effect given a partial: hedged, not confident
@@ -102,17 +114,18 @@ r = subprocess.run([sys.executable, os.path.join(src, "scripts", "twin_matrix.py
 if r.returncode != 0:
     sys.exit(f"FAIL: twin_matrix.py --summarize: {r.returncode}\n{r.stdout}\n{r.stderr}")
 m = json.load(open(os.path.join(d, "out", "matrix.json")))
-want = {"effect_twins": 6, "no_gap_effect_twins_with_limits": 3, "truth_ruled_out": 1, "top1": 1, "truth_chosen_first": 2, "strength_within_25pc": 1,
+want = {"effect_twins": 7, "no_gap_effect_twins_with_limits": 4, "truth_ruled_out": 2, "top1": 1, "truth_chosen_first": 2, "strength_within_25pc": 1,
         "interval_covers_truth": 1, "found_other_candidate": 1, "other_candidate_within_25pc": 1,
         "nulls_and_outside": 2, "confident_wrong": 1, "median_held_out_shrink": 0.8,
-        "wall_s": 700.0 + 7 * 3.0}
+        "wall_s": 700.0 + 8 * 3.0}
 bad = {k: (m.get(k), v) for k, v in want.items() if m.get(k) != v}
 if bad:
     sys.exit(f"FAIL: matrix.json (got, want): {bad}")
 md = open(os.path.join(d, "out", "matrix.md")).read()
 for needle in ["| absorption-right | absorption | 0.02 |", "0.022 [0.01, 0.03]", "| 700 s |",
                "| null-called-effect | none |", "no_gap (allowed to 0.1)", "no_gap (out from 0.003)",
-               "no_gap (not ruled out, rate free)", "whose truth the table's limits rule out: 1/3"]:
+               "no_gap (not ruled out, rate free)", "no_gap (out from 0.03, at rate 30)",
+               "whose truth the table's limits rule out: 2/4"]:
     if needle not in md:
         sys.exit(f"FAIL: matrix.md lacks {needle!r}")
 shutil.rmtree(d)  # kept on a failure, for the post-mortem
