@@ -1,11 +1,12 @@
 // Stage 8b of the diagnosis (diagnosis.md §4, after the reach): what a `no_gap` table rules out. "The model
 // agrees with the observations" says no effect is needed; it does not say how strong an effect could be and
 // still hide in the noise, which is what an engineer deciding whether to model it asks. Every candidate's
-// runs at every condition of the table (its probes, at the default shape) are set against the observations:
-// a strength whose runs the observations reject against the model without the effect by a χ² difference
-// past kRuleOutDelta is ruled out; the weakest strength from which every stronger run is ruled out, and the
-// strongest run under it that is not, bracket the limit. The earlier stages' runs rarely bracket it (the
-// screen ran one probe), so run_limits adds `limit_steps` rounds of one strength more per candidate.
+// runs at every condition of the table (its probes and the stage's own runs) are set against the
+// observations: a strength whose runs the observations reject against the model without the effect by a χ²
+// difference past kRuleOutDelta is ruled out; the weakest strength from which every stronger run is ruled
+// out, and the strongest run under it that is not, bracket the limit. The earlier stages' runs rarely bracket
+// it (the screen ran one probe), so run_limits adds `limit_steps` rounds of one strength more per candidate.
+// A candidate with a second parameter (a sink's rate) has a limit at each shape run and one with it free.
 #pragma once
 
 #include <string>
