@@ -109,14 +109,18 @@ TEST(DiagnoseLimits, TheNextRunBracketsTheLimit) {
   EXPECT_DOUBLE_EQ(next_limit_strength(limit_of("scale", {{0.0012, 30.0}}, 9.0), 3.0, 0.001), 0.001);
   EXPECT_DOUBLE_EQ(next_limit_strength(limit_of("scale", {{0.001, 12.0}, {0.0012, 30.0}}, 9.0), 3.0, 0.001),
                    0.0);
-  // Another shape of a sink (climb): nothing ruled out there yet, so one step up, capped at the range's end;
-  // at the end, nothing more. The default shape does not climb: the reach says where it would show.
+  // Another shape of a sink (climb): nothing ruled out there yet, so straight to the range's end; at the end
+  // (or within 10 % of it), nothing more. The default shape does not climb: the reach says where it would
+  // show. Ruled out at the end, the bracket it makes is split at its geometric middle.
   const Limit slow = limit_of("absorption", {{0.05, 2.0}}, 9.0);
-  EXPECT_DOUBLE_EQ(next_limit_strength(slow, 3.0, 1e-3, 0.3, true), 0.15);
+  EXPECT_DOUBLE_EQ(next_limit_strength(slow, 3.0, 1e-3, 0.3, true), 0.3);
   EXPECT_DOUBLE_EQ(next_limit_strength(slow, 3.0, 1e-3, 0.3, false), 0.0);
-  EXPECT_DOUBLE_EQ(next_limit_strength(limit_of("absorption", {{0.15, 2.0}}, 9.0), 3.0, 1e-3, 0.3, true),
-                   0.3);
+  EXPECT_DOUBLE_EQ(next_limit_strength(limit_of("absorption", {{0.28, 2.0}}, 9.0), 3.0, 1e-3, 0.3, true),
+                   0.0);
   EXPECT_DOUBLE_EQ(next_limit_strength(limit_of("absorption", {{0.3, 2.0}}, 9.0), 3.0, 1e-3, 0.3, true), 0.0);
+  EXPECT_DOUBLE_EQ(
+      next_limit_strength(limit_of("absorption", {{0.03, 2.0}, {0.3, 40.0}}, 9.0), 3.0, 1e-3, 0.3, true),
+      0.0949);
   // Ruled out at that shape too: bracketed downward as any limit.
   EXPECT_DOUBLE_EQ(next_limit_strength(limit_of("absorption", {{0.05, 40.0}}, 9.0), 3.0, 1e-3, 0.3, true),
                    0.0167);

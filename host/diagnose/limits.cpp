@@ -182,8 +182,11 @@ double next_limit_strength(const Limit& l, double step, double phys_lo, double p
   step = std::max(step, 1.25);
   double s = 0.0;
   if (!(l.ruled_out_from > 0)) {
+    // Straight to the end of the physical range: one run there says whether this shape rules anything out
+    // at all (a sink is monotonic in its capacity), and if it does, the next rounds bisect the bracket it
+    // makes; climbing a probe step per round could spend every round short of an answer.
     if (!climb || l.runs.empty() || !(l.runs.back().strength < phys_hi)) return 0.0;
-    s = std::min(phys_hi, rounded_strength(l.runs.back().strength * step));
+    s = phys_hi;
   } else if (!(l.allowed_to > 0)) {
     s = std::max(phys_lo, rounded_strength(l.ruled_out_from / step));
   } else if (l.ruled_out_from / l.allowed_to > kLimitRatio) {
@@ -199,6 +202,7 @@ void run_limits(Procedure& p) {
   p.limits = table_limits(p);
   for (int round = 0; round < p.d.limit_steps && !p.limits.empty(); ++round) {
     std::vector<Variant> asked;
+    const std::vector<FreeShapeLimit> free = free_shape_limits(p.limits);  // this round's, as p.limits
     const auto ask = [&](const std::string& effect, double shape, double s) {
       const Variant v = shape > 0 ? p.variant(effect, s, 0, shape) : p.variant(effect, s);
       if (!p.failure(v, p.probe_seeds).empty()) return;  // failed before: noted then
@@ -228,7 +232,6 @@ void run_limits(Procedure& p) {
         // nothing out, and brackets only when it binds (the others' brackets would not move that limit).
         const bool other = &*l != d;
         if (other && l->ruled_out_from > 0) {
-          const std::vector<FreeShapeLimit> free = free_shape_limits(p.limits);
           const auto f =
               std::find_if(free.begin(), free.end(), [&](const FreeShapeLimit& x) { return x.effect == e; });
           // Open at some shape (nothing there ruled out), or ruled out below the binding shape (ties bind).

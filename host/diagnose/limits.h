@@ -103,7 +103,8 @@ constexpr double kLimitRatio = 2.5;
 // kLimitRatio, its geometric middle. To 3 digits; 0 when that is within 10 % of a strength already run, or
 // nothing is ruled out (no limit to bracket: the reach says where a candidate would show), unless `climb`
 // (a shape other than the default, run for the free-shape limit: nothing ruled out yet there means the
-// limit with the shape free lies higher): then one step over the strongest run, capped at phys_hi. Pure.
+// limit with the shape free lies higher): then phys_hi, the end of the physical range, whose run either
+// leaves the shape open over the whole range or makes a bracket the next rounds split. Pure.
 double next_limit_strength(const Limit& l, double step, double phys_lo, double phys_hi = 0.0,
                            bool climb = false);
 

@@ -154,15 +154,8 @@ std::string limits_sentence(const Report& r) {
       std::string profile;
       const auto f = std::find_if(free.begin(), free.end(),
                                   [&](const FreeShapeLimit& x) { return x.effect == l.effect; });
-      if (f != free.end() && f->ruled_out_from > 0)
-        profile = fmt::format("; at every {} run ({:g}–{:g}), from {:.3g} (set by {:g})", e.shape,
-                              f->shapes.front(), f->shapes.back(), f->ruled_out_from, f->binding);
-      else if (f != free.end())
-        profile = fmt::format(
-            "; but at {} = {:g} no run up to {:.3g} is ruled out, so with the {} free ({:g}–{:g} run) it is "
-            "not",
-            e.shape, f->open.front().first, f->open.front().second, e.shape, f->shapes.front(),
-            f->shapes.back());
+      if (f != free.end())
+        profile = "; " + free_shape_text(*f);
       else if (!e.shape.empty())
         profile = fmt::format("; other values of the {} were not run", e.shape);
       out += fmt::format("{}`{}` from {} = {:.3g}{} (Δχ² {:+.1f}; {}{})", out.empty() ? "" : "; ", l.effect,

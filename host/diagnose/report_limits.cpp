@@ -56,20 +56,22 @@ std::string limits_markdown(const Report& r) {
                       shape_text(l), runs_text(l), strength_or_dash(l.ruled_out_from),
                       strength_or_dash(l.allowed_to), strength_or_dash(l.about));
   md += "\n";
-  for (const FreeShapeLimit& f : free_shape_limits(r.limits)) {
-    const EffectSpec& e = effect_spec(f.effect);
-    std::string shapes;
-    for (const double sh : f.shapes) shapes += fmt::format("{}{:g}", shapes.empty() ? "" : ", ", sh);
-    md += f.ruled_out_from > 0
-              ? fmt::format(
-                    "With the {} free ({} run), `{}` is ruled out from {} = {:.3g} (set by {:g}); "
-                    "values outside those run are not tested.\n\n",
-                    e.shape, shapes, f.effect, e.strength, f.ruled_out_from, f.binding)
-              : fmt::format(
-                    "With the {} free ({} run), `{}` is not ruled out: at {:g} no run up to {:.3g} is.\n\n",
-                    e.shape, shapes, f.effect, f.open.front().first, f.open.front().second);
-  }
+  for (const FreeShapeLimit& f : free_shape_limits(r.limits))
+    md += fmt::format("`{}` ({}): {}{}; values of the {} outside those run are not tested.\n\n", f.effect,
+                      effect_spec(f.effect).strength, f.ruled_out_from > 0 ? "ruled out " : "",
+                      free_shape_text(f), effect_spec(f.effect).shape);
   return md;
+}
+
+std::string free_shape_text(const FreeShapeLimit& f) {
+  const EffectSpec& e = effect_spec(f.effect);
+  const std::string free =
+      fmt::format("with the {} free ({:g}–{:g} run", e.shape, f.shapes.front(), f.shapes.back());
+  if (f.ruled_out_from > 0)
+    return fmt::format("from {:.3g} {}; set by {} = {:g})", f.ruled_out_from, free, e.shape, f.binding);
+  const auto [shape, strongest] = f.open.front();
+  return fmt::format("not ruled out {}): at {} = {:g} no run up to {:.3g}{} is", free, e.shape, shape,
+                     strongest, strongest >= e.phys_hi ? ", the end of its physical range," : "");
 }
 
 nlohmann::json limits_json(const Report& r) {

@@ -68,7 +68,7 @@ expect "$D/dn/diagnosis.json" 'j["limits"] and all(all((x["delta_chi2"] >= x["ru
   "the limits of a table without a gap are inconsistent or not reported" "$D/dn/report.md"
 # The sink, ruled out at its default rate, ran the other rates too: its limit with the rate free is where
 # every rate rules it out (the largest of theirs, or none when one rules out nothing), and the paragraph says so.
-expect "$D/dn/diagnosis.json" 'any(f["effect"] == "absorption" for f in j["limits_free_shape"]) and all(len(f["shapes"]) == len([l for l in j["limits"] if l["effect"] == f["effect"]]) and f["ruled_out_from"] == (max(l["ruled_out_from"] for l in j["limits"] if l["effect"] == f["effect"]) if all(l["ruled_out_from"] > 0 for l in j["limits"] if l["effect"] == f["effect"]) else 0) and "run (" in j["paragraph"] for f in j["limits_free_shape"])' \
+expect "$D/dn/diagnosis.json" 'any(f["effect"] == "absorption" for f in j["limits_free_shape"]) and all(len(f["shapes"]) == len([l for l in j["limits"] if l["effect"] == f["effect"]]) and f["ruled_out_from"] == (max(l["ruled_out_from"] for l in j["limits"] if l["effect"] == f["effect"]) if all(l["ruled_out_from"] > 0 for l in j["limits"] if l["effect"] == f["effect"]) else 0) and " free (" in j["paragraph"] for f in j["limits_free_shape"])' \
   "a sink's limit with its rate free is inconsistent with its rows or not said" "$D/dn/report.md"
 expect "$D/ds/diagnosis.json" 'j["limits"] == [] and j["limits_free_shape"] == []' "limits reported for a verdict with a gap"
 echo "micro diagnosis e2e: $(($(date +%s) - t0)) s"
