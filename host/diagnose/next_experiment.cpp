@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <map>
 #include <optional>
 #include <set>
@@ -44,29 +43,6 @@ Condition with_value(const Condition& base, const std::string& key, const std::s
   std::sort(c.values.begin(), c.values.end(), [](const auto& a, const auto& b) { return a.key < b.key; });
   c.label = condition_label(c.values);
   return c;
-}
-
-// For each assay the file names ([assays]): the calibrated model's seed spread over its runs' own window
-// SE at the table's conditions (as the baseline measures it for the table's observables, baseline.cpp), so
-// that an assay's model error is the seed-to-seed one. 1 where fewer than two seeds report it.
-std::map<std::string, double> assays_inflation(const Procedure& p) {
-  std::map<std::string, double> f;
-  const Variant base = p.variant("", 0);
-  for (const auto& [obs, sd] : p.d.assays) {
-    std::vector<Cell> cells;
-    std::vector<std::vector<Prediction>> per_seed(p.base_seeds.size());
-    for (const Condition& c : p.tab.conditions) {
-      Cell cell;
-      cell.observable = obs;
-      cells.push_back(cell);
-      for (size_t s = 0; s < p.base_seeds.size(); ++s)
-        per_seed[s].push_back(p.book.reports(c, base, {p.base_seeds[s]}, obs)
-                                  ? p.book.predict(c, base, {p.base_seeds[s]}, obs, 1.0)
-                                  : Prediction{std::nan(""), std::nan("")});
-    }
-    f[obs] = within_inflation(cells, per_seed)[obs];
-  }
-  return f;
 }
 
 // A tied model as a rival: the members of its fitted candidate (refit settings x shapes), the one its fresh
@@ -318,17 +294,6 @@ std::vector<Condition> merge_conditions(std::vector<Condition> first, const std:
   return first;
 }
 
-std::map<std::string, double> median_sigma(const std::vector<Cell>& cells) {
-  std::map<std::string, std::vector<double>> sig;
-  for (const Cell& c : cells) sig[c.observable].push_back(c.sigma);
-  std::map<std::string, double> sigma;
-  for (auto& [o, v] : sig) {
-    std::sort(v.begin(), v.end());
-    sigma[o] = v[v.size() / 2];
-  }
-  return sigma;
-}
-
 void rank_proposals(std::vector<Proposal>& proposals, double new_condition_factor) {
   const auto rank = [&](const Proposal& q) {
     const double s = judged_separation(q.refit_separation, q.separation);
@@ -339,88 +304,6 @@ void rank_proposals(std::vector<Proposal>& proposals, double new_condition_facto
     if (fx != fy) return fx;
     return rank(x) > rank(y);
   });
-}
-
-namespace {
-
-// The rival's least χ² over the table with the extra measurements appended (its strength re-fitted to all).
-double chi2_with(const std::vector<Cell>& cells, const std::vector<Prediction>& baseline,
-                 const Response& rival, const std::vector<ExtraMeasurement>& extra) {
-  std::vector<Cell> all = cells;
-  std::vector<Prediction> base = baseline;
-  Response r = rival;
-  for (const ExtraMeasurement& e : extra) {
-    if (e.knots.size() != r.strengths.size())
-      throw std::invalid_argument("refit_rise: an extra measurement's knots do not match the response's");
-    all.push_back(e.cell);
-    base.push_back(e.null);
-    for (size_t k = 0; k < e.knots.size(); ++k) r.pred[k].push_back(e.knots[k]);
-  }
-  return fit_strength(all, Emulator(base, r)).chi2;
-}
-
-}  // namespace
-
-double refit_rise(const std::vector<Cell>& cells, const std::vector<Prediction>& baseline,
-                  const Response& rival, const std::vector<ExtraMeasurement>& extra) {
-  const double with = chi2_with(cells, baseline, rival, extra);
-  return std::max(0.0, with - fit_strength(cells, Emulator(baseline, rival)).chi2);
-}
-
-double needed_separation(double chi2_a, size_t n, const VerdictRule& rule, double luck) {
-  return std::sqrt(fresh_tie_margin(chi2_a, n, rule, luck));
-}
-
-double refit_rise(const std::vector<Cell>& cells, const std::vector<RivalMember>& family) {
-  double table = std::numeric_limits<double>::infinity(), with = table;
-  for (const RivalMember& m : family) {
-    const double t = fit_strength(cells, Emulator(*m.baseline, *m.response)).chi2;
-    table = std::min(table, t);
-    if (m.known) with = std::min(with, chi2_with(cells, *m.baseline, *m.response, m.extra));
-  }
-  return std::isfinite(with) ? std::max(0.0, with - table) : std::nan("");
-}
-
-bool pair_beats_single(const ProposalPair& pair, const Proposal& single) {
-  const double s = judged_separation(single.refit_separation, single.separation);
-  return pair.refit_separation >= kDecisive && pair.refit_separation > std::sqrt(2.0) * s;
-}
-
-MeasurementNoise measurement_noise(const Procedure& p) {
-  MeasurementNoise n;
-  n.sigma = median_sigma(p.tab.cells);
-  for (const Cell& c : p.tab.cells) n.inflation[c.observable] = p.inflation(c.observable);
-  const std::map<std::string, double> assay_inflation = assays_inflation(p);
-  for (const auto& [obs, sd] : p.d.assays) n.sigma[obs] = sd, n.inflation[obs] = assay_inflation.at(obs);
-  if (!p.baselines.empty() && p.baselines[0].size() == p.tab.cells.size()) {
-    std::vector<Cell> se2 = p.tab.cells;  // median_sigma over the baseline's squared SEs
-    for (size_t k = 0; k < se2.size(); ++k) se2[k].sigma = p.baselines[0][k].se * p.baselines[0][k].se;
-    for (const auto& [obs, v] : median_sigma(se2))
-      if (!p.d.assays.count(obs) && std::isfinite(v)) n.typical_se2[obs] = v;
-  }
-  return n;
-}
-
-double sigma_at(const MeasurementNoise& n, const std::string& obs, double se_x, double se_y) {
-  const double s = n.sigma.at(obs);
-  const auto t = n.typical_se2.find(obs);
-  if (t == n.typical_se2.end()) return s;
-  const double excess = 0.5 * (se_x * se_x + se_y * se_y) - t->second;
-  return std::isfinite(excess) && excess > 0 ? std::sqrt(s * s + excess) : s;
-}
-
-double separation_of(const MeasurementNoise& n, const std::string& obs, const Prediction& x,
-                     const Prediction& y) {
-  const double s = sigma_at(n, obs, x.se, y.se);
-  return std::fabs(x.mean - y.mean) / std::sqrt(s * s + x.se * x.se + y.se * y.se);
-}
-
-size_t repeats_for(double delta, double sigma, double se2, double target) {
-  // |delta|² / target² = σ²/k + se²  =>  k = σ² / (delta²/target² − se²).
-  const double room = delta * delta / (target * target) - se2;
-  if (!(room > 0) || !(sigma > 0)) return 0;
-  const double k = std::ceil(sigma * sigma / room * (1 - 1e-12));
-  return k <= double(kMaxRepeats) ? std::max<size_t>(1, size_t(k)) : 0;
 }
 
 size_t tie_repeats(const Proposal& q, double needed, size_t seeds) {
