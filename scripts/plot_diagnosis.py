@@ -241,17 +241,23 @@ def limits(j, out):
     def signed_root(d):
         return (1 if d >= 0 else -1) * abs(d) ** 0.5
 
-    right = 3.0
+    vs = [signed_root(r["delta_chi2"]) for x in rows for r in x["runs"]]
+    right = max([3.0] + vs)
+    # Two runs closer than a label's width: the second label goes under its marker (and so on, alternating),
+    # so that "0.009" and "0.0164" do not print over each other.
+    near = 0.05 * (right * 1.1 - min([-3.0] + vs))
     for i, x in enumerate(rows):
-        for r in x["runs"]:
+        last, below = None, False
+        for r in sorted(x["runs"], key=lambda r: r["delta_chi2"]):
             v = signed_root(r["delta_chi2"])
-            right = max(right, v)
+            below = (not below) if last is not None and v - last < near else False
+            last = v
             out_ = r["ruled_out"]
             ax.plot(v, i, "o", ms=7, color="tab:red" if out_ else "white", mec="tab:red" if out_ else "tab:gray")
             # The run's own threshold (2 x its scatter when that is past the table's): a tick on the row.
             ax.plot(signed_root(r["rule_out_at"]), i, "|", color="tab:red", ms=11, alpha=0.5)
-            ax.annotate(f"{r['strength']:.3g}", (v, i), textcoords="offset points", xytext=(0, 7), ha="center",
-                        fontsize=6.5)
+            ax.annotate(f"{r['strength']:.3g}", (v, i), textcoords="offset points", xytext=(0, -13 if below else 7),
+                        ha="center", fontsize=6.5)
     labels = []
     # An effect with a second parameter has a row per value run, the default first, and a limit with that
     # parameter free (limits_free_shape), said on its first row.
@@ -278,7 +284,7 @@ def limits(j, out):
     ax.set_yticks(range(len(rows)), labels, fontsize=7)
     ax.set_ylim(len(rows) - 0.4, -0.7)
     ax.set_xlim(min(-3.0, ax.get_xlim()[0]), right * 1.1)
-    finish_rows(fig, ax, len(rows), "signed √Δχ²: how far the observations reject the run, in σ (strength above "
+    finish_rows(fig, ax, len(rows), "signed √Δχ²: how far the observations reject the run, in σ (strength by "
                 "each marker)", "What this table rules out: each candidate's runs against the observations",
                 os.path.join(out, "limits.png"), 0.12)
 

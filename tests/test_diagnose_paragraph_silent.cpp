@@ -224,22 +224,23 @@ TEST(DiagnoseParagraph, NoGapSaysWhatTheTableRulesOut) {
   f.limits.back().shape = 30.0;
   const std::string both = verdict_paragraph(f);
   EXPECT_NE(
-      both.find("at rate k (1/s) = 3 (Δχ² +753.4; no weaker strength was run; from 0.125 with the rate k "
-                "(1/s) free (0.3–30 run; set by rate k (1/s) = 0.3))"),
+      both.find("at rate k (1/s) = 3 (Δχ² +753.4; no weaker strength was run; from pore capacity (fraction "
+                "of own volume) = 0.125 with the rate k (1/s) free (0.3–30 run; set by rate k (1/s) = 0.3))"),
       std::string::npos)
       << both;
   f.limits[f.limits.size() - 2] = limit_of("absorption", {{0.05, 3.0}, {0.125, 6.0}}, kRuleOutDelta);
   f.limits[f.limits.size() - 2].shape = 0.3;
   const std::string open = verdict_paragraph(f);
   EXPECT_NE(open.find("; not ruled out with the rate k (1/s) free (0.3–30 run): at rate k (1/s) = 0.3 no run "
-                      "up to 0.125 is)"),
+                      "up to pore capacity (fraction of own volume) = 0.125 is)"),
             std::string::npos)
       << open;
   // Open up to the end of the physical range (the climb's last run): the sentence says so.
   f.limits[f.limits.size() - 2] = limit_of("absorption", {{0.05, 3.0}, {0.3, 6.0}}, kRuleOutDelta);
   f.limits[f.limits.size() - 2].shape = 0.3;
   const std::string end = verdict_paragraph(f);
-  EXPECT_NE(end.find("no run up to 0.3, the end of its physical range, is)"), std::string::npos) << end;
+  EXPECT_NE(end.find("(fraction of own volume) = 0.3, the end of its physical range, is)"), std::string::npos)
+      << end;
   // The other rates' rows are the free-shape clause's, not entries of their own.
   EXPECT_EQ(open.find("`absorption` from", open.find("`absorption` from") + 1), std::string::npos) << open;
 }

@@ -103,9 +103,10 @@ std::string limits_markdown(const Report& r);
 nlohmann::json limits_json(const Report& r);
 // Each effect with a second parameter, its limit with that parameter free (limits.h, free_shape_limits).
 nlohmann::json free_shape_limits_json(const Report& r);
-// That limit in words, for the paragraph and report.md alike: "from 0.125 with the rate k (1/s) free (0.3–30
-// run; set by rate k (1/s) = 0.3)", or "not ruled out with the rate k (1/s) free (0.3–30 run): at rate k
-// (1/s) = 0.3 no run up to 0.3, the end of its physical range, is".
+// That limit in words, for the paragraph and report.md alike: "from pore capacity (...) = 0.125 with the rate
+// k (1/s) free (0.3–30 run; set by rate k (1/s) = 0.3)", or "not ruled out with the rate k (1/s) free
+// (0.3–30 run): at rate k (1/s) = 0.3 no run up to pore capacity (...) = 0.3, the end of its physical
+// range, is".
 std::string free_shape_text(const FreeShapeLimit& f);
 
 // The measurement that would separate two tied effects (next_experiment.h): report.md's section (empty when

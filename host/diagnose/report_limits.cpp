@@ -57,9 +57,9 @@ std::string limits_markdown(const Report& r) {
                       strength_or_dash(l.allowed_to), strength_or_dash(l.about));
   md += "\n";
   for (const FreeShapeLimit& f : free_shape_limits(r.limits))
-    md += fmt::format("`{}` ({}): {}{}; values of the {} outside those run are not tested.\n\n", f.effect,
-                      effect_spec(f.effect).strength, f.ruled_out_from > 0 ? "ruled out " : "",
-                      free_shape_text(f), effect_spec(f.effect).shape);
+    md += fmt::format("`{}`: {}{}; values of the {} outside those run are not tested.\n\n", f.effect,
+                      f.ruled_out_from > 0 ? "ruled out " : "", free_shape_text(f),
+                      effect_spec(f.effect).shape);
   return md;
 }
 
@@ -68,10 +68,11 @@ std::string free_shape_text(const FreeShapeLimit& f) {
   const std::string free =
       fmt::format("with the {} free ({:g}–{:g} run", e.shape, f.shapes.front(), f.shapes.back());
   if (f.ruled_out_from > 0)
-    return fmt::format("from {:.3g} {}; set by {} = {:g})", f.ruled_out_from, free, e.shape, f.binding);
+    return fmt::format("from {} = {:.3g} {}; set by {} = {:g})", e.strength, f.ruled_out_from, free, e.shape,
+                       f.binding);
   const auto [shape, strongest] = f.open.front();
-  return fmt::format("not ruled out {}): at {} = {:g} no run up to {:.3g}{} is", free, e.shape, shape,
-                     strongest, strongest >= e.phys_hi ? ", the end of its physical range," : "");
+  return fmt::format("not ruled out {}): at {} = {:g} no run up to {} = {:.3g}{} is", free, e.shape, shape,
+                     e.strength, strongest, strongest >= e.phys_hi ? ", the end of its physical range," : "");
 }
 
 nlohmann::json limits_json(const Report& r) {
