@@ -26,6 +26,7 @@ import json
 import math
 import os
 import re
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -245,9 +246,10 @@ def main():
                "--quiet"] + (["--batch", str(a.batch)] if a.batch else [])
         r = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         if r.returncode != 0:
-            sys.exit(f"wetdem twin failed ({r.returncode}):\n{r.stdout}")
+            sys.exit(f"wetdem twin failed ({r.returncode}; its files: {work}):\n{r.stdout}")
         with open(os.path.join(work, "twin", "observations.csv"), newline="") as f:
             measured[k] = list(csv.DictReader(f))
+        shutil.rmtree(work)  # the runs stay in the store; the twin's table is read
     added, what = [], []
     for full, observable, _, repeats in todo:
         row = next((m for m in measured[repeats] if m["observable"] == observable and same_condition(m, full)),

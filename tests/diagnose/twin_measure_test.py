@@ -10,6 +10,7 @@ the new table, reported with what was measured.
 usage: twin_measure_test.py SOURCE_DIR"""
 import json
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -241,4 +242,5 @@ for mode in ("here", "script"):
     md = open(os.path.join(out, "matrix.md")).read()
     if "after measuring liquid_free_fraction at liquid.content=20 %" not in md:
         fail(f"{mode}: matrix.md does not say what was measured:\n{md}")
+shutil.rmtree(root)  # kept on a failure, for the post-mortem
 print("ok")
