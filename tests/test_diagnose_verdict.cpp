@@ -391,3 +391,36 @@ TEST(DiagnoseVerdict, TheLimitNoteFollowsTheReportedFit) {
   ASSERT_EQ(c.notes.size(), 1u) << "the limit note goes, the others stay";
   EXPECT_EQ(c.notes[0], "range extended to 0.9");
 }
+
+// The order of a tie (tie_order_evidence): the held-out lean and the fresh lean, each in its own noise,
+// added. On the flowing spread-weak twin's numbers the fresh runs outweigh the held-out score. With two
+// independent, equally weak pieces of evidence for the better candidate (half a standard deviation each), the
+// sum names it more often than the held-out order alone (P(N(1, √2) > 0) = 0.76 against P(N(0.5, 1) > 0) =
+// 0.69); a held-out lean of 3 σ is not overturned by a fresh lean within the luck. Without a noise there is
+// nothing to weigh, and the held-out order stands (NaN).
+TEST(DiagnoseVerdict, TheTieIsOrderedByItsEvidenceWeighedByItsNoise) {
+  double hz = 0.0, fz = 0.0;
+  const double e = tie_order_evidence(13.26, 19.2, 21.48, 40.86, 21.36, 21.41, &hz, &fz);
+  EXPECT_GT(e, 0.0);
+  EXPECT_NEAR(hz, 0.277, 0.001);
+  EXPECT_NEAR(fz, 0.727, 0.001);
+  EXPECT_LT(tie_order_evidence(10.0, 20.0, 3.0, 40.0, 30.0, 20.0), 0.0);
+  EXPECT_TRUE(std::isnan(tie_order_evidence(10.0, 20.0, 0.0, 40.0, 30.0, 20.0)));
+  EXPECT_TRUE(std::isnan(tie_order_evidence(10.0, 20.0, 3.0, 40.0, 30.0, 0.0)));
+
+  std::mt19937_64 rng(20261206);
+  std::normal_distribution<double> n01(0.0, 1.0);
+  const double luck = 1.0 / std::sqrt(1.57079632679489662);  // a fresh difference of standard deviation 1
+  int held_right = 0, sum_right = 0;
+  const int trials = 4000;
+  for (int t = 0; t < trials; ++t) {
+    // b is the better candidate: lower held out and lower on fresh runs, by half a standard deviation each.
+    const double loco_a = 30.0, loco_b = loco_a - 0.5 + n01(rng);
+    const double fresh_b = 40.0, fresh_a = fresh_b + 0.5 + n01(rng);
+    held_right += loco_b < loco_a;
+    sum_right += tie_order_evidence(loco_a, loco_b, 1.0, fresh_a, fresh_b, luck) > 0.0;
+  }
+  EXPECT_NEAR(double(held_right) / trials, 0.69, 0.025);
+  EXPECT_NEAR(double(sum_right) / trials, 0.76, 0.025);
+  EXPECT_GT(sum_right, held_right);
+}

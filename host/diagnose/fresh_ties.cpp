@@ -1,8 +1,9 @@
 // Shrink (step 6), the candidates decided on their fresh runs rather than their probes: an unseen tie that
 // its fresh runs show or leave clearly worse, an unseen lead that alone passes the held-out rule, and a tie
-// named in place of a chosen effect whose fresh runs do not confirm it. The fresh runs carry no probe's seed
-// noise and no emulator, so where they and the held-out score disagree, they decide (diagnosis.md,
-// "Verdicts").
+// named in place of a chosen effect whose fresh runs do not confirm it; and the order of a tie of seen
+// candidates, where the held-out score and the fresh runs lean opposite ways, weighed each by its noise. The
+// fresh runs carry no probe's seed noise and no emulator, so where they and the held-out score disagree,
+// they decide, or, within a tie, weigh in (diagnosis.md, "Verdicts").
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -256,6 +257,56 @@ void promote_confirmed(Procedure& p, double before) {
   p.fresh.erase(std::remove_if(p.fresh.begin() + 1, p.fresh.end(),
                                [&](const FreshCheck& c) { return listed(gone, c.effect); }),
                 p.fresh.end());
+}
+
+// A tie between candidates the table can see, both confirmed on their fresh runs: neither is clearly worse,
+// but the held-out score and the fresh runs may lean opposite ways, and the held-out order alone named the
+// first. Each lean is measured in its own noise and the two added (tie_order_evidence, verdict.h); where the
+// sum favours a tied candidate it is named first, and the former first stays tied (swap_first). The verdict's
+// kind follows the new first's fresh runs. `before`: the control's χ² on the same fresh seeds.
+void order_tie_by_evidence(Procedure& p, double before) {
+  Verdict& v = p.verdict;
+  const double luck = v.seed_luck;
+  if ((v.kind != "effect" && v.kind != "partial") || p.fresh.size() < 2 || !(luck > 0)) return;
+  const FreshCheck first = p.fresh.front();
+  const Candidate* a = ranked(p, first.effect);
+  const double fa = fresh_chi2(first);
+  if (!a || !std::isfinite(fa)) return;
+  size_t best = 0;
+  double most = 0.0, held_z = 0.0, fresh_z = 0.0;
+  for (size_t i = 1; i < p.fresh.size(); ++i) {
+    const FreshCheck& f = p.fresh[i];
+    const Candidate* b = ranked(p, f.effect);
+    const double fb = fresh_chi2(f);
+    if (!b || !std::isfinite(fb) || !listed(v.tied, f.effect) || listed(p.unseen, f.effect) ||
+        !fresh_confirms(before, fb, p.d.rule, luck))
+      continue;
+    double hz = 0.0, fz = 0.0;
+    const double e = tie_order_evidence(a->loco, b->loco, held_out_noise(*a, *b), fa, fb, luck, &hz, &fz);
+    if (e > most) best = i, most = e, held_z = hz, fresh_z = fz;
+  }
+  if (best == 0) return;
+  const FreshCheck f = p.fresh[best];
+  const Candidate* b = ranked(p, f.effect);
+  p.notes.push_back(fmt::format(
+      "shrink: {} and {} are tied; held out {} leads by {:.1f} ({:.2f} σ of that difference's noise), on "
+      "fresh runs {} by {:.1f} ({:.2f} σ of the model's own seed luck): the evidence weighed by its noise "
+      "favours {}, which is named first",
+      first.effect, f.effect, first.effect, b->loco - a->loco, held_z, f.effect, fa - fresh_chi2(f), fresh_z,
+      f.effect));
+  v.reordered = {first.effect, held_z, fresh_z};
+  std::vector<std::string> gone;
+  swap_first(p, best, gone);
+  p.fresh.erase(std::remove_if(p.fresh.begin() + 1, p.fresh.end(),
+                               [&](const FreshCheck& c) { return listed(gone, c.effect); }),
+                p.fresh.end());
+  std::vector<std::string>& h = v.held_by_luck;
+  h.erase(std::remove(h.begin(), h.end(), f.effect), h.end());
+  if (listed(v.tied, first.effect) &&
+      !fresh_tie(fresh_chi2(f), fresh_chi2(first), p.tab.cells.size(), p.d.rule))
+    hold_by_luck(v, first.effect);
+  v.kind = "effect";
+  settle_verdict(v, p.fresh.front().gaps_after, p.d.rule);
 }
 
 }  // namespace wetdem::diagnose::shrink_steps

@@ -73,6 +73,21 @@ std::string tie_sentence(const Report& r) {
     // Tied though clearly worse held out: the fresh runs kept it (a first named on them, shrink.cpp).
     const bool kept =
         fc && fb && !fc->after.empty() && !fb->after.empty() && clearly_worse(*best, *c, r.spec->rule);
+    const Verdict::ReorderedTie& ro = r.verdict.reordered;
+    if (ro.effect == e && fc && fb && !fc->after.empty() && !fb->after.empty()) {
+      // The first named on the weight of the evidence (fresh_ties.cpp, order_tie_by_evidence).
+      s += fmt::format(
+          " **`{}` explains the data nearly as well**: held out it scored better, {:.1f} against {:.1f} "
+          "({:.2f} "
+          "standard deviations of that difference's noise), but on fresh runs its χ² is {:.1f} against "
+          "{:.1f} "
+          "({:.2f} standard deviations of the model's own seed luck). Neither is clearly worse; the two, "
+          "each "
+          "weighed by its noise, favour `{}`, which is named first. Both are reported ({} = {}).",
+          e, c->loco, best->loco, ro.held_out_z, chi2_of(fc->gaps_after), chi2_of(fb->gaps_after), ro.fresh_z,
+          r.verdict.effect, effect_spec(e).strength, strength_text(*c, r.runs_of(e)));
+      continue;
+    }
     s +=
         kept ? fmt::format(
                    " **`{}` explains the data nearly as well**: held out it scored {:.1f} against {:.1f}{}, "

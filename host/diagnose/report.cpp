@@ -173,6 +173,11 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
                         {"fresh_chi2", po.fresh_chi2},
                         {"control_chi2", po.control_chi2}};
   j["held_by_luck"] = r.verdict.held_by_luck;  // fresh comparisons the seed luck decided (verdict.h)
+  // A tie named in the order the held-out score and the fresh runs favour together (tie_order_evidence).
+  j["tie_order"] = r.verdict.reordered.effect.empty() ? json(nullptr)
+                                                      : json{{"first_held_out", r.verdict.reordered.effect},
+                                                             {"held_out_z", r.verdict.reordered.held_out_z},
+                                                             {"fresh_z", r.verdict.reordered.fresh_z}};
   // The first pass at fewer seeds, when its verdict was not decided and the diagnosis ran again.
   j["escalation"] = r.escalation.from == 0 ? json(nullptr)
                                            : json{{"from_replicates", r.escalation.from},

@@ -347,6 +347,7 @@ void shrink_from(Procedure& p, bool may_retry_lead) {
                       f.effect, f.strength, other, after, first.effect, p.verdict.seed_luck));
     }
   }
+  order_tie_by_evidence(p, before);
   // The chosen one first, then the tied ones (the next-experiment stage separates the first two).
   const std::vector<std::string>& tied = p.verdict.tied;
   std::stable_partition(p.fresh.begin() + 1, p.fresh.end(), [&](const FreshCheck& f) {

@@ -39,5 +39,8 @@ void try_unseen_lead(Procedure& p);
 // fresh_ties.cpp: the chosen effect's fresh runs do not confirm it against the control (χ² `before`): a tie
 // or near tie whose own fresh runs do is named first instead.
 void promote_confirmed(Procedure& p, double before);
+// fresh_ties.cpp: a tie of two seen candidates whose held-out score and fresh runs lean opposite ways: named
+// in the order the two, each in its own noise, favour together.
+void order_tie_by_evidence(Procedure& p, double before);
 
 }  // namespace wetdem::diagnose::shrink_steps

@@ -43,6 +43,16 @@ double held_out_noise(const Candidate& a, const Candidate& b) {
   return std::sqrt(ss / double(m - 1));
 }
 
+double tie_order_evidence(double loco_a, double loco_b, double held_noise, double fresh_a, double fresh_b,
+                          double luck, double* held_z, double* fresh_z) {
+  if (!(held_noise > 0) || !(luck > 0)) return std::nan("");
+  constexpr double kHalfPi = 1.57079632679489662;  // a normal's sd / its mean absolute deviation = √(π/2)
+  const double h = (loco_b - loco_a) / held_noise, f = (fresh_a - fresh_b) / (luck * std::sqrt(kHalfPi));
+  if (held_z) *held_z = h;
+  if (fresh_z) *fresh_z = f;
+  return f - h;
+}
+
 double tie_margin(const Candidate& a, const VerdictRule& rule) {
   const double n = double(std::max<size_t>(1, a.loco_cells.size()));
   return rule.tie_delta * std::max(1.0, a.loco / n);

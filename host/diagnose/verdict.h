@@ -124,6 +124,13 @@ struct Verdict {
     std::string effect;
     double strength = 0.0, loco = 0.0, fresh_chi2 = 0.0, control_chi2 = 0.0;
   } passed_over;
+  // A tie whose order the weight of the evidence set (tie_order_evidence, fresh_ties.cpp): the effect first
+  // held out, now named second, and the two differences in units of their noise (the held-out one for it,
+  // the fresh one against it); effect empty if the held-out order stood.
+  struct ReorderedTie {
+    std::string effect;
+    double held_out_z = 0.0, fresh_z = 0.0;
+  } reordered;
 };
 
 // The effect margin against the null: LOCO <= floor + ratio x (LOCO_null - floor), i.e. the candidate removes
@@ -158,6 +165,18 @@ bool near_tie(const Candidate& a, const Candidate& b, const VerdictRule& rule);
 bool fresh_tie(double chi2_a, double chi2_b, size_t n, const VerdictRule& rule, double luck = 0.0);
 // That margin: max(tie_delta x max(1, χ²_a / n), luck).
 double fresh_tie_margin(double chi2_a, size_t n, const VerdictRule& rule, double luck = 0.0);
+
+// Which of two tied candidates to name first. Neither is clearly worse, yet each comparison leans one way:
+// held out by b.loco - a.loco over the standard deviation of that difference (held_out_noise), and on the
+// fresh runs by fresh_a - fresh_b over the standard deviation of a fresh χ² difference, the model's own seed
+// luck (a mean |Δχ²|) times √(π/2), the ratio of a normal's standard deviation to its mean absolute
+// deviation. The two are independent evidence (probes and emulators against R fresh seeds), so their sum
+// weighs both: returned as fresh_z - held_z, with both z set (positive: the evidence favours b, named first
+// on it). On the flowing spread-weak twin evaporation led held out by 5.9 against a noise of 21.5 (0.28 σ)
+// and spread on fresh runs by 19.5 against 21.4 × 1.25 (0.73 σ): spread, the truth, is named first. NaN
+// (the held-out order stands) without both noises. Pure (tests).
+double tie_order_evidence(double loco_a, double loco_b, double held_noise, double fresh_a, double fresh_b,
+                          double luck, double* held_z = nullptr, double* fresh_z = nullptr);
 
 // The fresh-seed check: an `effect` whose runs leave a gap (has_gap at table_level) becomes `partial`.
 void settle_verdict(Verdict& v, const std::vector<CellGap>& after, const VerdictRule& rule);
