@@ -384,3 +384,38 @@ TEST(DiagnoseParagraph, ACandidatePassedOverOnItsFreshRunsIsSaid) {
       std::string::npos)
       << p;
 }
+
+// A tie named in the order its held-out and fresh leans favour together (Verdict::reordered, filled by
+// order_tie_by_evidence): the paragraph gives both leans, each in its noise, and says which way they tip. The
+// flowing spread-weak twin's numbers.
+TEST(DiagnoseParagraph, ATieOrderedByItsEvidenceGivesBothLeans) {
+  Report r = chosen_with_fresh_runs("effect");
+  r.verdict.effect = "spread";
+  r.verdict.ranking[0].effect = "spread";
+  r.verdict.ranking[0].loco = 19.2;
+  r.fresh[0].effect = "spread";
+  Candidate e;
+  e.effect = "evaporation";
+  e.loco = 13.26;
+  e.fit.strength = 0.283;
+  r.verdict.ranking.push_back(e);
+  r.verdict.tied = {"evaporation"};
+  r.fresh.resize(2);
+  r.fresh[1].effect = "evaporation";
+  r.fresh[1].after.resize(3);
+  r.fresh[1].gaps_after.resize(3);
+  r.verdict.reordered = {"evaporation", 0.28, 0.73};
+  const std::string q = verdict_paragraph(r);
+  EXPECT_NE(
+      q.find("**`evaporation` explains the data nearly as well**: held out it scored better, 13.3 against "
+             "19.2 (0.28 standard deviations of that difference's noise in its favour), but on fresh runs"),
+      std::string::npos)
+      << q;
+  EXPECT_NE(q.find("(0.73 standard deviations of the model's own seed luck against it). Neither is clearly "
+                   "worse; the two, each weighed by its noise, favour `spread`, which is named first."),
+            std::string::npos)
+      << q;
+  // Without the reordering the tie is said as any other.
+  r.verdict.reordered = {};
+  EXPECT_EQ(verdict_paragraph(r).find("each weighed by its noise"), std::string::npos);
+}

@@ -289,10 +289,10 @@ void order_tie_by_evidence(Procedure& p, double before) {
   const FreshCheck f = p.fresh[best];
   const Candidate* b = ranked(p, f.effect);
   p.notes.push_back(fmt::format(
-      "shrink: {} and {} are tied; held out {} leads by {:.1f} ({:.2f} σ of that difference's noise), on "
-      "fresh runs {} by {:.1f} ({:.2f} σ of the model's own seed luck): the evidence weighed by its noise "
-      "favours {}, which is named first",
-      first.effect, f.effect, first.effect, b->loco - a->loco, held_z, f.effect, fa - fresh_chi2(f), fresh_z,
+      "shrink: {} and {} are tied; held out their χ² are {:.1f} and {:.1f} ({:+.2f} σ of that difference's "
+      "noise for {}), on fresh runs {:.1f} and {:.1f} ({:+.2f} σ of the model's own seed luck for {}): the "
+      "evidence weighed by its noise favours {}, which is named first",
+      first.effect, f.effect, a->loco, b->loco, held_z, first.effect, fa, fresh_chi2(f), fresh_z, f.effect,
       f.effect));
   v.reordered = {first.effect, held_z, fresh_z};
   std::vector<std::string> gone;

@@ -77,15 +77,14 @@ std::string tie_sentence(const Report& r) {
     if (ro.effect == e && fc && fb && !fc->after.empty() && !fb->after.empty()) {
       // The first named on the weight of the evidence (fresh_ties.cpp, order_tie_by_evidence).
       s += fmt::format(
-          " **`{}` explains the data nearly as well**: held out it scored better, {:.1f} against {:.1f} "
-          "({:.2f} "
-          "standard deviations of that difference's noise), but on fresh runs its χ² is {:.1f} against "
-          "{:.1f} "
-          "({:.2f} standard deviations of the model's own seed luck). Neither is clearly worse; the two, "
-          "each "
-          "weighed by its noise, favour `{}`, which is named first. Both are reported ({} = {}).",
-          e, c->loco, best->loco, ro.held_out_z, chi2_of(fc->gaps_after), chi2_of(fb->gaps_after), ro.fresh_z,
-          r.verdict.effect, effect_spec(e).strength, strength_text(*c, r.runs_of(e)));
+          " **`{}` explains the data nearly as well**: held out it scored {}{:.1f} against {:.1f} ({:.2f} "
+          "standard deviations of that difference's noise in its favour), but on fresh runs its χ² is {:.1f} "
+          "against {:.1f} ({:.2f} standard deviations of the model's own seed luck against it). Neither is "
+          "clearly worse; the two, each weighed by its noise, favour `{}`, which is named first. Both are "
+          "reported ({} = {}).",
+          e, c->loco < best->loco ? "better, " : "", c->loco, best->loco, ro.held_out_z,
+          chi2_of(fc->gaps_after), chi2_of(fb->gaps_after), ro.fresh_z, r.verdict.effect,
+          effect_spec(e).strength, strength_text(*c, r.runs_of(e)));
       continue;
     }
     s +=
