@@ -273,6 +273,7 @@ void order_tie_by_evidence(Procedure& p, double before) {
   const double fa = fresh_chi2(first);
   if (!a || !std::isfinite(fa)) return;
   size_t best = 0;
+  const Candidate* winner = nullptr;
   double most = 0.0, held_z = 0.0, fresh_z = 0.0;
   for (size_t i = 1; i < p.fresh.size(); ++i) {
     const FreshCheck& f = p.fresh[i];
@@ -283,17 +284,16 @@ void order_tie_by_evidence(Procedure& p, double before) {
       continue;
     double hz = 0.0, fz = 0.0;
     const double e = tie_order_evidence(a->loco, b->loco, held_out_noise(*a, *b), fa, fb, luck, &hz, &fz);
-    if (e > most) best = i, most = e, held_z = hz, fresh_z = fz;
+    if (e > most) best = i, winner = b, most = e, held_z = hz, fresh_z = fz;
   }
   if (best == 0) return;
   const FreshCheck f = p.fresh[best];
-  const Candidate* b = ranked(p, f.effect);
   p.notes.push_back(fmt::format(
       "shrink: {} and {} are tied; held out their χ² are {:.1f} and {:.1f} ({:+.2f} σ of that difference's "
       "noise for {}), on fresh runs {:.1f} and {:.1f} ({:+.2f} σ of the model's own seed luck for {}): the "
       "evidence weighed by its noise favours {}, which is named first",
-      first.effect, f.effect, a->loco, b->loco, held_z, first.effect, fa, fresh_chi2(f), fresh_z, f.effect,
-      f.effect));
+      first.effect, f.effect, a->loco, winner->loco, held_z, first.effect, fa, fresh_chi2(f), fresh_z,
+      f.effect, f.effect));
   v.reordered = {first.effect, held_z, fresh_z};
   std::vector<std::string> gone;
   swap_first(p, best, gone);

@@ -124,9 +124,10 @@ struct Verdict {
     std::string effect;
     double strength = 0.0, loco = 0.0, fresh_chi2 = 0.0, control_chi2 = 0.0;
   } passed_over;
-  // A tie whose order the weight of the evidence set (tie_order_evidence, fresh_ties.cpp): the effect first
-  // held out, now named second, and the two differences in units of their noise (the held-out one for it,
-  // the fresh one against it); effect empty if the held-out order stood.
+  // A tie whose order the weight of the evidence set (tie_order_evidence, fresh_ties.cpp): the effect named
+  // first before (the held-out leader, or the candidate promote_confirmed put first), now named second, and
+  // the two differences in units of their noise (the held-out one for it, the fresh one against it); effect
+  // empty if the order stood.
   struct ReorderedTie {
     std::string effect;
     double held_out_z = 0.0, fresh_z = 0.0;
