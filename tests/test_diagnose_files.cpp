@@ -8,6 +8,7 @@
 #include "diagnose/driver.h"
 #include "diagnose/effects.h"
 #include "diagnose/files.h"
+#include "diagnose/twin.h"
 
 namespace fs = std::filesystem;
 using namespace wetdem::diagnose;
@@ -261,11 +262,21 @@ TEST(DiagnoseFiles, BadObservationTablesAreRefusedBeforeAnyRun) {
                           "\"10 %\",colour,3,1\n")
                 .find("line 3: unknown observable 'colour'"),
             std::string::npos);
-  // A condition no case can express.
-  EXPECT_NE(diagnose_with("liquid.contnt,observable,value,sigma\n\"5 %\",aor_deg_mean,30,1\n"
-                          "\"10 %\",aor_deg_mean,31,1\n")
-                .find("liquid.contnt"),
-            std::string::npos);
+  // A condition no case can express: named where the user wrote it, the table's rows at that condition, with
+  // the case's reason (not the study's internal point number).
+  const std::string bad_key = diagnose_with(
+      "liquid.contnt,observable,value,sigma\n\"5 %\",aor_deg_mean,30,1\n"
+      "\"5 %\",f_wet_mean,0.5,0.1\n\"10 %\",aor_deg_mean,31,1\n");
+  EXPECT_NE(bad_key.find("obs.csv: lines 2-3 (liquid.contnt=5 %): liquid.contnt: unknown key"),
+            std::string::npos)
+      << bad_key;
+  EXPECT_EQ(bad_key.find("point 0"), std::string::npos) << bad_key;
+  // A condition value out of its range, on one row of several conditions.
+  const std::string bad_value = diagnose_with(
+      "liquid.content,observable,value,sigma\n\"5 %\",aor_deg_mean,30,1\n\"110 %\",aor_deg_mean,31,1\n");
+  EXPECT_NE(bad_value.find("obs.csv: line 3 (liquid.content=110 %): liquid.content: must be in [0, 1]"),
+            std::string::npos)
+      << bad_value;
   // An observable the model cannot produce: the plate AoR of a periodic slice.
   EXPECT_NE(diagnose_with("liquid.content,observable,value,sigma\n\"5 %\",aor_deg_mean,30,1\n"
                           "\"10 %\",aor_plate_deg,31,1\n")
@@ -307,6 +318,20 @@ TEST(DiagnoseFiles, TwinPointsAreExplicitConditions) {
   EXPECT_NE(err("[conditions]\n\"liquid.content\" = [\"0 %\", \"5 %\"]\n[[points]]\n\"drum.rpm\" = 60\n")
                 .find("give one of them"),
             std::string::npos);
+  // A point the case cannot express is named as written, before any truth run.
+  DiagnoseOptions o;
+  o.out = (d.p / "out").string();
+  o.quiet = true;
+  const std::string bad = expect_error([&] {
+    run_twin(parse_twin_file(d.write("t.toml", head + "[[points]]\n\"liquid.content\" = \"0 %\"\n[[points]]\n"
+                                                      "\"liquid.content\" = \"120 %\"\n")),
+             o);
+  });
+  EXPECT_NE(bad.find("t.toml: the condition liquid.content=120 % (the truth's run there): liquid.content: "
+                     "must be in [0, 1]"),
+            std::string::npos)
+      << bad;
+  EXPECT_FALSE(fs::exists(d.p / "out" / "store" / "runs")) << "nothing may run on bad input";
 }
 
 TEST(DiagnoseFiles, ProbesOutsideThePhysicalRangeAreRefused) {

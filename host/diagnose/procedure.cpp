@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 
 #include "app/case/case.h"
 #include "diagnose/observables.h"
@@ -122,22 +123,33 @@ Procedure::Procedure(const DiagnosisSpec& d_, const DiagnoseOptions& o_)
   for (const std::string& e : d.effects)
     if (effect_spec(e).not_applicable(model).empty()) effects.push_back(e);
   // Validate every run the procedure may need before any runs (bad keys, conditions no case can express,
-  // a slice too thin for the neighbour reach at some condition); the baseline is wanted now.
-  try {
-    for (Condition& c : tab.conditions) {
-      book.want(c, variant("", 0), base_seeds);
-      for (size_t j = 1; j < settings.size(); ++j) book.check(c, variant("", 0, j));
-      for (const std::string& e : effects) {
-        const EffectSpec& spec = effect_spec(e);
-        const std::vector<double>& p = d.probes.at(e);
-        const std::vector<double> shapes = d.shapes.count(e) ? d.shapes.at(e) : std::vector<double>{NAN};
-        for (size_t j = 0; j < settings.size(); ++j)
-          for (double sh : shapes)
-            for (double s : {p.front(), p.back(), spec.phys_hi}) book.check(c, variant(e, s, j, sh));
+  // a slice too thin for the neighbour reach at some condition); the baseline is wanted now. An error names
+  // the table's rows at the condition (where a user wrote it) and, for a candidate's run, the candidate.
+  for (size_t ci = 0; ci < tab.conditions.size(); ++ci) {
+    Condition& c = tab.conditions[ci];
+    const auto checked = [&](const std::function<void()>& plan, const std::string& run) {
+      try {
+        plan();
+      } catch (const study::StudyError& e) {
+        throw DiagnoseError(
+            fmt::format("{}: {} ({}){}: {}", tab.path, condition_lines(tab, ci), c.label, run, e.reason()));
       }
+    };
+    checked([&] { book.want(c, variant("", 0), base_seeds); }, "");
+    for (size_t j = 1; j < settings.size(); ++j)
+      checked([&] { book.check(c, variant("", 0, j)); },
+              fmt::format(", the model re-fitted at {} ({}: refit)", settings[j].label, d.path));
+    for (const std::string& e : effects) {
+      const EffectSpec& spec = effect_spec(e);
+      const std::vector<double>& p = d.probes.at(e);
+      const std::vector<double> shapes = d.shapes.count(e) ? d.shapes.at(e) : std::vector<double>{NAN};
+      for (size_t j = 0; j < settings.size(); ++j)
+        for (double sh : shapes)
+          for (double s : {p.front(), p.back(), spec.phys_hi})
+            checked([&] { book.check(c, variant(e, s, j, sh)); },
+                    fmt::format(", the candidate '{}' at {:g} ({}: probes, or the end of its physical range)",
+                                e, s, d.path));
     }
-  } catch (const study::StudyError& e) {
-    throw DiagnoseError(e.what());
   }
   for (size_t k = 0; k < tab.cells.size(); ++k)
     tab.cells[k].condition = tab.conditions[tab.cell_condition[k]].si;

@@ -64,6 +64,22 @@ Table read_table(const std::string& path) {
   return t;
 }
 
+std::string condition_lines(const Table& t, size_t ci) {
+  std::vector<size_t> lines;
+  for (size_t k = 0; k < t.cell_line.size(); ++k)
+    if (t.cell_condition[k] == ci) lines.push_back(t.cell_line[k]);
+  std::sort(lines.begin(), lines.end());
+  std::string out;
+  for (size_t i = 0; i < lines.size();) {
+    size_t j = i;
+    while (j + 1 < lines.size() && lines[j + 1] == lines[j] + 1) ++j;
+    out +=
+        (out.empty() ? "" : ", ") + std::to_string(lines[i]) + (j > i ? "-" + std::to_string(lines[j]) : "");
+    i = j + 1;
+  }
+  return (lines.size() == 1 ? "line " : "lines ") + out;
+}
+
 void check_producible(const Table& t, bool periodic_slice) {
   for (size_t k = 0; k < t.cells.size(); ++k) {
     const ObservableSpec* o = find_observable(t.cells[k].observable);

@@ -24,6 +24,10 @@ struct Table {
 // are DiagnoseError naming the file and the rows. Rows that are not measured are dropped (and listed).
 Table read_table(const std::string& path);
 
+// The lines of the table's rows at condition `ci`, for an error about that condition: "line 3", "lines 3-10",
+// "lines 3, 7-9" (runs of consecutive lines joined).
+std::string condition_lines(const Table& t, size_t ci);
+
 // Refuses, naming the row, an observable the model cannot produce: an end-plate quantity (aor_plate_deg,
 // aor_centre_deg) in a periodic slice, which has no plates.
 void check_producible(const Table& t, bool periodic_slice);

@@ -108,10 +108,13 @@ nlohmann::json run_twin(const TwinSpec& t, const DiagnoseOptions& o) {
             t.path, obs));
     }
   }
-  try {
-    for (Condition& c : conds) book.want(c, truth, t.seeds);
-  } catch (const study::StudyError& e) {
-    throw DiagnoseError(e.what());
+  for (Condition& c : conds) {
+    try {
+      book.want(c, truth, t.seeds);
+    } catch (const study::StudyError& e) {  // named as the user wrote it, not as the study's point number
+      throw DiagnoseError(
+          fmt::format("{}: the condition {} (the truth's run there): {}", t.path, c.label, e.reason()));
+    }
   }
   book.run();
   if (const std::string why = book.failure(conds, truth, t.seeds); !why.empty())

@@ -268,7 +268,8 @@ std::vector<PlannedRun> expand(const StudySpec& s) {
         r.resolved = app::parse_case_file(s.base, r.overrides);
         app::check_reach(r.resolved);
       } catch (const app::CaseError& e) {
-        throw StudyError(fmt::format("{}: point {} ({}): {}", s.path, p, describe(r.values), e.what()));
+        throw StudyError(fmt::format("{}: point {} ({}): {}", s.path, p, describe(r.values), e.what()),
+                         e.what());
       }
       const nlohmann::json cj = app::case_to_json(r.resolved);
       for (AxisValue& a : r.values) a.si = si_of_key(cj, a.key);

@@ -19,6 +19,14 @@ namespace wetdem::study {
 class StudyError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
+  StudyError(const std::string& what, std::string cause)
+      : std::runtime_error(what), cause_(std::move(cause)) {}
+  // The reason alone, without the file and point it was found at, for a caller that names the place in its
+  // own terms (a diagnosis names the observation table's lines); the whole message when it has no location.
+  std::string reason() const { return cause_.empty() ? std::string(what()) : cause_; }
+
+ private:
+  std::string cause_;
 };
 
 // One axis or point value as written in the study file ("5 %", 0.3, true) and as a --set override.
