@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <functional>
 
 #include "app/case/case.h"
 #include "diagnose/observables.h"
@@ -127,18 +126,20 @@ Procedure::Procedure(const DiagnosisSpec& d_, const DiagnoseOptions& o_)
   // the table's rows at the condition (where a user wrote it) and, for a candidate's run, the candidate.
   for (size_t ci = 0; ci < tab.conditions.size(); ++ci) {
     Condition& c = tab.conditions[ci];
-    const auto checked = [&](const std::function<void()>& plan, const std::string& run) {
+    // `run` names the run only when a check fails: a diagnosis checks hundreds of runs, and most pass.
+    const auto checked = [&](auto&& plan, auto&& run) {
       try {
         plan();
       } catch (const study::StudyError& e) {
         throw DiagnoseError(
-            fmt::format("{}: {} ({}){}: {}", tab.path, condition_lines(tab, ci), c.label, run, e.reason()));
+            fmt::format("{}: {} ({}){}: {}", tab.path, condition_lines(tab, ci), c.label, run(), e.reason()));
       }
     };
-    checked([&] { book.want(c, variant("", 0), base_seeds); }, "");
+    checked([&] { book.want(c, variant("", 0), base_seeds); }, [] { return std::string(); });
     for (size_t j = 1; j < settings.size(); ++j)
-      checked([&] { book.check(c, variant("", 0, j)); },
-              fmt::format(", the model re-fitted at {} ({}: refit)", settings[j].label, d.path));
+      checked(
+          [&] { book.check(c, variant("", 0, j)); },
+          [&] { return fmt::format(", the model re-fitted at {} ({}: refit)", settings[j].label, d.path); });
     for (const std::string& e : effects) {
       const EffectSpec& spec = effect_spec(e);
       const std::vector<double>& p = d.probes.at(e);
@@ -147,8 +148,11 @@ Procedure::Procedure(const DiagnosisSpec& d_, const DiagnoseOptions& o_)
         for (double sh : shapes)
           for (double s : {p.front(), p.back(), spec.phys_hi})
             checked([&] { book.check(c, variant(e, s, j, sh)); },
-                    fmt::format(", the candidate '{}' at {:g} ({}: probes, or the end of its physical range)",
-                                e, s, d.path));
+                    [&] {
+                      return fmt::format(
+                          ", the candidate '{}' at {:g} ({}: probes, or the end of its physical range)", e, s,
+                          d.path);
+                    });
     }
   }
   for (size_t k = 0; k < tab.cells.size(); ++k)
