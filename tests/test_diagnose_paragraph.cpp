@@ -419,3 +419,49 @@ TEST(DiagnoseParagraph, ATieOrderedByItsEvidenceGivesBothLeans) {
   r.verdict.reordered = {};
   EXPECT_EQ(verdict_paragraph(r).find("each weighed by its noise"), std::string::npos);
 }
+
+// A tie whose two leans both favour the runner-up, named first only once its fresh runs confirmed it against
+// the control (order_tie_by_evidence: its probes could not show it). The flowing viscous-strong twin's
+// numbers (6 Dec 2026): cohesion first as the seen candidate, viscous better held out and on fresh runs.
+TEST(DiagnoseParagraph, AnUnseenTieConfirmedOnFreshRunsIsNamedFirstWhenBothLeansFavourIt) {
+  Report r = chosen_with_fresh_runs("partial");
+  r.verdict.effect = "viscous";
+  r.verdict.ranking[0].effect = "viscous";
+  r.verdict.ranking[0].loco = 35.5;
+  r.verdict.ranking[0].fit.strength = 0.1;
+  r.fresh[0].effect = "viscous";
+  r.fresh[0].gaps_after[0].z = std::sqrt(97.1);
+  Candidate e;
+  e.effect = "cohesion";
+  e.loco = 42.8;
+  e.fit.strength = 0.0027;
+  r.verdict.ranking.push_back(e);
+  r.verdict.tied = {"cohesion"};
+  r.fresh.resize(2);
+  r.fresh[1].effect = "cohesion";
+  r.fresh[1].after.resize(3);
+  r.fresh[1].gaps_after.resize(3);
+  r.fresh[1].gaps_after[0].z = std::sqrt(101.9);
+  r.null_fresh.effect = "";
+  r.null_fresh.after.resize(3);
+  r.null_fresh.gaps_after.resize(3);
+  r.null_fresh.gaps_after[0].z = std::sqrt(172.7);
+  r.verdict.seed_luck = 46.8;
+  r.verdict.reordered = {"cohesion", -0.62, 0.08};
+  r.confirmed_on_fresh = {"viscous"};
+  const std::string q = verdict_paragraph(r);
+  EXPECT_NE(q.find("**`cohesion` explains the data nearly as well**: held out it scored 42.8 against 35.5, "
+                   "and on fresh runs its χ² is 101.9 against 97.1. Neither is clearly worse; both lean to "
+                   "`viscous` (0.62 and 0.08 standard deviations of their noise), which is named first."),
+            std::string::npos)
+      << q;
+  EXPECT_NE(q.find("its fresh runs give χ² 97.1 against 172.7 for the model without it on the same seeds, "
+                   "lower by more than the model's own seed luck (46.8)"),
+            std::string::npos)
+      << q;
+  // Not the wording of a tie whose leans pull apart.
+  EXPECT_EQ(q.find("each weighed by its noise"), std::string::npos) << q;
+  // Without the confirmation the order is still said, without the clause.
+  r.confirmed_on_fresh.clear();
+  EXPECT_EQ(verdict_paragraph(r).find("lower by more than the model's own seed luck"), std::string::npos);
+}

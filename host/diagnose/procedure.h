@@ -197,11 +197,13 @@ class Procedure {
   // per (effect, shape; 0: none): strengths run to bracket its limit
   std::map<std::pair<std::string, double>, std::set<double>> limit_strengths;
   std::map<std::string, std::set<double>> reach_strengths;  // per effect: strengths run past its probes
-  std::vector<std::string> unseen;           // fitted candidates whose runs the table cannot see (power.h)
-  std::vector<std::string> unseen_rejected;  // of them, tied held out but clearly worse on fresh runs
-  std::vector<std::string> seen_on_fresh;    // of them, shown by their fresh runs (power.h, fresh_shift)
-  std::vector<std::string> notes;            // failed runs, cut ranges, what could not be probed
-  Escalation escalation;                     // from = 0: this is the only pass
+  std::vector<std::string> unseen;              // fitted candidates whose runs the table cannot see (power.h)
+  std::vector<std::string> unseen_rejected;     // of them, tied held out but clearly worse on fresh runs
+  std::vector<std::string> seen_on_fresh;       // of them, shown by their fresh runs (power.h, fresh_shift)
+  std::vector<std::string> confirmed_on_fresh;  // of them, named first in a tie once their fresh runs
+                                                // confirmed them (fresh_ties.cpp, order_tie_by_evidence)
+  std::vector<std::string> notes;               // failed runs, cut ranges, what could not be probed
+  Escalation escalation;                        // from = 0: this is the only pass
 
   // The effect (none: "") at strength s, refit setting j, shape value (NaN: the effect's default shape).
   Variant variant(const std::string& effect, double s, size_t j = 0,

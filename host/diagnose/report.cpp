@@ -79,6 +79,7 @@ Report make_report(const Procedure& p, double wall_s, std::vector<StageCost> sta
   r.within_inflation = p.within_inflation;
   r.unseen = p.unseen;
   r.seen_on_fresh = p.seen_on_fresh;
+  r.confirmed_on_fresh = p.confirmed_on_fresh;
   r.notes = p.notes;
   r.escalation = p.escalation;
   r.notes.insert(r.notes.end(), p.second.notes.begin(), p.second.notes.end());
@@ -356,6 +357,8 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
   j["not_named_unseen"] = not_named;
   // Unseen on their probes but shown by their fresh runs against the control (power.h, fresh_shift).
   j["seen_on_fresh"] = r.seen_on_fresh;
+  // Unseen on their probes, named first in a tie because their fresh runs confirm them (fresh_ties.cpp).
+  j["confirmed_on_fresh"] = r.confirmed_on_fresh;
   j["notes"] = r.notes;
   j["not_measured"] = r.not_measured;
   j["runs"] = r.runs;
@@ -430,6 +433,11 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
       notes += std::string(notes.empty() ? "" : "; ") +
                "**seen on its fresh runs**: its probes alone move no cell by 3 σ, its fresh runs against the "
                "model without it do";
+    if (std::find(r.confirmed_on_fresh.begin(), r.confirmed_on_fresh.end(), c.effect) !=
+        r.confirmed_on_fresh.end())
+      notes += std::string(notes.empty() ? "" : "; ") +
+               "**confirmed on its fresh runs**: its probes alone move no cell by 3 σ, its fresh runs lower "
+               "χ² below the model's on the same seeds by more than the seed luck";
     md += fmt::format("| {} | {:.2f} | {:.2f} | {} {} |", c.effect, c.screen, c.loco,
                       effect_spec(c.effect).strength, strength_text(c, cr));
     md += refit ? fmt::format(" {} |", r.settings.at(c.refit).label) : "";

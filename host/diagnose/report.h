@@ -44,6 +44,8 @@ struct Report {
   std::map<std::string, double> within_inflation;  // per observable (baseline.h)
   std::vector<std::string> unseen;                 // fitted, but the probes cannot show them (power.h)
   std::vector<std::string> seen_on_fresh;          // unseen on their probes, shown by their fresh runs
+  std::vector<std::string> confirmed_on_fresh;     // unseen on their probes, named first in a tie on
+                                                   // fresh runs that confirm them against the control
   std::vector<std::string> notes;                  // failed runs, cut ranges
   std::vector<std::string> not_measured;           // table rows that say a quantity was not measured
   size_t runs = 0, computed = 0;
