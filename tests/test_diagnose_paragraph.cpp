@@ -7,6 +7,7 @@
 
 using namespace wetdem::diagnose;
 using wetdem::test::chosen_with_fresh_runs;
+using wetdem::test::tie_with_fresh_runs;
 using wetdem::test::unexplained;
 
 TEST(DiagnoseParagraph, UnexplainedNamesALeadOnlyWhenTheBestCandidateHelps) {
@@ -389,21 +390,7 @@ TEST(DiagnoseParagraph, ACandidatePassedOverOnItsFreshRunsIsSaid) {
 // order_tie_by_evidence): the paragraph gives both leans, each in its noise, and says which way they tip. The
 // flowing spread-weak twin's numbers.
 TEST(DiagnoseParagraph, ATieOrderedByItsEvidenceGivesBothLeans) {
-  Report r = chosen_with_fresh_runs("effect");
-  r.verdict.effect = "spread";
-  r.verdict.ranking[0].effect = "spread";
-  r.verdict.ranking[0].loco = 19.2;
-  r.fresh[0].effect = "spread";
-  Candidate e;
-  e.effect = "evaporation";
-  e.loco = 13.26;
-  e.fit.strength = 0.283;
-  r.verdict.ranking.push_back(e);
-  r.verdict.tied = {"evaporation"};
-  r.fresh.resize(2);
-  r.fresh[1].effect = "evaporation";
-  r.fresh[1].after.resize(3);
-  r.fresh[1].gaps_after.resize(3);
+  Report r = tie_with_fresh_runs("effect", "spread", 19.2, "evaporation", 13.26, 0.283);
   r.verdict.reordered = {"evaporation", 0.28, 0.73};
   const std::string q = verdict_paragraph(r);
   EXPECT_NE(
@@ -424,25 +411,10 @@ TEST(DiagnoseParagraph, ATieOrderedByItsEvidenceGivesBothLeans) {
 // the control (order_tie_by_evidence: its probes could not show it). The flowing viscous-strong twin's
 // numbers (6 Dec 2026): cohesion first as the seen candidate, viscous better held out and on fresh runs.
 TEST(DiagnoseParagraph, AnUnseenTieConfirmedOnFreshRunsIsNamedFirstWhenBothLeansFavourIt) {
-  Report r = chosen_with_fresh_runs("partial");
-  r.verdict.effect = "viscous";
-  r.verdict.ranking[0].effect = "viscous";
-  r.verdict.ranking[0].loco = 35.5;
+  Report r = tie_with_fresh_runs("partial", "viscous", 35.5, "cohesion", 42.8, 0.0027);
   r.verdict.ranking[0].fit.strength = 0.1;
-  r.fresh[0].effect = "viscous";
   r.fresh[0].gaps_after[0].z = std::sqrt(97.1);
-  Candidate e;
-  e.effect = "cohesion";
-  e.loco = 42.8;
-  e.fit.strength = 0.0027;
-  r.verdict.ranking.push_back(e);
-  r.verdict.tied = {"cohesion"};
-  r.fresh.resize(2);
-  r.fresh[1].effect = "cohesion";
-  r.fresh[1].after.resize(3);
-  r.fresh[1].gaps_after.resize(3);
   r.fresh[1].gaps_after[0].z = std::sqrt(101.9);
-  r.null_fresh.effect = "";
   r.null_fresh.after.resize(3);
   r.null_fresh.gaps_after.resize(3);
   r.null_fresh.gaps_after[0].z = std::sqrt(172.7);

@@ -37,4 +37,28 @@ inline diagnose::Report chosen_with_fresh_runs(const std::string& kind) {
   return r;
 }
 
+// `first` chosen (kind "effect" or "partial") at held-out χ² loco_first, `second` tied with it at loco_second
+// and fitted at strength_second, both with their fresh runs made.
+inline diagnose::Report tie_with_fresh_runs(const std::string& kind, const std::string& first,
+                                            double loco_first, const std::string& second, double loco_second,
+                                            double strength_second) {
+  using namespace diagnose;
+  Report r = chosen_with_fresh_runs(kind);
+  r.verdict.effect = first;
+  r.verdict.ranking[0].effect = first;
+  r.verdict.ranking[0].loco = loco_first;
+  r.fresh[0].effect = first;
+  Candidate e;
+  e.effect = second;
+  e.loco = loco_second;
+  e.fit.strength = strength_second;
+  r.verdict.ranking.push_back(e);
+  r.verdict.tied = {second};
+  r.fresh.resize(2);
+  r.fresh[1].effect = second;
+  r.fresh[1].after.resize(3);
+  r.fresh[1].gaps_after.resize(3);
+  return r;
+}
+
 }  // namespace wetdem::test
