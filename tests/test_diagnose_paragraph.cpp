@@ -427,12 +427,25 @@ TEST(DiagnoseParagraph, AnUnseenTieConfirmedOnFreshRunsIsNamedFirstWhenBothLeans
                    "`viscous` (0.62 and 0.08 standard deviations of their noise), which is named first."),
             std::string::npos)
       << q;
-  EXPECT_NE(q.find("its fresh runs give χ² 97.1 against 172.7 for the model without it on the same seeds, "
+  EXPECT_NE(q.find("`viscous`'s own probes move no cell of the table by 3 σ, but its fresh runs give χ² 97.1 "
+                   "against 172.7 for the model without it on the same seeds, "
                    "lower by more than the model's own seed luck (46.8)"),
             std::string::npos)
       << q;
   // Not the wording of a tie whose leans pull apart.
   EXPECT_EQ(q.find("each weighed by its noise"), std::string::npos) << q;
+  // Named on its fresh runs, it is not listed among what the table cannot see; an unseen one still is.
+  r.cell_condition = {"drum.rpm=30", "drum.rpm=60", "drum.rpm=90"};
+  for (const char* e : {"viscous", "hysteresis"}) {
+    Reach x;
+    x.effect = e;
+    x.strongest = 0.1;
+    x.max_z = 2.4;
+    r.reach.push_back(x);
+  }
+  const std::string b = verdict_paragraph(r);
+  EXPECT_NE(b.find("**What this table cannot see:** `hysteresis` moves no cell"), std::string::npos) << b;
+  EXPECT_EQ(b.find("`viscous` moves no cell"), std::string::npos) << b;
   // Without the confirmation the order is still said, without the clause.
   r.confirmed_on_fresh.clear();
   EXPECT_EQ(verdict_paragraph(r).find("lower by more than the model's own seed luck"), std::string::npos);

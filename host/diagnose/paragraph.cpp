@@ -87,11 +87,12 @@ std::string tie_sentence(const Report& r) {
           e, c->loco, best->loco, chi2_of(fc->gaps_after), chi2_of(fb->gaps_after), r.verdict.effect,
           -ro.held_out_z, ro.fresh_z,
           confirmed && !r.null_fresh.after.empty()
-              ? fmt::format(" Its own probes move no cell of the table by 3 σ, but its fresh runs give χ² "
-                            "{:.1f} against {:.1f} for the model without it on the same seeds, lower by more "
-                            "than the model's own seed luck ({:.1f}): its held-out score is not its probes' "
-                            "noise alone.",
-                            chi2_of(fb->gaps_after), chi2_of(r.null_fresh.gaps_after), r.verdict.seed_luck)
+              ? fmt::format(" `{}`'s own probes move no cell of the table by 3 σ, but its fresh runs give "
+                            "χ² {:.1f} against {:.1f} for the model without it on the same seeds, lower by "
+                            "more than the model's own seed luck ({:.1f}): its held-out score is not its "
+                            "probes' noise alone.",
+                            r.verdict.effect, chi2_of(fb->gaps_after), chi2_of(r.null_fresh.gaps_after),
+                            r.verdict.seed_luck)
               : std::string(),
           effect_spec(e).strength, strength_text(*c, r.runs_of(e)));
       continue;

@@ -86,7 +86,10 @@ std::string blind_sentence(const Report& r) {
   std::string list;
   size_t n = 0;
   for (const Reach& x : r.reach) {
-    if (x.visible) continue;
+    // A candidate named in a tie on its fresh runs' confirmation is said there (paragraph.cpp, tie_sentence).
+    if (x.visible || std::find(r.confirmed_on_fresh.begin(), r.confirmed_on_fresh.end(), x.effect) !=
+                         r.confirmed_on_fresh.end())
+      continue;
     list += list.empty() ? "" : "; ";
     list += x.strongest <= 0
                 ? fmt::format("`{}` (no probe of it could run)", x.effect)
