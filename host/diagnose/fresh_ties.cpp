@@ -303,11 +303,10 @@ void order_tie_by_evidence(Procedure& p, double before) {
     p.unseen.erase(std::find(p.unseen.begin(), p.unseen.end(), f.effect));
     p.confirmed_on_fresh.push_back(f.effect);
     p.notes.push_back(fmt::format(
-        "shrink: {}'s probes move no cell by 3 σ, but its fresh runs at {:.3g} give χ² {:.1f} against {:.1f} "
-        "for "
-        "the model without it on the same seeds, lower by more than min_drop = {:g} and the model's own seed "
-        "luck ({:.1f}): its held-out score is not its probes' noise alone, and it takes part in the order of "
-        "the tie",
+        "shrink: {}'s probes move no cell by 3 σ, but its fresh runs at {:.3g} give χ² {:.1f} against "
+        "{:.1f} for the model without it on the same seeds, lower by more than min_drop = {:g} and the "
+        "model's own seed luck ({:.1f}): its held-out score is not its probes' noise alone, and it takes "
+        "part in the order of the tie",
         f.effect, f.strength, fresh_chi2(f), before, p.d.rule.min_drop, luck));
   }
   std::vector<std::string> gone;

@@ -74,40 +74,40 @@ std::string tie_sentence(const Report& r) {
     const bool kept =
         fc && fb && !fc->after.empty() && !fb->after.empty() && clearly_worse(*best, *c, r.spec->rule);
     const Verdict::ReorderedTie& ro = r.verdict.reordered;
-    if (ro.effect == e && fc && fb && !fc->after.empty() && !fb->after.empty() && ro.held_out_z < 0) {
-      // Both leans favour the new first: e was named first only because the first's probes could not show
-      // it, until its fresh runs confirmed it (order_tie_by_evidence).
-      const bool confirmed = std::find(r.confirmed_on_fresh.begin(), r.confirmed_on_fresh.end(),
-                                       r.verdict.effect) != r.confirmed_on_fresh.end();
-      s += fmt::format(
-          " **`{}` explains the data nearly as well**: held out it scored {:.1f} against {:.1f}, and on "
-          "fresh "
-          "runs its χ² is {:.1f} against {:.1f}. Neither is clearly worse; both lean to `{}` ({:.2f} and "
-          "{:.2f} standard deviations of their noise), which is named first.{} Both are reported ({} = {}).",
-          e, c->loco, best->loco, chi2_of(fc->gaps_after), chi2_of(fb->gaps_after), r.verdict.effect,
-          -ro.held_out_z, ro.fresh_z,
-          confirmed && !r.null_fresh.after.empty()
-              ? fmt::format(" `{}`'s own probes move no cell of the table by 3 σ, but its fresh runs give "
-                            "χ² {:.1f} against {:.1f} for the model without it on the same seeds, lower by "
-                            "more than the model's own seed luck ({:.1f}): its held-out score is not its "
-                            "probes' noise alone.",
-                            r.verdict.effect, chi2_of(fb->gaps_after), chi2_of(r.null_fresh.gaps_after),
-                            r.verdict.seed_luck)
-              : std::string(),
-          effect_spec(e).strength, strength_text(*c, r.runs_of(e)));
-      continue;
-    }
     if (ro.effect == e && fc && fb && !fc->after.empty() && !fb->after.empty()) {
       // The first named on the weight of the evidence (fresh_ties.cpp, order_tie_by_evidence).
-      s += fmt::format(
-          " **`{}` explains the data nearly as well**: held out it scored {}{:.1f} against {:.1f} ({:.2f} "
-          "standard deviations of that difference's noise in its favour), but on fresh runs its χ² is {:.1f} "
-          "against {:.1f} ({:.2f} standard deviations of the model's own seed luck against it). Neither is "
-          "clearly worse; the two, each weighed by its noise, favour `{}`, which is named first. Both are "
-          "reported ({} = {}).",
-          e, c->loco < best->loco ? "better, " : "", c->loco, best->loco, ro.held_out_z,
-          chi2_of(fc->gaps_after), chi2_of(fb->gaps_after), ro.fresh_z, r.verdict.effect,
-          effect_spec(e).strength, strength_text(*c, r.runs_of(e)));
+      if (ro.held_out_z < 0) {
+        // Both leans favour the new first: it was named first only because its own probes could not show
+        // it, until its fresh runs confirmed it.
+        const bool confirmed = std::find(r.confirmed_on_fresh.begin(), r.confirmed_on_fresh.end(),
+                                         r.verdict.effect) != r.confirmed_on_fresh.end();
+        s += fmt::format(
+            " **`{}` explains the data nearly as well**: held out it scored {:.1f} against {:.1f}, and "
+            "on fresh runs its χ² is {:.1f} against {:.1f}. Neither is clearly worse; both lean to `{}` "
+            "({:.2f} and {:.2f} standard deviations of their noise), which is named first.{} Both are "
+            "reported ({} = {}).",
+            e, c->loco, best->loco, chi2_of(fc->gaps_after), chi2_of(fb->gaps_after), r.verdict.effect,
+            -ro.held_out_z, ro.fresh_z,
+            confirmed && !r.null_fresh.after.empty()
+                ? fmt::format(" `{}`'s own probes move no cell of the table by 3 σ, but its fresh runs "
+                              "give χ² {:.1f} against {:.1f} for the model without it on the same seeds, "
+                              "lower by more than the model's own seed luck ({:.1f}): its held-out score "
+                              "is not its probes' noise alone.",
+                              r.verdict.effect, chi2_of(fb->gaps_after), chi2_of(r.null_fresh.gaps_after),
+                              r.verdict.seed_luck)
+                : std::string(),
+            effect_spec(e).strength, strength_text(*c, r.runs_of(e)));
+      } else {
+        s += fmt::format(
+            " **`{}` explains the data nearly as well**: held out it scored {}{:.1f} against {:.1f} "
+            "({:.2f} standard deviations of that difference's noise in its favour), but on fresh runs its "
+            "χ² is {:.1f} against {:.1f} ({:.2f} standard deviations of the model's own seed luck against "
+            "it). Neither is clearly worse; the two, each weighed by its noise, favour `{}`, which is "
+            "named first. Both are reported ({} = {}).",
+            e, c->loco < best->loco ? "better, " : "", c->loco, best->loco, ro.held_out_z,
+            chi2_of(fc->gaps_after), chi2_of(fb->gaps_after), ro.fresh_z, r.verdict.effect,
+            effect_spec(e).strength, strength_text(*c, r.runs_of(e)));
+      }
       continue;
     }
     s +=
