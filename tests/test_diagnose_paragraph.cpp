@@ -266,6 +266,44 @@ TEST(DiagnoseParagraph, TheSeedLuckIsNamedWhereItDecided) {
   EXPECT_NE(unconfirmed.find("the fresh runs left `cohesion` unconfirmed"), std::string::npos) << unconfirmed;
 }
 
+// A best candidate whose fresh runs do not reproduce its improvement leaves the gap unexplained. Where the
+// model itself, on the same fresh seeds, departs from no cell, the gap showed on the baseline's seeds only:
+// the paragraph says so and asks for more seeds of the model, not for repeated measurements (the flowing
+// off-grid null, 6 Dec 2026). Where the model's fresh runs keep the gap, the old advice stands.
+TEST(DiagnoseParagraph, AGapOnTheBaselineSeedsOnlyAsksForMoreSeedsOfTheModel) {
+  Report r = chosen_with_fresh_runs("unexplained");
+  r.verdict.effect = "cohesion";
+  r.verdict.fresh_rejected = true;
+  r.fresh[0].strength = 0.0045;
+  r.fresh[0].gaps_after[0].z = std::sqrt(30.1);
+  r.null_fresh.after.resize(3);
+  r.null_fresh.gaps_after.resize(3);
+  for (CellGap& g : r.null_fresh.gaps_after) g.z = 1.0;  // χ² 3.0 over 3 cells, none significant
+  const std::string clean = verdict_paragraph(r);
+  EXPECT_NE(
+      clean.find("fresh runs at that strength do not reproduce it: χ² 30.1 over the 3 cells against 3.0 "
+                 "for the model without it on the same fresh seeds"),
+      std::string::npos)
+      << clean;
+  EXPECT_NE(
+      clean.find("The model itself, run on those fresh seeds, departs from no cell (χ² 3.0 over 3 cells, "
+                 "within χ²_3's"),
+      std::string::npos)
+      << clean;
+  EXPECT_NE(clean.find("More seeds of the model (`replicates`"), std::string::npos) << clean;
+  EXPECT_EQ(clean.find("repeating the measurements"), std::string::npos) << clean;
+
+  r.null_fresh.gaps_after[2].z =
+      4.5;  // the model's fresh runs keep a cell: the gap is not the baseline's luck
+  r.null_fresh.gaps_after[2].significant = true;
+  const std::string kept = verdict_paragraph(r);
+  EXPECT_EQ(kept.find("The model itself, run on those fresh seeds"), std::string::npos) << kept;
+  EXPECT_NE(kept.find("The cause may lie outside the candidates, or the gap may be noise; repeating the "
+                      "measurements at the cells above would tell."),
+            std::string::npos)
+      << kept;
+}
+
 // An escalated diagnosis (driver.cpp, escalate_replicates) says what the first pass found and why it ran
 // again; the verdict itself is the second pass's. verdict_line is also the CLI's one-line verdict.
 TEST(DiagnoseParagraph, AnEscalatedDiagnosisSaysWhyItRanAgain) {

@@ -399,21 +399,34 @@ std::string verdict_core(const Report& r) {
   if (r.verdict.fresh_rejected && !r.verdict.ranking.empty() && r.chosen() && !r.chosen()->after.empty()) {
     const Candidate& c = r.verdict.ranking.front();
     const FreshCheck& f = *r.chosen();
+    // The model itself on the fresh seeds: where it departs from no cell and the table's χ² stays within
+    // its point (where.h, has_gap), the gap was found on the baseline's seeds only, and the remedy is more
+    // seeds of the model before any measurement is repeated (the flowing off-grid null, 6 Dec 2026: 3 of 40
+    // cells on seeds 1-2, χ² 21.0 over 40 and none on seeds 3-4).
+    const bool null_clean =
+        !r.null_fresh.after.empty() && !has_gap(r.null_fresh.gaps_after, r.spec->rule.table_level);
+    const std::string cause =
+        null_clean ? fmt::format(
+                         " The model itself, run on those fresh seeds, departs from no cell ({}): the gap "
+                         "shows on the baseline's seeds only and may be their seed noise. More seeds of the "
+                         "model (`replicates` in the diagnosis file, or `--replicates`) would tell, before "
+                         "any measurement is repeated.",
+                         table_words(r, r.null_fresh.gaps_after))
+                   : std::string(
+                         " The cause may lie outside the candidates, or the gap may be noise; repeating the "
+                         "measurements at the cells above would tell.");
     return fmt::format(
         "**Gap not explained.** The model departs from the observations {}. The best "
         "candidate, `{}` ({}), passed the held-out rule at {} = {:.3g} (held-out χ² {:.1f} against the "
         "model's {:.1f}), but fresh runs at that strength do not reproduce it: χ² {:.1f} over the {} cells "
         "against {:.1f} for the model without it{}, not lower by {:.3g} (min_drop, or how far χ² moves "
-        "between "
-        "two seed sets of the model alone where that is more). Its fit followed the seed noise of its probe "
-        "runs, not the data, so no effect is named. The cause may lie outside the candidates, or the "
-        "gap "
-        "may be noise; repeating the measurements at the cells above would tell.{}",
+        "between two seed sets of the model alone where that is more). Its fit followed the seed noise of "
+        "its probe runs, not the data, so no effect is named.{}{}",
         departs, c.effect, effect_spec(c.effect).fingerprint, effect_spec(c.effect).strength, f.strength,
         c.loco, r.verdict.null_loco, chi2_of(f.gaps_after), n,
         r.null_fresh.after.empty() ? chi2_of(r.gaps) : chi2_of(r.null_fresh.gaps_after),
         r.null_fresh.after.empty() ? "" : " on the same fresh seeds",
-        std::max(r.spec->rule.min_drop, r.verdict.seed_luck), null_refit_sentence(r));
+        std::max(r.spec->rule.min_drop, r.verdict.seed_luck), cause, null_refit_sentence(r));
   }
   // Unexplained: either the best candidate helps but not by the rule's margin (a lead worth more data), or
   // none helps (the cause lies outside the candidates).
