@@ -336,6 +336,16 @@ TEST(DiagnoseParagraph, AnEscalatedDiagnosisSaysWhyItRanAgain) {
   EXPECT_NE(two.find("the tie with `evaporation` and `spread` held on fresh runs. This report"),
             std::string::npos)
       << two;
+  r.escalation.tied.clear();
+  r.escalation.verdict = "unexplained";
+  r.escalation.baseline_only = true;
+  const std::string seeds = verdict_paragraph(r);
+  EXPECT_NE(
+      seeds.find("the verdict was unexplained: its gap showed on the baseline's seeds only (no "
+                 "candidate's fresh runs confirmed it, and the model itself departed from no cell on the "
+                 "fresh seeds). This report"),
+      std::string::npos)
+      << seeds;
 }
 
 // A second effect whose fresh runs did not beat the first alone by the seed luck (confirm_second) is not

@@ -214,6 +214,11 @@ std::string escalation_sentence(const Report& r) {
   if (!e.held_by_luck.empty())
     why += (why.empty() ? "" : ", and ") +
            fmt::format("the model's seed luck ({:.1f}) decided {}", e.seed_luck, code_list(e.held_by_luck));
+  if (e.baseline_only)
+    why += (why.empty() ? "" : ", and ") +
+           std::string(
+               "its gap showed on the baseline's seeds only (no candidate's fresh runs confirmed it, and "
+               "the model itself departed from no cell on the fresh seeds)");
   return fmt::format(
       " **Run again with more seeds:** at {} seed{} per condition the verdict was {}: {}. This report is the "
       "diagnosis at {} seeds per condition (`escalate_replicates`), which reused the first pass's runs it "
@@ -245,8 +250,7 @@ std::string passed_over_sentence(const Report& r) {
   return fmt::format(
       " `{}` came first held out ({:.1f} against {:.1f} for `{}`), but its fresh runs at {:.3g} did not "
       "reproduce it (χ² {:.1f} against {:.1f} for the model without it on the same fresh seeds), so it is "
-      "not "
-      "named.",
+      "not named.",
       po.effect, po.loco, r.verdict.ranking.front().loco, r.verdict.ranking.front().effect, po.strength,
       po.fresh_chi2, po.control_chi2);
 }

@@ -158,6 +158,7 @@ struct Escalation {
   std::vector<std::string> tied;          // the first pass's ties
   std::vector<std::string> held_by_luck;  // what the luck decided in the first pass
   double seed_luck = 0.0;                 // the first pass's luck (χ²)
+  bool baseline_only = false;             // its gap unconfirmed, and absent from the model's fresh seeds
   std::string verdict;                    // the first pass's verdict: "partial (cohesion; tied: hysteresis)"
   size_t runs_computed = 0;               // runs the first pass computed
 };

@@ -185,6 +185,7 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
                                                   {"to_replicates", r.escalation.to},
                                                   {"tied", r.escalation.tied},
                                                   {"held_by_luck", r.escalation.held_by_luck},
+                                                  {"baseline_only", r.escalation.baseline_only},
                                                   {"seed_luck_chi2", r.escalation.seed_luck},
                                                   {"verdict", r.escalation.verdict},
                                                   {"runs_computed", r.escalation.runs_computed}};

@@ -13,7 +13,7 @@ wd diagnose "$SRC/tests/diagnose/micro_escalate_ci.toml" --observations "$D/t/ob
 echo "escalated: $(J "$D/d/diagnosis.json" 'j["escalation"], j["verdict"], j["effect"], j["tied"]')"
 expect "$D/d/diagnosis.json" 'j["escalation"] is not None and j["escalation"]["from_replicates"] == 1' \
   "the undecided first pass did not run again" "$D/d/report.md"
-expect "$D/d/diagnosis.json" 'bool(j["escalation"]["tied"] or j["escalation"]["held_by_luck"])' \
+expect "$D/d/diagnosis.json" 'bool(j["escalation"]["tied"] or j["escalation"]["held_by_luck"] or j["escalation"]["baseline_only"])' \
   "it ran again although the first pass was decided"
 expect "$D/d/diagnosis.json" 'j["replicates"] == 2 == j["escalation"]["to_replicates"]' "the report is not at 2 seeds"
 # Every run is accounted for: the first pass's stages (prefixed) and the second's add to the runs computed.
