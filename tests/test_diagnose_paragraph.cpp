@@ -304,6 +304,23 @@ TEST(DiagnoseParagraph, AGapOnTheBaselineSeedsOnlyAsksForMoreSeedsOfTheModel) {
       << kept;
 }
 
+// The paragraph above and the escalation (driver.cpp) read one test (procedure.h): a rejected fresh check, a
+// control that ran, and no cell of the control significant nor its table χ² past the level.
+TEST(DiagnoseParagraph, TheBaselineSeedsOnlyTestNeedsARejectionAndACleanControlThatRan) {
+  FreshCheck control;
+  EXPECT_FALSE(gap_on_baseline_seeds_only(true, control, 0.01)) << "the control did not run";
+  control.after.resize(40);
+  control.gaps_after.resize(40);
+  for (CellGap& g : control.gaps_after) g.z = 0.7;  // χ² 19.6 over 40
+  EXPECT_TRUE(gap_on_baseline_seeds_only(true, control, 0.01));
+  EXPECT_FALSE(gap_on_baseline_seeds_only(false, control, 0.01)) << "no fresh rejection";
+  for (CellGap& g : control.gaps_after) g.z = 1.6;  // χ² 102.4 over 40: a gap spread over the table
+  EXPECT_FALSE(gap_on_baseline_seeds_only(true, control, 0.01));
+  EXPECT_TRUE(gap_on_baseline_seeds_only(true, control, 0.0)) << "the table test off: cells alone";
+  control.gaps_after[5].significant = true;
+  EXPECT_FALSE(gap_on_baseline_seeds_only(true, control, 0.0));
+}
+
 // An escalated diagnosis (driver.cpp, escalate_replicates) says what the first pass found and why it ran
 // again; the verdict itself is the second pass's. verdict_line is also the CLI's one-line verdict.
 TEST(DiagnoseParagraph, AnEscalatedDiagnosisSaysWhyItRanAgain) {

@@ -120,18 +120,15 @@ void run_to_verdict(Procedure& p, StageClock& clock) {
   clock.done("second effect");
 }
 
-// A gap no candidate's fresh runs confirmed, which the model itself does not show on the fresh seeds (no
-// significant cell, the table's χ² within its point): found on the baseline's seeds only, so more seeds of
-// the model may close it (the flowing off-grid null, 6 Dec 2026: 3 of 40 cells at R = 2, no_gap at R = 4).
-bool gap_on_baseline_seeds_only(const Procedure& p) {
-  return p.verdict.fresh_rejected && !p.null_fresh.after.empty() &&
-         !has_gap(p.null_fresh.gaps_after, p.d.rule.table_level);
+// The Procedure's reading of procedure.h's gap_on_baseline_seeds_only.
+bool baseline_seeds_only(const Procedure& p) {
+  return gap_on_baseline_seeds_only(p.verdict.fresh_rejected, p.null_fresh, p.d.rule.table_level);
 }
 
 // A verdict more seeds could decide: a tie kept on fresh runs, a fresh comparison the seed luck decided, or a
 // gap on the baseline's seeds only.
 bool undecided(const Procedure& p) {
-  return !p.verdict.tied.empty() || !p.verdict.held_by_luck.empty() || gap_on_baseline_seeds_only(p);
+  return !p.verdict.tied.empty() || !p.verdict.held_by_luck.empty() || baseline_seeds_only(p);
 }
 
 // Stages 7-8: the experiment that would separate a tie, the one that would close an open interval, and
@@ -177,7 +174,7 @@ nlohmann::json run_diagnosis(const DiagnosisSpec& d, const DiagnoseOptions& o) {
   e.held_by_luck = p.verdict.held_by_luck;
   e.tied = p.verdict.tied;
   e.seed_luck = p.verdict.seed_luck;
-  e.baseline_only = gap_on_baseline_seeds_only(p);
+  e.baseline_only = baseline_seeds_only(p);
   const Report first = make_report(p, 0.0);
   e.verdict = verdict_line(p.verdict, first.second_named() ? first.second_named()->effect : "");
   e.runs_computed = p.book.computed();

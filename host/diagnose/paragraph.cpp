@@ -403,12 +403,10 @@ std::string verdict_core(const Report& r) {
   if (r.verdict.fresh_rejected && !r.verdict.ranking.empty() && r.chosen() && !r.chosen()->after.empty()) {
     const Candidate& c = r.verdict.ranking.front();
     const FreshCheck& f = *r.chosen();
-    // The model itself on the fresh seeds: where it departs from no cell and the table's χ² stays within
-    // its point (where.h, has_gap), the gap was found on the baseline's seeds only, and the remedy is more
-    // seeds of the model before any measurement is repeated (the flowing off-grid null, 6 Dec 2026: 3 of 40
-    // cells on seeds 1-2, χ² 21.0 over 40 and none on seeds 3-4).
+    // The model itself departs from no cell on the fresh seeds (procedure.h, gap_on_baseline_seeds_only):
+    // the remedy is more seeds of the model before any measurement is repeated.
     const bool null_clean =
-        !r.null_fresh.after.empty() && !has_gap(r.null_fresh.gaps_after, r.spec->rule.table_level);
+        gap_on_baseline_seeds_only(r.verdict.fresh_rejected, r.null_fresh, r.spec->rule.table_level);
     const std::string cause =
         null_clean ? fmt::format(
                          " The model itself, run on those fresh seeds, departs from no cell ({}): the gap "

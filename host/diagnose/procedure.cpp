@@ -216,6 +216,10 @@ std::vector<Family> Procedure::families() const {
   return fams;
 }
 
+bool gap_on_baseline_seeds_only(bool fresh_rejected, const FreshCheck& null_fresh, double table_level) {
+  return fresh_rejected && !null_fresh.after.empty() && !has_gap(null_fresh.gaps_after, table_level);
+}
+
 double knot_se(double spread, double probe_se, size_t probe_seeds, size_t replicates) {
   const double np = double(std::max<size_t>(1, probe_seeds)), r = double(std::max<size_t>(1, replicates));
   const double s = std::max(spread, std::isfinite(probe_se) ? probe_se * std::sqrt(np) : 0.0);

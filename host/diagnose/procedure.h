@@ -57,6 +57,13 @@ struct FreshCheck {
   std::string failure;
 };
 
+// A gap found on the baseline's seeds only: no candidate's fresh runs confirmed it (fresh_rejected,
+// verdict.h) and the model itself on the fresh seeds (`null_fresh`, the shrink's control) departs from no
+// cell at the table's level (has_gap, where.h). More seeds of the model may close it (the flowing off-grid
+// null, 6 Dec 2026: 3 of 40 cells at R = 2, χ² 21.0 over 40 and none on seeds 3-4; no_gap at R = 4). Read by
+// the report's paragraph and by the escalation (driver.cpp), so both say the same.
+bool gap_on_baseline_seeds_only(bool fresh_rejected, const FreshCheck& null_fresh, double table_level);
+
 // One proposal of the next-experiment stage: a condition (in or beyond the table), the observable where two
 // tied models differ most there, and by how much relative to the noise.
 struct Proposal {
