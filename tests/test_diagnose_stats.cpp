@@ -53,6 +53,20 @@ TEST(DiagnoseStats, WhereFindsAndDescribesAGrowingGap) {
   EXPECT_NE(d[0].find("above the model at 2 of 5"), std::string::npos) << d[0];
   EXPECT_NE(d[0].find("liquid.content 0.05-0.1"), std::string::npos) << d[0];
   EXPECT_NE(d[0].find("growing with liquid.content"), std::string::npos) << d[0];
+  // A second observable without a gap: listed by default, left out with gaps_only (the paragraph's list).
+  std::vector<Cell> two = cells;
+  std::vector<CellGap> g2 = g;
+  for (size_t k = 0; k < cells.size(); ++k) {
+    two.push_back(cells[k]);
+    two.back().observable = "aor_deg_std";
+    g2.push_back(CellGap{0.1, 0.2, 0.8, false});
+  }
+  const std::vector<std::string> all = describe_where(two, g2);
+  ASSERT_EQ(all.size(), 2u);
+  EXPECT_EQ(all[1], "aor_deg_std: no significant gap at 5 condition(s)");
+  const std::vector<std::string> only = describe_where(two, g2, true);
+  ASSERT_EQ(only.size(), 1u);
+  EXPECT_EQ(only[0], d[0]);
 }
 
 // The table test (where.h, table_fit): P(χ²_n >= x) against closed forms (n = 2: e^{-x/2}; n = 1 at 3.841:

@@ -274,8 +274,9 @@ std::string verdict_core(const Report& r) {
         "stay within what their errors allow ({}). No effect needs to be added; a new measurement (another "
         "liquid content or speed) is what would test the model further.",
         n, 100 * r.spec->rule.q, table_words(r, r.gaps));
+  // The observables with significant cells only: the report's Where section lists every one.
   std::string where;
-  for (const std::string& w : r.where) where += (where.empty() ? "" : "; ") + w;
+  for (const std::string& w : describe_where(r.cells, r.gaps, true)) where += (where.empty() ? "" : "; ") + w;
   // Where the model departs: its significant cells, or the table as a whole (where.h, table_fit).
   const std::string departs =
       ns ? fmt::format("at {} of {} cells ({})", ns, n, where)

@@ -67,7 +67,8 @@ std::string varying_key(const std::vector<const Cell*>& cs) {
 
 }  // namespace
 
-std::vector<std::string> describe_where(const std::vector<Cell>& cells, const std::vector<CellGap>& gaps) {
+std::vector<std::string> describe_where(const std::vector<Cell>& cells, const std::vector<CellGap>& gaps,
+                                        bool gaps_only) {
   std::vector<std::string> out;
   std::map<std::string, std::vector<size_t>> by_obs;
   for (size_t k = 0; k < cells.size(); ++k) by_obs[cells[k].observable].push_back(k);
@@ -76,7 +77,8 @@ std::vector<std::string> describe_where(const std::vector<Cell>& cells, const st
     for (size_t k : idx)
       if (gaps[k].significant) sig.push_back(k);
     if (sig.empty()) {
-      out.push_back(fmt::format("{}: no significant gap at {} condition(s)", obs, idx.size()));
+      if (!gaps_only)
+        out.push_back(fmt::format("{}: no significant gap at {} condition(s)", obs, idx.size()));
       continue;
     }
     int above = 0;

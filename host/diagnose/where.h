@@ -26,9 +26,10 @@ std::vector<CellGap> where(const std::vector<Cell>& cells, const std::vector<Pre
 
 // Plain-language summaries: one line per observable with significant cells ("aor_deg_mean: observation above
 // the model at 3 of 4 conditions (liquid.content 0.05-0.1), gap growing with liquid.content"), and "no
-// significant gap" otherwise. Trends are stated along a condition key only when the cells differ in that key
-// alone.
-std::vector<std::string> describe_where(const std::vector<Cell>& cells, const std::vector<CellGap>& gaps);
+// significant gap" otherwise (left out with gaps_only, as the report's paragraph does: the Where section
+// lists them). Trends are stated along a condition key only when the cells differ in that key alone.
+std::vector<std::string> describe_where(const std::vector<Cell>& cells, const std::vector<CellGap>& gaps,
+                                        bool gaps_only = false);
 
 // χ² of a gap set (finite z only) and its significant cells.
 double chi2_of(const std::vector<CellGap>& g);
