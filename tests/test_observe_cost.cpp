@@ -84,11 +84,9 @@ TEST(ObserveCost, DISABLED_SampleBeforeAndAfterDeviceReductions) {
   std::printf(
       "[ObserveCost] PP2 l = 5, %zu particles, %zu contacts, %zu bridges, on %s; best of 5 (ms):\n"
       "[ObserveCost]   before (download + compute_observables + camera): wall %.1f, process CPU %.1f, thread "
-      "CPU "
-      "%.1f\n"
+      "CPU %.1f\n"
       "[ObserveCost]   after  (sample_runs + camera):                    wall %.1f, process CPU %.1f, thread "
-      "CPU "
-      "%.1f\n"
+      "CPU %.1f\n"
       "[ObserveCost]   100 steps: wall %.0f, process CPU %.0f; %.0f steps per sample\n",
       n, contacts, bridges, sys.device_name().c_str(), 1e3 * before.wall, 1e3 * before.proc,
       1e3 * before.thread, 1e3 * after.wall, 1e3 * after.proc, 1e3 * after.thread, 1e3 * step.wall,

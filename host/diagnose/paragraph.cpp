@@ -194,12 +194,10 @@ std::string luck_sentence(const Report& r) {
     what += (what.empty() ? "" : ", and ") +
             fmt::format("left `{}` unconfirmed on top of `{}`", on_top, r.chosen()->effect);
   return fmt::format(
-      " **The seed luck decided:** the fresh runs {} although their χ² differ by more than the tie "
-      "margin (or min_drop), because the same model moves on average by {:.1f} between two seed sets of {} "
-      "run{} per condition. More replicates (`replicates` in the diagnosis file, or `--replicates`; each "
-      "adds "
-      "one run per condition to the baseline and to every fresh check) would lower that luck and could "
-      "decide "
+      " **The seed luck decided:** the fresh runs {} although their χ² differ by more than the tie margin "
+      "(or min_drop), because the same model moves on average by {:.1f} between two seed sets of {} run{} "
+      "per condition. More replicates (`replicates` in the diagnosis file, or `--replicates`; each adds one "
+      "run per condition to the baseline and to every fresh check) would lower that luck and could decide "
       "{}.",
       what, r.verdict.seed_luck, r.spec->replicates, r.spec->replicates == 1 ? "" : "s",
       h.size() == 1 ? "it" : "them");
@@ -318,8 +316,7 @@ std::string verdict_core(const Report& r) {
       const double held = s2.joint ? s2.joint_loco : b->loco;
       const std::string pair = fmt::format(
           "`{}` alone left cells significant, so the other candidates were fitted on top of it{}: `{}` ({}) "
-          "with "
-          "{} = {} explains what it leaves (held-out χ² {:.1f} against {:.1f} for `{}` alone){}",
+          "with {} = {} explains what it leaves (held-out χ² {:.1f} against {:.1f} for `{}` alone){}",
           c.effect, joint, b->effect, eb.fingerprint, eb.strength,
           s2.joint ? fmt::format("{:.3g}", s2.fresh.strength)
                    : strength_text(*b, r.second_runs_of(b->effect)),
@@ -363,8 +360,7 @@ std::string verdict_core(const Report& r) {
     return fmt::format(
         "**Gap explained in part by `{}`.** {}{}.{} What `{}` does not explain: {}. These cells need another "
         "cause (a second effect, a parameter to re-calibrate, or a measurement bias); treat the fitted "
-        "strength "
-        "as provisional until they are understood.{}{}{}",
+        "strength as provisional until they are understood.{}{}{}",
         c.effect, head,
         !ok      ? std::string("")
         : n_left ? fmt::format(", but {} cell(s) stay significant", n_left)
@@ -448,8 +444,7 @@ std::string verdict_core(const Report& r) {
         const double before = chi2_of(r.null_fresh.gaps_after), after = chi2_of(f->gaps_after);
         fresh = fmt::format(
             " Its fresh runs at that strength ({} seeds at every condition) move {} at {} by {:.1f} σ at "
-            "most "
-            "against the model without it on the same seeds, and give χ² {:.1f} against {:.1f}: {}.",
+            "most against the model without it on the same seeds, and give χ² {:.1f} against {:.1f}: {}.",
             r.spec->replicates, r.cells[sh.cell].observable, r.cell_condition[sh.cell], sh.max_z, after,
             before,
             shows(sh, r.cells.size())
@@ -482,10 +477,9 @@ std::string verdict_core(const Report& r) {
                          : fmt::format("the best, `{}`, removes only {:.0f} % of the gap held out",
                                        r.verdict.ranking.front().effect, 100 * r.verdict.held_out_gap_shrink);
   return fmt::format(
-      "**Gap not explained.** The model departs from the observations {}, but none of "
-      "the "
-      "candidate effects explains it by the rule's margin ({}). The cause is likely outside the candidates "
-      "(another mechanism, a measurement bias, or a model parameter to re-calibrate).{}",
+      "**Gap not explained.** The model departs from the observations {}, but none of the candidate effects "
+      "explains it by the rule's margin ({}). The cause is likely outside the candidates (another mechanism, "
+      "a measurement bias, or a model parameter to re-calibrate).{}",
       departs, best, null_refit_sentence(r));
 }
 

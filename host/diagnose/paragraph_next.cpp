@@ -48,8 +48,7 @@ std::string next_sentence(const Report& r) {
   if (single < needed && r.next.repeats > 1)
     s += fmt::format(
         " Made **{} times** and entered as their mean (σ {:.3g}/√{}), it would reach the {:.1f} σ the "
-        "verdict "
-        "needs.",
+        "verdict needs.",
         r.next.repeats, q.sigma, r.next.repeats, needed);
   if (!r.next.pairs.empty() && pair_beats_single(r.next.pairs.front(), q)) {
     const ProposalPair& w = r.next.pairs.front();
@@ -100,8 +99,7 @@ std::string bound_sentence(const Report& r) {
         " **To bound `{}`:** no single measurement tried (the table's own, and {} beyond it) tells {} by "
         "{:.0f} σ (the best: `{}` at {}, {:.1f} σ). Where the runs of the two ends differ by more than their "
         "own error, a repeated one does: measure `{}` at {}{} **{} times** and enter the mean (σ {:.3g}/√{} "
-        "= "
-        "{:.3g}); the ends then lie {:.1f} σ apart ({:.4g} ± {:.2g} against {:.4g} ± {:.2g}{}).",
+        "= {:.3g}); the ends then lie {:.1f} σ apart ({:.4g} ± {:.2g} against {:.4g} ± {:.2g}{}).",
         b.effect, beyond, ends, kDecisive, q.observable, q.condition, q.separation, k->observable,
         k->condition, k->in_table ? " (a condition of the table: make it again)" : "", k->repeats, k->sigma,
         k->repeats, k->sigma / std::sqrt(double(k->repeats)), after, k->model_a, k->se_a, k->model_b, k->se_b,
@@ -110,9 +108,8 @@ std::string bound_sentence(const Report& r) {
   if (q.separation < kDecisive)
     return fmt::format(
         " **`{}`'s {} stays open:** no measurement tried (the table's own, and {} beyond it) tells {} by "
-        "{:.0f} "
-        "σ (the best: `{}` at {}, {:.1f} σ); conditions further from these, or a direct measurement of the "
-        "effect, would be needed to bound it.",
+        "{:.0f} σ (the best: `{}` at {}, {:.1f} σ); conditions further from these, or a direct measurement "
+        "of the effect, would be needed to bound it.",
         b.effect, key, beyond, ends, kDecisive, q.observable, q.condition, q.separation);
   const std::string where = q.assay      ? fmt::format(" ({}an assay the table does not have: {})",
                                                   q.in_table ? "a condition of the table, with " : "",
@@ -121,9 +118,8 @@ std::string bound_sentence(const Report& r) {
                                          : "";
   return fmt::format(
       " **To bound `{}`:** the table cannot tell {} ({}); measure `{}` at {}{}: there they differ by {:.1f} "
-      "σ "
-      "({:.4g} ± {:.2g} against {:.4g} ± {:.2g}, measurement noise {:.3g}{}), so one measurement would close "
-      "the interval.",
+      "σ ({:.4g} ± {:.2g} against {:.4g} ± {:.2g}, measurement noise {:.3g}{}), so one measurement would "
+      "close the interval.",
       b.effect, ends,
       b.both    ? "any strength probed fits"
       : b.above ? "it is open above"

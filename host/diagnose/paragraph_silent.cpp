@@ -108,8 +108,7 @@ std::string blind_sentence(const Report& r) {
   if (n == 0) return "";
   return fmt::format(
       " **What this table cannot see:** {}. The verdict neither finds nor excludes {}; a measurement where "
-      "{} "
-      "would move by 3 σ or more is what could.",
+      "{} would move by 3 σ or more is what could.",
       list, n == 1 ? "it" : "them", n == 1 ? "it" : "each");
 }
 

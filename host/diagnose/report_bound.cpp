@@ -57,10 +57,8 @@ std::string bound_markdown(const Report& r) {
   md += "the table's own conditions through the fit's emulator (the seeds of its probes). ";
   md += fmt::format(
       "*Repeats*: how often the measurement must be made (their mean entered, σ/√k) for the ends to lie {:g} "
-      "σ "
-      "apart; repeats shrink the measurement's noise, not the runs' own error, so where that error alone "
-      "holds "
-      "them closer none will do (more than {}: none).\n\n",
+      "σ apart; repeats shrink the measurement's noise, not the runs' own error, so where that error alone "
+      "holds them closer none will do (more than {}: none).\n\n",
       kDecisive, kMaxRepeats);
   return md;
 }

@@ -24,8 +24,7 @@ std::string next_markdown(const Report& r) {
   std::string md = fmt::format("## Next experiment: `{}` or `{}`?\n\n", r.next.effect_a, r.next.effect_b);
   md += fmt::format(
       "| condition | observable | `{}` | `{}` | noise σ | separation (σ) | after re-fit (σ) | in the table | "
-      "seeds "
-      "|\n",
+      "seeds |\n",
       r.next.effect_a, r.next.effect_b);
   md += "|---|---|---|---|---|---|---|---|---|\n";
   // The best eight, and each assay's best where it is not among them: the file asked about it, so the

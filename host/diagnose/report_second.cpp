@@ -131,8 +131,7 @@ std::string second_markdown(const Report& r) {
   if (s.joint_first > 0)
     md += fmt::format(
         "\n\nFitted jointly (the additive emulator of `{}` alone and `{}` on top of it): `{}` at {:.3g}{} "
-        "and "
-        "`{}` at {:.3g}, χ² {:.1f} against {:.1f} with `{}` held at its own fit; held out with both "
+        "and `{}` at {:.3g}, χ² {:.1f} against {:.1f} with `{}` held at its own fit; held out with both "
         "strengths re-fitted in every fold, χ² {:.1f} against {:.1f} for `{}` alone.{}",
         s.base_effect, s.joint_effect, s.base_effect, s.joint_first,
         std::isnan(s.joint_first_shape)

@@ -288,8 +288,7 @@ void run_second_effect(Procedure& p) {
         sr.notes.push_back(fmt::format(
             "second effect: with {} held at its own fit, {} {} (held-out χ² {:.1f} against {:.1f}); fitted "
             "jointly, both strengths re-fitted in every fold, the pair predicts the left-out conditions at "
-            "χ² "
-            "{:.1f}, so {} is {} at {:.3g} with {} at {:.3g}{} (its own fit {:.3g}; pair_fit)",
+            "χ² {:.1f}, so {} is {} at {:.3g} with {} at {:.3g}{} (its own fit {:.3g}; pair_fit)",
             a.effect, c.effect, rescues ? "fails the rule" : "passes the rule", c.loco, sr.verdict.null_loco,
             sr.joint_loco, c.effect, rescues ? "taken on" : "run fresh at the joint optimum",
             rounded_strength(f.second), a.effect, sr.pair_first, shape, a.strength));

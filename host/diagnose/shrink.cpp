@@ -312,8 +312,7 @@ void shrink_from(Procedure& p, bool may_retry_lead) {
     p.notes.push_back(fmt::format(
         "shrink: the fresh runs of {} at {:.3g} give χ² {:.1f} over the cells against {:.1f} for the model "
         "without it ({}): not lower by min_drop = {:g} or the model's own seed luck {:.1f}, so the fit is "
-        "not "
-        "confirmed and the verdict is unexplained",
+        "not confirmed and the verdict is unexplained",
         first.effect, first.strength, after, before,
         control ? "the same fresh seeds" : "the baseline's seeds; its fresh runs failed", p.d.rule.min_drop,
         p.verdict.seed_luck));

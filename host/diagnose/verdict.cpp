@@ -198,9 +198,8 @@ std::vector<std::string> name_only_seen(Verdict& v, const std::vector<std::strin
       if (passes(c))
         notes.push_back(fmt::format(
             "verdict: `{}` passes the held-out rule ({:.1f} against the null's {:.1f}), but its probes "
-            "cannot "
-            "show it apart from noise{}: with no candidate the table can see beside it, the verdict is "
-            "unexplained",
+            "cannot show it apart from noise{}: with no candidate the table can see beside it, the verdict "
+            "is unexplained",
             c.effect, c.loco, v.null_loco, in(rejected, c.effect) ? " and fresh runs did not keep it" : ""));
     v.kind = "unexplained";
     v.effect.clear();

@@ -30,8 +30,7 @@ void check_sizes(const ParticleFrame& f) {
       !ok(f.cluster.size()) || f.cluster_size.size() != f.cluster.size())
     throw std::invalid_argument(
         "ParticleFrame: radius must have one entry per particle; v, liquid_m3, id, cluster (with "
-        "cluster_size) "
-        "one or none");
+        "cluster_size) one or none");
 }
 
 std::vector<float> as_float(const std::vector<uint32_t>& v) {

@@ -290,8 +290,8 @@ nlohmann::json make_summary(const Case& c, const Derived& d, const std::vector<S
   j["aor_flag"] = flag;
   j["aor_definition"] =
       "|atan2(com_x, -com_y)|: angle between the downward vertical and the line from the drum axis to the "
-      "bed's "
-      "centre of mass, in the plane normal to the axis; samples with |COM| < 0.2 R are flagged and excluded";
+      "bed's centre of mass, in the plane normal to the axis; samples with |COM| < 0.2 R are flagged and "
+      "excluded";
   nlohmann::json not_quotable = nlohmann::json::object();  // issue 21: window quantities that fail their rule
   if (!j["aor_stationary"].get<bool>())
     not_quotable["aor_deg_mean"] = "window not stationary: " + j["aor_stationary_reason"].get<std::string>();
@@ -334,8 +334,7 @@ nlohmann::json make_summary(const Case& c, const Derived& d, const std::vector<S
                        {"pores_m3", double(b.pores) * u}, {"evaporated_m3", double(b.evaporated) * u}};
     j["liquid_conserved_definition"] =
         "films + bridges (pair and wall) + pores + evaporated at the end == liquid put in at the start, "
-        "exactly "
-        "(integer units of liquid_unit_m3)";
+        "exactly (integer units of liquid_unit_m3)";
   }
   j["particle_steps_per_s"] = t.particle_steps_per_s;
   j["wall_time_s"] = t.wall_s;

@@ -98,14 +98,12 @@ WindowStats window_stats(const std::vector<double>& v, double spacing_s) {
   if (!s.tau_resolved)
     s.stationary_reason = fmt::format(
         "correlation time not resolved: no Sokal window W >= 6 tau_int below n/2 = {} samples (tau_int >= "
-        "{:.3g} "
-        "s, window {:.3g} s)",
+        "{:.3g} s, window {:.3g} s)",
         h, s.tau_int_s, window_s);
   else if (s.n_eff < kMinNeff)
     s.stationary_reason = fmt::format(
         "window {:.3g} s is shorter than 10 correlation times 2 tau_int (tau_int = {:.3g} s, n_eff = {:.1f} "
-        "< "
-        "10)",
+        "< 10)",
         window_s, s.tau_int_s, s.n_eff);
   else if (!(std::fabs(s.halves_z) < kHalvesZ))
     s.stationary_reason =

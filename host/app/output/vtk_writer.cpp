@@ -190,8 +190,7 @@ void write_vtp(const std::string& path, const ParticleFrame& f, const VtkOptions
       !ok(f.cluster.size()) || f.cluster_size.size() != f.cluster.size())
     throw std::invalid_argument(
         "ParticleFrame: radius must have one entry per particle; v, liquid_m3, id, cluster (with "
-        "cluster_size) "
-        "one or none");
+        "cluster_size) one or none");
   if (!little_endian()) throw std::runtime_error("write_vtp: big-endian hosts are not supported");
   const bool ascii = opt.encoding == VtkEncoding::kAscii;
 
