@@ -72,8 +72,9 @@ StudySpec parse_study_file(const std::string& path);
 std::vector<PlannedRun> expand(const StudySpec& s);
 
 // The version that enters every hash: wetdem::run_version(), WETDEM_VERSION + a content hash of the sources
-// that decide what a run computes (cmake/git_describe.cmake). A change to study, diagnosis or CLI code keeps
-// the stored runs; a change to a shader, the GPU system or the run driver makes new ones.
+// that decide what a run computes, as tokens (cmake/git_describe.cmake). A change to study, diagnosis or CLI
+// code, or to comments and layout anywhere, keeps the stored runs; a changed token in a shader, the GPU
+// system or the run driver makes new ones.
 std::string code_version();
 // Run identity: 64-bit FNV-1a (hex) of the resolved case's canonical JSON (keys sorted, SI), the seed and the
 // code version. Axis order and unit spelling ("5 %" vs 0.05) do not change it; any resolved value does.
