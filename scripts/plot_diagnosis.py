@@ -56,10 +56,11 @@ def main(d):
         joint = s2.get("joint") or {}
         first = f"{j['effect']} at {joint['first_in_pair']:.3g}" if joint.get("named") else j["effect"]
         panels.append((f"with {first} + {second}, fresh seeds{chi2}", lambda c: c["after_second"]["z"]))
-    # The panels share the condition axis (labels on the first only); a cell without an observation is grey
-    # with a dash, not white (white is z = 0); |z| > 3 is written in white on the dark colours.
-    fig, axes = plt.subplots(1, len(panels), figsize=(4 + 2.2 * len(panels) * max(1, len(obs)) / 2, 1.2 + 0.45 * len(conds)),
-                             squeeze=False, sharey=True)
+    # The panels share the condition axis (labels on the first only), each at least 3 inches wide for its title;
+    # a cell without an observation is grey with a dash, not white (white is z = 0); |z| > 3 is written in white
+    # on the dark colours.
+    fig, axes = plt.subplots(1, len(panels), figsize=(2.8 + len(panels) * max(3.0, 0.85 * len(obs)), 2.4 + 0.45 * len(conds)),
+                             squeeze=False, sharey=True, layout="constrained")
     cmap = plt.get_cmap("RdBu_r").copy()
     cmap.set_bad("0.85")
     for p, (ax, (title, zf)) in enumerate(zip(axes[0], panels)):
@@ -76,9 +77,10 @@ def main(d):
                 ax.text(k, i, "–" if z != z else f"{z:+.1f}", ha="center", va="center", fontsize=8,
                         color="white" if z == z and abs(z) > 3 else "black")
         ax.set_title(title, fontsize=9)
-    # Above the panels' two-line titles: ~0.5 inch over the axes, whatever the figure's height.
-    fig.suptitle("z = (obs − model) / √(σ² + SE²) per cell", fontsize=10, y=1.0 + 0.55 / fig.get_figheight())
-    fig.colorbar(im, ax=axes[0].tolist(), shrink=0.8, label="z")
+    # The constrained layout sets the title just above the panels' two-line titles and the colour bar beside the
+    # last panel (a fixed offset left an inch of white above them and beside the bar).
+    fig.suptitle("z = (obs − model) / √(σ² + SE²) per cell", fontsize=10)
+    fig.colorbar(im, ax=axes[0].tolist(), shrink=0.8, fraction=0.03, pad=0.01, label="z")
     fig.savefig(os.path.join(out, "gap_map.png"), dpi=120, bbox_inches="tight")
     plt.close(fig)
 
