@@ -15,6 +15,7 @@
 #include "study/collect.h"
 #include "study/executor.h"
 #include "study/probe.h"
+#include "study/prune.h"
 #include "study/refine.h"
 #include "study/reuse.h"
 #include "study/slurm.h"
@@ -126,6 +127,15 @@ class Impl : public Commands {
     collect_->footer("Example: wetdem study collect studies/micro");
     collect_->add_flag("--no-figures", no_figures_, "tables and report only");
 
+    prune_ = study_->add_subcommand(
+        "prune", "list what a run store holds; with --yes remove the runs of other run versions");
+    prune_->add_option("dir", dir_, "run store: a study directory, or a twin's or diagnosis's --store")
+        ->required();
+    prune_->footer("Example: wetdem study prune diag/store   (then --yes; docs/studies.md, \"Run store\")");
+    prune_->add_flag("--yes", yes_,
+                     "remove the complete runs this binary never reuses (another run version); without it, "
+                     "only list them");
+
     cal_ = cli.add_subcommand("calibrate", "fit the study's axes to its observation table (chi2, emulator)");
     cal_->add_option("dir", dir_, "study directory")->required();
     cal_->footer("Example: wetdem calibrate studies/micro");
@@ -147,6 +157,7 @@ class Impl : public Commands {
       if (batch_cmd_->parsed()) return run_batch_cmd();
       if (slurm_->parsed()) return slurm();
       if (collect_->parsed()) return collect_cmd();
+      if (prune_->parsed()) return prune_cmd();
       if (cal_->parsed()) return calibrate_cmd();
     } catch (const StudyError& e) {
       std::fprintf(stderr, "wetdem: error: %s\n", e.what());
@@ -220,6 +231,26 @@ class Impl : public Commands {
           "estimated cost: unknown (no completed run in %s to measure throughput; give "
           "--throughput or run one run first)\n",
           dir.c_str());
+    return 0;
+  }
+
+  // The census of a store, and with --yes the removal of the runs of other run versions (prune.h).
+  int prune_cmd() {
+    const StoreCensus c = take_census(dir_);
+    std::printf("run store %s:\n%s", dir_.c_str(), describe_census(c).c_str());
+    if (c.removable.empty()) {
+      std::printf("nothing to remove: every complete run is of this binary's run version\n");
+      return 0;
+    }
+    if (!yes_) {
+      std::printf(
+          "%zu complete runs are of another run version: this binary never reuses them (the binaries "
+          "that made them would). Remove them with --yes.\n",
+          c.removable.size());
+      return 0;
+    }
+    const uint64_t freed = prune_runs(dir_, c);
+    std::printf("removed %zu runs of other run versions: %.1f MB freed\n", c.removable.size(), freed / 1e6);
     return 0;
   }
 
@@ -470,7 +501,7 @@ class Impl : public Commands {
   }
 
   CLI::App *study_ = nullptr, *plan_ = nullptr, *run_ = nullptr, *one_ = nullptr, *batch_cmd_ = nullptr,
-           *slurm_ = nullptr, *collect_ = nullptr, *cal_ = nullptr;
+           *slurm_ = nullptr, *collect_ = nullptr, *prune_ = nullptr, *cal_ = nullptr;
   std::string file_, dir_, device_, json_;
   double throughput_ = 0, budget_ = 0;
   uint64_t probe_steps_ = 200;
@@ -480,7 +511,7 @@ class Impl : public Commands {
   std::vector<size_t> indices_;
   std::vector<std::string> reuse_;
   bool retry_ = false, no_collect_ = false, calibrate_after_ = false, quiet_ = false, submit_ = false,
-       no_figures_ = false;
+       no_figures_ = false, yes_ = false;
   SlurmOptions so_;
   CalibrateOptions co_;
 };

@@ -351,6 +351,9 @@ nlohmann::json make_summary(const Case& c, const Derived& d, const std::vector<S
       {"d10", q.d10}, {"d25", q.d25}, {"d50", q.d50}, {"d75", q.d75}, {"d90", q.d90}};
   j["final_state_hash"] = t.final_state_hash;
   j["code_version"] = code_version();
+  // The run version in the run's store hash (study/study_file.h): `wetdem study prune` tells a run this
+  // binary would reuse from one it never will.
+  j["run_version"] = run_version();
   j["case"] = case_to_json(c);
   j["case_source"] = c.source;
   j["derived"] = derived_to_json(d);
