@@ -157,6 +157,13 @@ TEST(DiagnoseFiles, BadDiagnosisFilesNameTheKey) {
       d.write("d2.toml", "case = \"" + kMicroStudyCase + "\"\nobservations = \"missing.csv\"\n");
   EXPECT_NE(expect_error([&] { parse_diagnosis_file(f); }).find("observations: no such file"),
             std::string::npos);
+  // A table given on the command line replaces the file's, which then need not exist; a missing one is named.
+  const std::string table = d.write("table.csv", "liquid.content,observable,value,sigma\n");
+  EXPECT_EQ(parse_diagnosis_file(f, table).observations, fs::absolute(table).lexically_normal().string());
+  EXPECT_NE(expect_error([&] {
+              parse_diagnosis_file(f, (d.p / "none.csv").string());
+            }).find("--observations: no such file"),
+            std::string::npos);
 }
 
 // Re-fitted parameters (refit.h): every value is resolved through the case schema when the file is read, so a
@@ -293,6 +300,19 @@ TEST(DiagnoseFiles, BadObservationTablesAreRefusedBeforeAnyRun) {
                           "\"10 %\",aor_deg_mean,31,inf\n")
                 .find("carries no information"),
             std::string::npos);
+  // One cell given twice, and one condition written two ways that are equal in SI.
+  const std::string twice = diagnose_with(
+      "liquid.content,observable,value,sigma\n\"5 %\",aor_deg_mean,30,1\n\"10 %\",aor_deg_mean,31,1\n"
+      "\"5 %\",aor_deg_mean,32,1\n");
+  EXPECT_NE(twice.find("lines 2 and 4 both give aor_deg_mean at liquid.content=5 %"), std::string::npos)
+      << twice;
+  const std::string two_ways = diagnose_with(
+      "liquid.content,observable,value,sigma\n\"5 %\",aor_deg_mean,30,1\n0.05,f_wet_mean,0.5,0.1\n"
+      "\"10 %\",aor_deg_mean,31,1\n");
+  EXPECT_NE(two_ways.find("line 2 (liquid.content=5 %) and line 3 (liquid.content=0.05) are the same "
+                          "condition in SI units"),
+            std::string::npos)
+      << two_ways;
   EXPECT_FALSE(fs::exists(d.p / "out" / "store" / "runs")) << "nothing may run on bad input";
 }
 
@@ -331,6 +351,15 @@ TEST(DiagnoseFiles, TwinPointsAreExplicitConditions) {
                      "must be in [0, 1]"),
             std::string::npos)
       << bad;
+  // A condition listed twice would give the table two independent noisy values of one cell.
+  const std::string dup = expect_error([&] {
+    run_twin(parse_twin_file(d.write("t.toml", head + "[conditions]\n\"liquid.content\" = [\"0 %\", \"5 %\", "
+                                                      "0.05]\n")),
+             o);
+  });
+  EXPECT_NE(dup.find("the conditions liquid.content=5 % and liquid.content=0.05 are the same condition"),
+            std::string::npos)
+      << dup;
   EXPECT_FALSE(fs::exists(d.p / "out" / "store" / "runs")) << "nothing may run on bad input";
 }
 

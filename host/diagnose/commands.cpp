@@ -55,12 +55,7 @@ class Impl : public study::Commands {
     o_.exe = study::self_exe();
     try {
       if (diag_->parsed()) {
-        DiagnosisSpec d = parse_diagnosis_file(file_);
-        if (!observations_.empty()) {
-          if (!std::filesystem::exists(observations_))
-            throw DiagnoseError("--observations: no such file " + observations_);
-          d.observations = std::filesystem::absolute(observations_).lexically_normal().string();
-        }
+        DiagnosisSpec d = parse_diagnosis_file(file_, observations_);
         if (replicates_ > 0) d.replicates = replicates_;
         if (escalate_ >= 0) {
           if (escalate_ != 0 && escalate_ <= d.replicates)

@@ -18,7 +18,13 @@ namespace wetdem::diagnose {
 std::string value_toml(const toml::node& n) {
   if (const auto* s = n.as_string()) return toml_text_of_written(s->get());
   if (const auto* i = n.as_integer()) return std::to_string(i->get());
-  if (const auto* f = n.as_floating_point()) return fmt::format("{:.17g}", f->get());
+  if (const auto* f = n.as_floating_point()) {
+    // The shortest text that reads back as the same double (0.05, not 0.050000000000000003: it labels
+    // conditions), kept a TOML float.
+    std::string t = fmt::format("{}", f->get());
+    if (t.find_first_of(".eEni") == std::string::npos) t += ".0";
+    return t;
+  }
   if (const auto* b = n.as_boolean()) return b->get() ? "true" : "false";
   throw DiagnoseError("a value must be a string, a number or a boolean");
 }
@@ -76,7 +82,7 @@ std::string toml_text_of_written(const std::string& w) {
   return q + "\"";
 }
 
-DiagnosisSpec parse_diagnosis_file(const std::string& path_in) {
+DiagnosisSpec parse_diagnosis_file(const std::string& path_in, const std::string& observations) {
   const std::string path = fs::absolute(path_in).lexically_normal().string();
   const toml::table root = load(path);
   reject_unknown(root, path,
@@ -109,12 +115,18 @@ DiagnosisSpec parse_diagnosis_file(const std::string& path_in) {
   d.path = path;
   d.name = root["name"].value_or(fs::path(path).stem().string());
   d.case_path = rel_path(path, need_string(root, path, "case"));
-  // The table may come with --observations only (a shipped example whose table a GPU run makes).
-  if (root.contains("observations")) d.observations = rel_path(path, need_string(root, path, "observations"));
+  // The table may come with --observations only (a shipped example whose table a GPU run makes). Given
+  // there, it replaces the file's, which then need not exist (a diagnosis file copied elsewhere).
+  if (!observations.empty()) {
+    if (!fs::exists(observations)) throw DiagnoseError("--observations: no such file " + observations);
+    d.observations = fs::absolute(observations).lexically_normal().string();
+  } else if (root.contains("observations")) {
+    d.observations = rel_path(path, need_string(root, path, "observations"));
+    if (!fs::exists(d.observations))
+      throw DiagnoseError(fmt::format("{}: observations: no such file {}", path, d.observations));
+  }
   if (!fs::exists(d.case_path))
     throw DiagnoseError(fmt::format("{}: case: no such file {}", path, d.case_path));
-  if (!d.observations.empty() && !fs::exists(d.observations))
-    throw DiagnoseError(fmt::format("{}: observations: no such file {}", path, d.observations));
   if (const auto* e = root["effects"].as_array()) {
     for (const auto& x : *e) {
       if (!x.is_string()) throw DiagnoseError(fmt::format("{}: effects: names must be strings", path));

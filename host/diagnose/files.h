@@ -71,7 +71,8 @@ struct DiagnosisSpec {
   VerdictRule rule;
   std::vector<RefitKey> refit;  // `refit` + [refit_values] (refit.h); empty: nothing re-fitted
 };
-DiagnosisSpec parse_diagnosis_file(const std::string& path);
+// `observations`: the table given on the command line (--observations), used instead of the file's key.
+DiagnosisSpec parse_diagnosis_file(const std::string& path, const std::string& observations = "");
 
 struct TwinSpec {
   std::string path, name;

@@ -155,6 +155,14 @@ Procedure::Procedure(const DiagnosisSpec& d_, const DiagnoseOptions& o_)
                     });
     }
   }
+  // Conditions written differently but equal in SI ("5 %" and 0.05) are one condition listed twice.
+  for (size_t a = 0; a < tab.conditions.size(); ++a)
+    for (size_t b = a + 1; b < tab.conditions.size(); ++b)
+      if (tab.conditions[a].si == tab.conditions[b].si)
+        throw DiagnoseError(fmt::format(
+            "{}: {} ({}) and {} ({}) are the same condition in SI units: write each condition one way",
+            tab.path, condition_lines(tab, a), tab.conditions[a].label, condition_lines(tab, b),
+            tab.conditions[b].label));
   for (size_t k = 0; k < tab.cells.size(); ++k)
     tab.cells[k].condition = tab.conditions[tab.cell_condition[k]].si;
   for (const Condition& c : tab.conditions) base_steps.push_back(book.particle_steps(c, variant("", 0)));

@@ -22,6 +22,7 @@ Table read_table(const std::string& path) {
   Table t;
   t.path = path;
   std::map<std::string, std::vector<size_t>> lines_of, measured_of;  // observable -> its rows' lines
+  std::map<std::string, size_t> line_of_cell;                        // condition|observable -> its row
   for (const study::Observation& r : rows) {
     if (!find_observable(r.observable))
       throw DiagnoseError(fmt::format("{}: line {}: unknown observable '{}' (known: {})", path, r.line,
@@ -31,6 +32,13 @@ Table read_table(const std::string& path) {
     for (const auto& [k, w] : r.conditions) v.push_back({k, w, toml_text_of_written(w), std::nan("")});
     std::sort(v.begin(), v.end(), [](const auto& a, const auto& b) { return a.key < b.key; });
     const std::string label = condition_label(v);
+    // One row per cell: two values for one cell would be two cells at one condition, each counted as an
+    // independent observation (repeats enter as their mean, with n).
+    if (const auto [it, fresh] = line_of_cell.emplace(label + "|" + r.observable, r.line); !fresh)
+      throw DiagnoseError(fmt::format(
+          "{}: lines {} and {} both give {} at {}: one row per condition and observable (enter repeated "
+          "measurements as their mean, sigma of the mean and n)",
+          path, it->second, r.line, r.observable, label));
     if (!r.measured) {
       t.not_measured.push_back(fmt::format("line {}: {} at {}", r.line, r.observable, label));
       continue;
