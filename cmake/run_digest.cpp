@@ -10,13 +10,12 @@
 //
 // C and GLSL sources (.h .cpp .comp .glsl .in) are normalised; any other file (CMakeLists.txt) is copied as
 // is. The normalisation is conservative: where two spellings might differ in meaning, both are kept.
-//   - A run of whitespace and comments becomes one space, or nothing next to ( ) [ ] { } , ; . (which never
-//   join
-//     a neighbour into another token). Inside a preprocessor directive it is always one space (`#define F
-//     (x)` is not `#define F(x)`), and the directive's end of line is kept.
-//   - String and character literals, raw strings and numbers (with ' separators) are copied byte for byte.
-//     Adjacent plain string literals are joined, unless the first ends in an escape that could run on (\x,
-//     \u, octal) or a literal has a prefix or a suffix.
+// - Whitespace and comments: a run of them becomes one space, or nothing next to ( ) [ ] { } , ; . (which
+//   never join a neighbour into another token). Inside a preprocessor directive it is always one space
+//   (`#define F (x)` is not `#define F(x)`), and the directive's end of line is kept.
+// - Literals: string and character literals, raw strings and numbers (with ' separators) are copied byte
+//   for byte. Adjacent plain string literals are joined, unless the first ends in an escape that could run
+//   on (\x, \u, octal) or a literal has a prefix or a suffix.
 // Errors (an unreadable file, too few arguments) exit 1 with a message: the build then stops.
 #include <cstdio>
 #include <fstream>
