@@ -8,6 +8,7 @@
 #include "diagnose/driver.h"
 #include "diagnose/effects.h"
 #include "diagnose/files.h"
+#include "diagnose/table.h"
 #include "diagnose/twin.h"
 
 namespace fs = std::filesystem;
@@ -313,6 +314,18 @@ TEST(DiagnoseFiles, BadObservationTablesAreRefusedBeforeAnyRun) {
                           "condition in SI units"),
             std::string::npos)
       << two_ways;
+  // A value outside the observable's possible range by more than its noise could put it (5 sigma); a value
+  // just outside, within its error, is a measurement (a washing assay recovering 101 %).
+  EXPECT_NE(
+      diagnose_with("liquid.content,observable,value,sigma\n\"0 %\",f_wet_mean,-0.11,0.02\n"
+                    "\"10 %\",f_wet_mean,0.5,0.02\n")
+          .find("line 2: f_wet_mean = -0.11 is outside its possible range [0, 1] (-) by more than 5 sigma"),
+      std::string::npos);
+  EXPECT_EQ(read_table(d.write("near.csv",
+                               "liquid.content,observable,value,sigma\n\"0 %\",liquid_free_fraction,"
+                               "1.02,0.02\n\"10 %\",f_wet_mean,-0.05,0.02\n"))
+                .cells.size(),
+            2u);
   EXPECT_FALSE(fs::exists(d.p / "out" / "store" / "runs")) << "nothing may run on bad input";
 }
 
@@ -335,6 +348,14 @@ TEST(DiagnoseFiles, TwinPointsAreExplicitConditions) {
                 .find("[[points]] #2: every point needs the same condition keys"),
             std::string::npos);
   EXPECT_NE(err("[[points]]\n\"liquid.content\" = \"0 %\"\n").find("at least two"), std::string::npos);
+  // A truth that sets a key the conditions vary would replace every condition's value.
+  EXPECT_NE(
+      err("[truth]\n\"liquid.content\" = \"5 %\"\n[conditions]\n\"liquid.content\" = [\"0 %\", \"10 %\"]\n")
+          .find("[truth] liquid.content: the conditions vary this key"),
+      std::string::npos);
+  EXPECT_NE(err("[set]\n\"drum.rpm\" = 45\n[[points]]\n\"drum.rpm\" = 30\n[[points]]\n\"drum.rpm\" = 60\n")
+                .find("[set] drum.rpm: the conditions vary this key"),
+            std::string::npos);
   EXPECT_NE(err("[conditions]\n\"liquid.content\" = [\"0 %\", \"5 %\"]\n[[points]]\n\"drum.rpm\" = 60\n")
                 .find("give one of them"),
             std::string::npos);

@@ -402,6 +402,21 @@ TwinSpec parse_twin_file(const std::string& path_in) {
       throw DiagnoseError(
           fmt::format("{}: [conditions]: at least two conditions (a held-out check needs them)", path));
   }
+  // The truth (and the common [set]) may not set a key the conditions vary: the truth's value would
+  // replace every condition's (a table of one condition, told as several).
+  std::vector<std::string> varied = t.condition_keys;
+  for (const auto& [k, v] :
+       t.points.empty() ? std::vector<std::pair<std::string, std::string>>{} : t.points[0])
+    varied.push_back(k);
+  for (const auto& [section, list] : {std::pair{"truth", &t.truth}, std::pair{"set", &t.set}})
+    for (const std::string& kv : *list) {
+      const std::string key = kv.substr(0, kv.find('='));
+      if (std::find(varied.begin(), varied.end(), key) != varied.end())
+        throw DiagnoseError(fmt::format(
+            "{}: [{}] {}: the conditions vary this key; a twin's [{}] may not set it (its value would "
+            "replace every condition's)",
+            path, section, key, section));
+    }
   if (const auto* s = root["seeds"].as_array()) {
     for (const auto& x : *s) {
       const auto v = x.value<int64_t>();

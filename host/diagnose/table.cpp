@@ -43,6 +43,15 @@ Table read_table(const std::string& path) {
       t.not_measured.push_back(fmt::format("line {}: {} at {}", r.line, r.observable, label));
       continue;
     }
+    // A value further outside the observable's possible range than its noise could put a measurement (a
+    // negative fraction at 5 sigma) is a typing error, not a gap. Closer, it is kept: a washing assay may
+    // recover 101 % of the liquid, within its error.
+    if (const ObservableSpec* o = find_observable(r.observable);
+        r.value < o->lo - 5.0 * r.sigma || r.value > o->hi + 5.0 * r.sigma)
+      throw DiagnoseError(fmt::format(
+          "{}: line {}: {} = {:g} is outside its possible range [{:g}, {:g}] ({}) by more than 5 sigma "
+          "({:g}): not a measurement's noise",
+          path, r.line, r.observable, r.value, o->lo, o->hi, o->unit, r.sigma));
     measured_of[r.observable].push_back(r.line);
     size_t ci = 0;
     while (ci < t.conditions.size() && t.conditions[ci].label != label) ++ci;
