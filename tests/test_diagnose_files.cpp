@@ -154,6 +154,9 @@ TEST(DiagnoseFiles, BadDiagnosisFilesNameTheKey) {
             std::string::npos);
   EXPECT_NE(err("effects = [\"cohesion\"]\n[probes]\nviscous = [0.1]\n").find("not one of the effects"),
             std::string::npos);
+  EXPECT_NE(
+      err("effects = [\"cohesion\", \"spread\", \"cohesion\"]\n").find("effects: cohesion is listed twice"),
+      std::string::npos);
   const std::string f =
       d.write("d2.toml", "case = \"" + kMicroStudyCase + "\"\nobservations = \"missing.csv\"\n");
   EXPECT_NE(expect_error([&] { parse_diagnosis_file(f); }).find("observations: no such file"),

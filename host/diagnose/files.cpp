@@ -130,11 +130,15 @@ DiagnosisSpec parse_diagnosis_file(const std::string& path_in, const std::string
   if (const auto* e = root["effects"].as_array()) {
     for (const auto& x : *e) {
       if (!x.is_string()) throw DiagnoseError(fmt::format("{}: effects: names must be strings", path));
+      std::string name;
       try {
-        d.effects.push_back(effect_spec(x.as_string()->get()).name);
+        name = effect_spec(x.as_string()->get()).name;
       } catch (const std::invalid_argument& ex) {
         throw DiagnoseError(fmt::format("{}: effects: {}", path, ex.what()));
       }
+      if (std::find(d.effects.begin(), d.effects.end(), name) != d.effects.end())
+        throw DiagnoseError(fmt::format("{}: effects: {} is listed twice", path, name));
+      d.effects.push_back(name);
     }
     if (d.effects.empty()) throw DiagnoseError(fmt::format("{}: effects: name at least one effect", path));
     d.effects_given = true;
