@@ -125,8 +125,9 @@ bool baseline_seeds_only(const Procedure& p) {
   return gap_on_baseline_seeds_only(p.verdict.fresh_rejected, p.null_fresh, p.d.rule.table_level);
 }
 
-// A verdict more seeds could decide: a tie kept on fresh runs, a fresh comparison the seed luck decided, or a
-// gap on the baseline's seeds only.
+// A verdict more seeds could decide: a tie kept on fresh runs, a fresh comparison the seed luck decided (the
+// first effect's, or a second effect's confirmation: second_effect.cpp adds it to held_by_luck), or a gap on
+// the baseline's seeds only.
 bool undecided(const Procedure& p) {
   return !p.verdict.tied.empty() || !p.verdict.held_by_luck.empty() || baseline_seeds_only(p);
 }
