@@ -304,6 +304,22 @@ TEST(DiagnoseFiles, BadObservationTablesAreRefusedBeforeAnyRun) {
                           "\"10 %\",aor_deg_mean,31,inf\n")
                 .find("carries no information"),
             std::string::npos);
+  // A [set] key the table varies would be replaced by each condition's value.
+  {
+    d.write("obs.csv",
+            "liquid.content,observable,value,sigma\n\"5 %\",aor_deg_mean,30,1\n\"10 %\",aor_deg_mean,31,1\n");
+    const std::string f =
+        d.write("ds.toml", "case = \"" + kMicroStudyCase +
+                               "\"\nobservations = \"obs.csv\"\n[set]\n\"liquid.content\" = \"5 %\"\n");
+    DiagnoseOptions o;
+    o.out = (d.p / "out").string();
+    o.figures = false;
+    o.quiet = true;
+    EXPECT_NE(expect_error([&] {
+                run_diagnosis(parse_diagnosis_file(f), o);
+              }).find("[set] liquid.content: a condition of the observation table"),
+              std::string::npos);
+  }
   // One cell given twice, and one condition written two ways that are equal in SI.
   const std::string twice = diagnose_with(
       "liquid.content,observable,value,sigma\n\"5 %\",aor_deg_mean,30,1\n\"10 %\",aor_deg_mean,31,1\n"

@@ -111,6 +111,17 @@ Procedure::Procedure(const DiagnosisSpec& d_, const DiagnoseOptions& o_)
   for (const std::string& e : d.effects)
     if (const std::string why = effect_spec(e).not_applicable(model); !why.empty() && d.effects_given)
       throw DiagnoseError(fmt::format("{}: effects: '{}' cannot act here: {}", d.path, e, why));
+  // [set] applies to every run before the table's condition does, so a condition key there would be silently
+  // replaced at every condition.
+  for (const std::string& kv : d.set) {
+    const std::string key = kv.substr(0, kv.find('='));
+    for (const auto& v : tab.conditions.front().values)
+      if (v.key == key)
+        throw DiagnoseError(
+            fmt::format("{}: [set] {}: a condition of the observation table {}: the table sets it at each "
+                        "condition, so the file may not",
+                        d.path, key, d.observations));
+  }
   for (const RefitKey& k : d.refit)
     for (const Condition& c : tab.conditions)
       for (const auto& v : c.values)
