@@ -7,6 +7,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "app/run/resources.h"
 #include "study/store.h"
 #include "study/study_file.h"
 
@@ -34,14 +35,9 @@ std::string recorded_version(const fs::path& summary) {
   return j["run_version"].get<std::string>();
 }
 
-std::string size_text(uint64_t b) {
-  if (b >= 1000000000ull) return fmt::format("{:.1f} GB", b / 1e9);
-  if (b >= 1000000ull) return fmt::format("{:.1f} MB", b / 1e6);
-  return fmt::format("{:.0f} kB", b / 1e3);
-}
-
 std::string group_line(const StoreCensus::Group& g, const std::string& what) {
-  return fmt::format("  {:>5} run{}, {:>8}: {}\n", g.runs, g.runs == 1 ? " " : "s", size_text(g.bytes), what);
+  return fmt::format("  {:>5} run{}, {:>8}: {}\n", g.runs, g.runs == 1 ? " " : "s",
+                     app::bytes_text(double(g.bytes)), what);
 }
 
 }  // namespace

@@ -19,14 +19,14 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kUsable = 0.9;  // refuse above 90 % of what is available
 
-std::string bytes(double b) {
+}  // namespace
+
+std::string bytes_text(double b) {
   const char* unit[] = {"B", "KB", "MB", "GB", "TB", "PB"};
   int k = 0;
   while (b >= 1000.0 && k < 5) b /= 1000.0, ++k;
   return fmt::format("{:.3g} {}", b, unit[k]);
 }
-
-}  // namespace
 
 void check_reach(const Case& c) {
   if (!c.drum.periodic_slice) return;
@@ -109,7 +109,8 @@ void check_resources(const ResourceEstimate& e, const Available& a) {
         fmt::format("the case needs about {:.3g} particles ({:.3g} neighbour entries each): {} of {} memory, "
                     "but {} is available ({:.0f} % usable); a larger scaling (fewer, larger particles) or a "
                     "smaller drum.fill / drum length reduces it",
-                    e.particles, e.entries_per_particle, bytes(need), what, bytes(have), kUsable * 100.0));
+                    e.particles, e.entries_per_particle, bytes_text(need), what, bytes_text(have),
+                    kUsable * 100.0));
   };
   if (a.device_bytes && e.device_bytes > kUsable * *a.device_bytes)
     refuse("device (" + a.device + ")", e.device_bytes, *a.device_bytes);
@@ -134,7 +135,7 @@ std::string describe_resources(const ResourceEstimate& e, double throughput, con
   return fmt::format(
       "# resources: about {:.3g} particles, {:.3g} neighbour entries each (with regrow headroom): device "
       "memory {}, host memory {}; {:.3g} steps, {:.3g} particle-steps: {} at {:.3g} particle-steps/s ({})\n",
-      e.particles, e.entries_per_particle, bytes(e.device_bytes), bytes(e.host_bytes), e.steps,
+      e.particles, e.entries_per_particle, bytes_text(e.device_bytes), bytes_text(e.host_bytes), e.steps,
       e.particle_steps, t, throughput, source);
 }
 

@@ -94,6 +94,9 @@ ResourceEstimate estimate_resources(const Case& c);
 // CaseError("drum.slice_thickness", ...).
 void check_reach(const Case& c);
 
+// A size in bytes for people: three significant digits and a decimal unit (1.23 MB, 24.7 GB).
+std::string bytes_text(double b);
+
 // MemAvailable of /proc/meminfo in bytes, empty where the file or line is missing.
 std::optional<double> host_available_bytes();
 // Size of the largest DEVICE_LOCAL memory heap of the context's device.
