@@ -10,6 +10,7 @@
 
 #include "diagnose/effects.h"
 #include "diagnose/observables.h"
+#include "diagnose/runbook.h"
 
 namespace fs = std::filesystem;
 
@@ -413,14 +414,11 @@ TwinSpec parse_twin_file(const std::string& path_in) {
        t.points.empty() ? std::vector<std::pair<std::string, std::string>>{} : t.points[0])
     varied.push_back(k);
   for (const auto& [section, list] : {std::pair{"truth", &t.truth}, std::pair{"set", &t.set}})
-    for (const std::string& kv : *list) {
-      const std::string key = kv.substr(0, kv.find('='));
-      if (std::find(varied.begin(), varied.end(), key) != varied.end())
-        throw DiagnoseError(fmt::format(
-            "{}: [{}] {}: the conditions vary this key; a twin's [{}] may not set it (its value would "
-            "replace every condition's)",
-            path, section, key, section));
-    }
+    if (const std::string key = sets_varied_key(*list, varied); !key.empty())
+      throw DiagnoseError(fmt::format(
+          "{}: [{}] {}: the conditions vary this key; a twin's [{}] may not set it (its value would "
+          "replace every condition's)",
+          path, section, key, section));
   if (const auto* s = root["seeds"].as_array()) {
     for (const auto& x : *s) {
       const auto v = x.value<int64_t>();

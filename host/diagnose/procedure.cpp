@@ -113,15 +113,13 @@ Procedure::Procedure(const DiagnosisSpec& d_, const DiagnoseOptions& o_)
       throw DiagnoseError(fmt::format("{}: effects: '{}' cannot act here: {}", d.path, e, why));
   // [set] applies to every run before the table's condition does, so a condition key there would be silently
   // replaced at every condition.
-  for (const std::string& kv : d.set) {
-    const std::string key = kv.substr(0, kv.find('='));
-    for (const auto& v : tab.conditions.front().values)
-      if (v.key == key)
-        throw DiagnoseError(
-            fmt::format("{}: [set] {}: a condition of the observation table {}: the table sets it at each "
-                        "condition, so the file may not",
-                        d.path, key, d.observations));
-  }
+  std::vector<std::string> varied;
+  for (const auto& v : tab.conditions.front().values) varied.push_back(v.key);
+  if (const std::string key = sets_varied_key(d.set, varied); !key.empty())
+    throw DiagnoseError(fmt::format(
+        "{}: [set] {}: a condition of the observation table {}: the table sets it at each condition, so the "
+        "file may not",
+        d.path, key, d.observations));
   for (const RefitKey& k : d.refit)
     for (const Condition& c : tab.conditions)
       for (const auto& v : c.values)
@@ -167,13 +165,12 @@ Procedure::Procedure(const DiagnosisSpec& d_, const DiagnoseOptions& o_)
     }
   }
   // Conditions written differently but equal in SI ("5 %" and 0.05) are one condition listed twice.
-  for (size_t a = 0; a < tab.conditions.size(); ++a)
-    for (size_t b = a + 1; b < tab.conditions.size(); ++b)
-      if (tab.conditions[a].si == tab.conditions[b].si)
-        throw DiagnoseError(fmt::format(
-            "{}: {} ({}) and {} ({}) are the same condition in SI units: write each condition one way",
-            tab.path, condition_lines(tab, a), tab.conditions[a].label, condition_lines(tab, b),
-            tab.conditions[b].label));
+  if (const auto same = same_condition_in_si(tab.conditions)) {
+    const auto [a, b] = *same;
+    throw DiagnoseError(fmt::format(
+        "{}: {} ({}) and {} ({}) are the same condition in SI units: write each condition one way", tab.path,
+        condition_lines(tab, a), tab.conditions[a].label, condition_lines(tab, b), tab.conditions[b].label));
+  }
   for (size_t k = 0; k < tab.cells.size(); ++k)
     tab.cells[k].condition = tab.conditions[tab.cell_condition[k]].si;
   for (const Condition& c : tab.conditions) base_steps.push_back(book.particle_steps(c, variant("", 0)));

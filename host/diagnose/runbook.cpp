@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -18,6 +19,22 @@ std::string condition_label(const std::vector<study::AxisValue>& values) {
   std::string s;
   for (const auto& a : values) s += (s.empty() ? "" : ", ") + a.key + "=" + a.written;
   return s;
+}
+
+std::optional<std::pair<size_t, size_t>> same_condition_in_si(const std::vector<Condition>& conditions) {
+  for (size_t a = 0; a < conditions.size(); ++a)
+    for (size_t b = a + 1; b < conditions.size(); ++b)
+      if (conditions[a].si == conditions[b].si) return std::pair{a, b};
+  return std::nullopt;
+}
+
+std::string sets_varied_key(const std::vector<std::string>& settings,
+                            const std::vector<std::string>& varied) {
+  for (const std::string& kv : settings) {
+    const std::string key = kv.substr(0, kv.find('='));
+    if (std::find(varied.begin(), varied.end(), key) != varied.end()) return key;
+  }
+  return "";
 }
 
 std::string Variant::label() const {

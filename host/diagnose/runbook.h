@@ -7,6 +7,7 @@
 #include <cmath>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,14 @@ struct Condition {
 
 // A condition's label from its keys as written: "liquid.content=5 %, drum.omega=3 rad/s".
 std::string condition_label(const std::vector<study::AxisValue>& values);
+
+// The first two conditions (by index) equal in SI: one condition written two ways ("5 %" and 0.05) or listed
+// twice, which would make two independent noisy values of one cell. Empty when all differ.
+std::optional<std::pair<size_t, size_t>> same_condition_in_si(const std::vector<Condition>& conditions);
+
+// The key of the first "key=value" setting that sets one of `varied` (a key the conditions vary: set for
+// every run, it would be replaced at each condition, or replace every condition's value); "" when none does.
+std::string sets_varied_key(const std::vector<std::string>& settings, const std::vector<std::string>& varied);
 
 // A model variant: the baseline (no effect) or one effect at one strength (and, for an effect with a second
 // parameter, one shape: effects.h), at a refit setting (refit.h).

@@ -24,7 +24,8 @@ Table read_table(const std::string& path) {
   std::map<std::string, std::vector<size_t>> lines_of, measured_of;  // observable -> its rows' lines
   std::map<std::string, size_t> line_of_cell;                        // condition|observable -> its row
   for (const study::Observation& r : rows) {
-    if (!find_observable(r.observable))
+    const ObservableSpec* o = find_observable(r.observable);
+    if (!o)
       throw DiagnoseError(fmt::format("{}: line {}: unknown observable '{}' (known: {})", path, r.line,
                                       r.observable, observable_names()));
     lines_of[r.observable].push_back(r.line);
@@ -46,8 +47,7 @@ Table read_table(const std::string& path) {
     // A value further outside the observable's possible range than its noise could put a measurement (a
     // negative fraction at 5 sigma) is a typing error, not a gap. Closer, it is kept: a washing assay may
     // recover 101 % of the liquid, within its error.
-    if (const ObservableSpec* o = find_observable(r.observable);
-        r.value < o->lo - 5.0 * r.sigma || r.value > o->hi + 5.0 * r.sigma)
+    if (r.value < o->lo - 5.0 * r.sigma || r.value > o->hi + 5.0 * r.sigma)
       throw DiagnoseError(fmt::format(
           "{}: line {}: {} = {:g} is outside its possible range [{:g}, {:g}] ({}) by more than 5 sigma "
           "({:g}): not a measurement's noise",

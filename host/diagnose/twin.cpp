@@ -118,11 +118,9 @@ nlohmann::json run_twin(const TwinSpec& t, const DiagnoseOptions& o) {
   }
   // A condition listed twice (or written two ways that are equal in SI, "5 %" and 0.05) would give the
   // table two independent noisy values of the same cell.
-  for (size_t a = 0; a < conds.size(); ++a)
-    for (size_t b = a + 1; b < conds.size(); ++b)
-      if (conds[a].si == conds[b].si)
-        throw DiagnoseError(fmt::format("{}: the conditions {} and {} are the same condition: list each once",
-                                        t.path, conds[a].label, conds[b].label));
+  if (const auto same = same_condition_in_si(conds))
+    throw DiagnoseError(fmt::format("{}: the conditions {} and {} are the same condition: list each once",
+                                    t.path, conds[same->first].label, conds[same->second].label));
   book.run();
   if (const std::string why = book.failure(conds, truth, t.seeds); !why.empty())
     throw std::runtime_error("a truth run failed: " + why);
