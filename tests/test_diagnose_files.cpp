@@ -126,6 +126,12 @@ TEST(DiagnoseFiles, BadDiagnosisFilesNameTheKey) {
             std::string::npos);
   EXPECT_NE(err("escalate_replicates = -1\n").find("escalate_replicates: an integer in [0, 100]"),
             std::string::npos);
+  EXPECT_NE(err("escalate_when = \"sometimes\"\n").find("escalate_when: \"undecided\" (the default"),
+            std::string::npos);
+  EXPECT_NE(err("escalate_when = 1\n").find("escalate_when: "), std::string::npos);
+  EXPECT_FALSE(parse_diagnosis_file(d.write("d.toml", head)).escalate_only_decidable) << "the default";
+  EXPECT_TRUE(parse_diagnosis_file(d.write("d.toml", head + "escalate_when = \"decidable\"\n"))
+                  .escalate_only_decidable);
   // The probes share the baseline's first seeds: no more of them than the replicates.
   EXPECT_NE(err("replicates = 2\nprobe_seeds = 3\n").find("probe_seeds: an integer in [1, replicates = 2]"),
             std::string::npos);

@@ -11,6 +11,7 @@
 #include "diagnose/baseline.h"
 #include "diagnose/fit_stage.h"
 #include "diagnose/limits.h"
+#include "diagnose/more_seeds.h"
 #include "diagnose/next_bound.h"
 #include "diagnose/next_experiment.h"
 #include "diagnose/power.h"
@@ -120,16 +121,12 @@ void run_to_verdict(Procedure& p, StageClock& clock) {
   clock.done("second effect");
 }
 
-// The Procedure's reading of procedure.h's gap_on_baseline_seeds_only.
-bool baseline_seeds_only(const Procedure& p) {
-  return gap_on_baseline_seeds_only(p.verdict.fresh_rejected, p.null_fresh, p.d.rule.table_level);
-}
-
-// A verdict more seeds could decide: a tie kept on fresh runs, a fresh comparison the seed luck decided (the
-// first effect's, or a second effect's confirmation: second_effect.cpp adds it to held_by_luck), or a gap on
-// the baseline's seeds only.
-bool undecided(const Procedure& p) {
-  return !p.verdict.tied.empty() || !p.verdict.held_by_luck.empty() || baseline_seeds_only(p);
+// Stage 6c (more_seeds.h): whether more seeds could decide an undecided verdict, at the escalation's seeds
+// or, without one, at twice the seeds (what the report tells the user to try).
+void run_more_seeds(Procedure& p, StageClock& clock, int to) {
+  if (!undecided(p)) return;
+  p.more_seeds = more_seeds_outlook(p, to > int(p.d.replicates) ? to : 2 * int(p.d.replicates));
+  clock.done("more seeds");
 }
 
 // Stages 7-8: the experiment that would separate a tie, the one that would close an open interval, and
@@ -162,10 +159,14 @@ nlohmann::json run_diagnosis(const DiagnosisSpec& d, const DiagnoseOptions& o) {
   // Sequential replication: when the first pass leaves its verdict undecided (a tie kept on fresh runs, or a
   // comparison only the model's seed luck decided), more seeds per condition lower the luck and the models'
   // errors (docs/validation.md: the luck 49.1 -> 18.0 from R = 2 to 4 on cohesion-weak, and its tie went) and
-  // may decide it. Only then are they paid for. The first pass's runs stay in the store, and the second
-  // reuses those it needs (the baseline's seeds 1..R and fresh seeds R+1..2R become seeds 1..2R; probes and
-  // fits).
-  if (d.escalate_replicates <= d.replicates || !undecided(p)) {
+  // may decide it. Only then are they paid for, and only when they could (more_seeds.h): a tie whose two
+  // fitted models the table cannot separate even when both are known exactly stays a tie at any number of
+  // seeds (absorption-weak: escalated, the tie stayed and its order flipped). The first pass's runs stay in
+  // the store, and the second reuses those it needs (the baseline's seeds 1..R and fresh seeds R+1..2R become
+  // seeds 1..2R; probes and fits).
+  run_more_seeds(p, clock, d.escalate_replicates);
+  if (d.escalate_replicates <= d.replicates || !undecided(p) ||
+      (d.escalate_only_decidable && !p.more_seeds.worth())) {
     run_after_verdict(p, clock);
     return write_report(o.out, make_report(p, wall(), clock.stages()), o.figures);
   }
@@ -175,7 +176,8 @@ nlohmann::json run_diagnosis(const DiagnosisSpec& d, const DiagnoseOptions& o) {
   e.held_by_luck = p.verdict.held_by_luck;
   e.tied = p.verdict.tied;
   e.seed_luck = p.verdict.seed_luck;
-  e.baseline_only = baseline_seeds_only(p);
+  e.baseline_only = gap_on_baseline_seeds_only(p.verdict.fresh_rejected, p.null_fresh, d.rule.table_level);
+  e.outlook = p.more_seeds;
   const Report first = make_report(p, 0.0);
   e.verdict = verdict_line(p.verdict, first.second_named() ? first.second_named()->effect : "");
   e.runs_computed = p.book.computed();
@@ -188,6 +190,7 @@ nlohmann::json run_diagnosis(const DiagnosisSpec& d, const DiagnoseOptions& o) {
   q.escalation = e;
   StageClock clock2(q, d.name, o.quiet);
   run_to_verdict(q, clock2);
+  run_more_seeds(q, clock2, 0);
   run_after_verdict(q, clock2);
   std::vector<StageCost> stages;
   for (StageCost c : clock.stages()) {

@@ -93,6 +93,7 @@ DiagnosisSpec parse_diagnosis_file(const std::string& path_in, const std::string
                   "effects",
                   "replicates",
                   "escalate_replicates",
+                  "escalate_when",
                   "probe_seeds",
                   "screen_top",
                   "refine",
@@ -164,6 +165,15 @@ DiagnosisSpec parse_diagnosis_file(const std::string& path_in, const std::string
                       "it off",
                       path, *r, d.replicates));
     d.escalate_replicates = int(*r);
+  }
+  if (root.contains("escalate_when")) {
+    const auto w = root["escalate_when"].value<std::string>();
+    if (!w || (*w != "decidable" && *w != "undecided"))
+      throw DiagnoseError(fmt::format(
+          "{}: escalate_when: \"undecided\" (the default: run again whenever the verdict is not decided) or "
+          "\"decidable\" (only when more seeds could decide it, by the outlook of the fitted models)",
+          path));
+    d.escalate_only_decidable = *w == "decidable";
   }
   if (root.contains("probe_seeds")) {
     const auto r = root["probe_seeds"].value<int64_t>();

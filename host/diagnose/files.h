@@ -65,6 +65,11 @@ struct DiagnosisSpec {
   // diagnosis runs again at this many, reusing every run of the first pass the second needs (driver.cpp).
   // 0: never.
   int escalate_replicates = 0;
+  // `escalate_when = "decidable"`: only when more seeds could decide it by the outlook (more_seeds.h: some
+  // tie the table would separate at that many, as fitted now, or something no outlook covers); false (the
+  // default, "undecided"): whenever the verdict is not decided. Not the default: more seeds also re-fit the
+  // tied models, which the outlook cannot foresee (docs/validation.md, "Would more seeds decide?").
+  bool escalate_only_decidable = false;
   size_t screen_top = 3;      // candidates fitted after the screen
   bool second_effect = true;  // a partial verdict fits a second candidate on top (second_effect.h)
   int refine = 2;             // per fitted candidate: runs added at its fitted strength, then refitted (0-5)

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "diagnose/effects.h"
+#include "diagnose/more_seeds.h"
 #include "diagnose/paragraph_next.h"
 #include "diagnose/paragraph_silent.h"
 #include "diagnose/power.h"
@@ -193,14 +194,65 @@ std::string luck_sentence(const Report& r) {
   if (!on_top.empty())
     what += (what.empty() ? "" : ", and ") +
             fmt::format("left `{}` unconfirmed on top of `{}`", on_top, r.chosen()->effect);
+  // The outlook (more_seeds.h) may say that lower luck is unlikely to decide it: then the sentence says so,
+  // and more_seeds_sentence gives the numbers.
+  const bool futile = r.more_seeds.to != 0 && !r.more_seeds.worth();
   return fmt::format(
       " **The seed luck decided:** the fresh runs {} although their χ² differ by more than the tie margin "
       "(or min_drop), because the same model moves on average by {:.1f} between two seed sets of {} run{} "
-      "per condition. More replicates (`replicates` in the diagnosis file, or `--replicates`; each adds one "
-      "run per condition to the baseline and to every fresh check) would lower that luck and could decide "
-      "{}.",
+      "per condition. {}",
       what, r.verdict.seed_luck, r.spec->replicates, r.spec->replicates == 1 ? "" : "s",
-      h.size() == 1 ? "it" : "them");
+      futile
+          ? std::string("Lower luck alone is unlikely to decide ") + (h.size() == 1 ? "it" : "them") +
+                " (below)."
+          : std::string("More replicates (`replicates` in the diagnosis file, or `--replicates`; each adds "
+                        "one run per condition to the baseline and to every fresh check) would lower that "
+                        "luck and could decide ") +
+                (h.size() == 1 ? "it" : "them") + ".");
+}
+
+// Whether more seeds could decide the ties (more_seeds.h): the separation the table allows between the two
+// fitted models, against the tie margin, and what the diagnosis did about it.
+std::string more_seeds_sentence(const Report& r) {
+  const MoreSeeds& m = r.more_seeds;
+  if (m.to == 0) return "";
+  std::string known;
+  for (const TieOutlook& t : m.ties) {
+    if (!t.known) continue;
+    known += fmt::format(
+        "{}from `{}` by a χ² of {:.1f} at {} seeds per condition ({:.1f} with exact models) "
+        "against a tie margin of {:.1f}",
+        known.empty() ? "" : "; ", t.effect, t.at_more, m.to, t.exact, t.margin);
+    if (!t.could_decide())
+      known += t.seeds_needed > 0
+                   ? fmt::format(", reached from about {} seeds", t.seeds_needed)
+                   : fmt::format(
+                         ", by no number of seeds up to {}: the two fitted models leave one fingerprint on "
+                         "what this table measures",
+                         kMostSeeds);
+  }
+  if (known.empty()) return "";
+  const std::string chosen = r.verdict.effect;
+  if (!m.worth())
+    return fmt::format(
+        " **More seeds alone are unlikely to decide the tie:** by the fitted models' fresh runs, the table "
+        "would "
+        "separate `{}` {}{}. More seeds also re-fit both models, which can move them apart; a measurement "
+        "where "
+        "they differ is the surer way (the next experiment).",
+        chosen, known,
+        r.escalation_held_back
+            ? fmt::format(", so the diagnosis did not run again at {} seeds (`escalate_when = "
+                          "\"decidable\"`)",
+                          m.to)
+            : "");
+  return fmt::format(
+      " **More seeds could decide the tie:** by the fitted models' fresh runs, the table would separate `{}` "
+      "{} "
+      "(the expected χ² difference when one of them is the truth). Run the diagnosis at {} seeds per "
+      "condition "
+      "(`replicates`, or `escalate_replicates = {}`, which runs again only when a verdict is undecided).",
+      chosen, known, m.to, m.to);
 }
 
 // An escalated diagnosis (driver.cpp): what the first pass found and why it ran again.
@@ -217,6 +269,16 @@ std::string escalation_sentence(const Report& r) {
            std::string(
                "its gap showed on the baseline's seeds only (no candidate's fresh runs confirmed it, and "
                "the model itself departed from no cell on the fresh seeds)");
+  if (e.outlook.to != 0 && !e.outlook.worth())
+    why +=
+        " (the fitted models' fresh runs gave more seeds too little to separate them by; the second pass "
+        "re-fits them)";
+  for (const TieOutlook& t : e.outlook.ties)
+    if (t.known && t.could_decide())
+      why += fmt::format(
+          " (the fitted models of `{}` differed by enough for more seeds to decide: χ² {:.1f} "
+          "expected at {} seeds against a margin of {:.1f})",
+          t.effect, t.at_more, e.to, t.margin);
   return fmt::format(
       " **Run again with more seeds:** at {} seed{} per condition the verdict was {}: {}. This report is the "
       "diagnosis at {} seeds per condition (`escalate_replicates`), which reused the first pass's runs it "
@@ -257,8 +319,8 @@ std::string passed_over_sentence(const Report& r) {
 
 std::string verdict_paragraph(const Report& r) {
   return verdict_core(r) + limits_sentence(r) + bound_sentence(r) + passed_over_sentence(r) +
-         seen_sentence(r) + escalation_sentence(r) + luck_sentence(r) + blind_sentence(r) +
-         strong_only_sentence(r);
+         seen_sentence(r) + escalation_sentence(r) + luck_sentence(r) + more_seeds_sentence(r) +
+         blind_sentence(r) + strong_only_sentence(r);
 }
 
 namespace {

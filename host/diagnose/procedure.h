@@ -157,6 +157,29 @@ struct SecondRound {
   bool held_by_luck = false;
 };
 
+// Would more seeds decide an undecided verdict (more_seeds.h)? One tie's outlook at R' seeds per condition,
+// for the two models as fitted now: more seeds also re-fit both, which can move them apart (or together).
+struct TieOutlook {
+  std::string effect;    // the tied candidate (against the chosen one)
+  bool known = false;    // both have fresh runs: the separation below was estimated
+  double at_more = 0.0;  // predicted_separation at R' seeds
+  double exact = 0.0;    // ... with exact models (R' → ∞): the most any number of seeds could show
+  double margin = 0.0;   // the fresh tie margin at R' (fresh_tie_margin, the luck scaled by R/R')
+  int seeds_needed = 0;  // the fewest seeds per condition (up to kMostSeeds) at which the separation reaches
+                         // the margin there; 0: none
+  bool could_decide() const { return !known || at_more >= margin; }
+};
+
+struct MoreSeeds {
+  int from = 0, to = 0;          // seeds per condition now and in the outlook (to = 0: not computed)
+  std::vector<TieOutlook> ties;  // one per tied candidate
+  // Undecided for a reason no outlook covers: the chosen effect unconfirmed by the luck, a second effect's
+  // confirmation, a gap on the baseline's seeds only.
+  std::vector<std::string> other;
+  // More seeds could decide the verdict: some tie could be decided, or something else is undecided.
+  bool worth() const;
+};
+
 // The first pass of an escalated diagnosis (DiagnosisSpec::escalate_replicates; driver.cpp): at `from` seeds
 // per condition its verdict was not decided (a tie, or a comparison the seed luck decided), so the diagnosis
 // ran again at `to`.
@@ -168,6 +191,7 @@ struct Escalation {
   bool baseline_only = false;             // its gap unconfirmed, and absent from the model's fresh seeds
   std::string verdict;                    // the first pass's verdict: "partial (cohesion; tied: hysteresis)"
   size_t runs_computed = 0;               // runs the first pass computed
+  MoreSeeds outlook;                      // why more seeds could decide it (more_seeds.h)
 };
 
 class Procedure {
@@ -212,6 +236,7 @@ class Procedure {
                                                 // confirmed them (fresh_ties.cpp, order_tie_by_evidence)
   std::vector<std::string> notes;               // failed runs, cut ranges, what could not be probed
   Escalation escalation;                        // from = 0: this is the only pass
+  MoreSeeds more_seeds;                         // to = 0: the verdict was decided (more_seeds.h)
 
   // The effect (none: "") at strength s, refit setting j, shape value (NaN: the effect's default shape).
   Variant variant(const std::string& effect, double s, size_t j = 0,

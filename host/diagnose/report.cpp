@@ -31,6 +31,26 @@ nlohmann::json table_json(const TableFit& t) {
           {"beyond", t.beyond}};
 }
 
+// The outlook of more seeds (more_seeds.h): the ties' predicted separations against their margins.
+nlohmann::json more_seeds_json(const MoreSeeds& m) {
+  if (m.to == 0) return nullptr;
+  nlohmann::json ties = nlohmann::json::array();
+  for (const TieOutlook& t : m.ties)
+    ties.push_back({{"effect", t.effect},
+                    {"estimated", t.known},
+                    {"separation_chi2", t.known ? nlohmann::json(t.at_more) : nlohmann::json(nullptr)},
+                    {"separation_exact_chi2", t.known ? nlohmann::json(t.exact) : nlohmann::json(nullptr)},
+                    {"margin_chi2", t.known ? nlohmann::json(t.margin) : nlohmann::json(nullptr)},
+                    {"seeds_needed", t.known && t.seeds_needed > 0 ? nlohmann::json(t.seeds_needed)
+                                                                   : nlohmann::json(nullptr)},
+                    {"could_decide", t.could_decide()}});
+  return {{"from_replicates", m.from},
+          {"to_replicates", m.to},
+          {"ties", ties},
+          {"other", m.other},
+          {"worth", m.worth()}};
+}
+
 }  // namespace
 
 const CandidateRuns* Report::runs_of(const std::string& effect) const {
@@ -82,6 +102,9 @@ Report make_report(const Procedure& p, double wall_s, std::vector<StageCost> sta
   r.confirmed_on_fresh = p.confirmed_on_fresh;
   r.notes = p.notes;
   r.escalation = p.escalation;
+  r.more_seeds = p.more_seeds;
+  r.escalation_held_back = p.d.escalate_replicates > p.d.replicates && p.d.escalate_only_decidable &&
+                           p.more_seeds.to != 0 && !p.more_seeds.worth();
   r.notes.insert(r.notes.end(), p.second.notes.begin(), p.second.notes.end());
   r.not_measured = p.tab.not_measured;
   r.runs = p.book.runs();
@@ -188,7 +211,10 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
                                                   {"baseline_only", r.escalation.baseline_only},
                                                   {"seed_luck_chi2", r.escalation.seed_luck},
                                                   {"verdict", r.escalation.verdict},
-                                                  {"runs_computed", r.escalation.runs_computed}};
+                                                  {"runs_computed", r.escalation.runs_computed},
+                                                  {"outlook", more_seeds_json(r.escalation.outlook)}};
+  // Whether more seeds per condition could decide this report's verdict (more_seeds.h); null when decided.
+  j["more_seeds"] = r.more_seeds.to == 0 ? json(nullptr) : more_seeds_json(r.more_seeds);
   j["rule"] = {{"fdr", r.spec->rule.q},
                {"table_level", r.spec->rule.table_level},
                {"held_out", r.spec->rule.held_out == HeldOut::kLogDensity ? "log_density" : "chi2"},

@@ -53,6 +53,10 @@ struct Report {
   double wall_s = 0.0;
   std::vector<StageCost> stages;  // where the wall time went, in the procedure's order
   Escalation escalation;          // the first pass, when the seed luck decided it (from = 0: none)
+  MoreSeeds more_seeds;           // whether more seeds could decide this verdict (to = 0: it is decided)
+  // The file asks to run again at more seeds only where they could decide (`escalate_when = "decidable"`),
+  // and the outlook said they could not: it did not run again.
+  bool escalation_held_back = false;
 
   const CandidateRuns* runs_of(const std::string& effect) const;
   const FreshCheck* fresh_of(const std::string& effect) const;
