@@ -148,7 +148,22 @@ def row_of(d, t):
             # --measure-next: the measurements made on the twin at the reports' request, and the first verdict.
             "measured": measured, "first_verdict": first["verdict"], "first_effect": first["effect"],
             "first_tied": first.get("tied") or [],
+            # An undecided verdict: whether more seeds could decide it (diagnosis.md, stage 6c).
+            "more_seeds": more_seeds_text(j.get("more_seeds")),
             "wall_s": cost_of(d, j)["wall_s"], "device": j["device"]}
+
+
+def more_seeds_text(m):
+    """The outlook of more seeds (diagnosis.json's more_seeds) in a few words, or "" when decided."""
+    if not m:
+        return ""
+    if m.get("worth"):
+        return f"more seeds could decide it ({m['to_replicates']})"
+    need = [t.get("seeds_needed") for t in m.get("ties") or [] if t.get("estimated")]
+    if need and all(n is None for n in need):
+        return "more seeds unlikely to decide it"
+    return f"more seeds unlikely at {m['to_replicates']}" + (
+        f", from about {min(n for n in need if n is not None)}" if any(n is not None for n in need) else "")
 
 
 def cost_of(d, j):
@@ -392,7 +407,8 @@ def summarize(rows, wall, device, out_dir, spec_path):
                      else f" (not ruled out{free})" if free else f" (allowed to {lim['allowed_to']:.3g})")
         md.append(f"| {r['twin']} | {r['truth'] or 'none'} | {ts} | {also} | "
                   f"{'' if not sig else '%.1f' % sig['max_abs_z']} | "
-                  f"{r['verdict']}{limit}{after_measuring(r)} | {chosen} | {fit} | {'' if s is None else f'{100 * s:.0f} %'} | "
+                  f"{r['verdict']}{limit}{after_measuring(r)}"
+                  f"{'; ' + r['more_seeds'] if r.get('more_seeds') else ''} | {chosen} | {fit} | {'' if s is None else f'{100 * s:.0f} %'} | "
                   f"{'' if r['wall_s'] is None else '%.0f s' % r['wall_s']} |")
     md.append("")
     md += confusion(rows)[0]

@@ -21,6 +21,10 @@ name = "absorption-right"
 effect = "absorption"
 strength = 0.02
 [[twin]]
+name = "absorption-tied"
+effect = "absorption"
+strength = 0.02
+[[twin]]
 name = "cohesion-with-a-stranger"
 effect = "cohesion"
 strength = 0.01
@@ -83,6 +87,11 @@ def no_gap(effect, ruled_out_from, allowed_to, free_shape=None, rows=()):
 twins = {
     # named, strength within 25 % (0.022 vs 0.02), interval covering it
     "absorption-right": diagnosis("effect", "absorption", 0.022, [0.01, 0.03], 0.8),
+    # the same, tied with another candidate more seeds are unlikely to separate from it (diagnosis.md, 6c)
+    "absorption-tied": dict(diagnosis("effect", "absorption", 0.022, [0.01, 0.03], 0.8), tied=["evaporation"],
+                            more_seeds={"to_replicates": 4, "worth": False,
+                                        "ties": [{"effect": "evaporation", "estimated": True,
+                                                  "seeds_needed": 6}]}),
     # the truth first, but a second effect the twin did not withhold: named first, not identified
     "cohesion-with-a-stranger": diagnosis("partial", "cohesion", 0.02, [0.015, 0.03], 0.4, second="evaporation"),
     # the other withheld difference (itself a candidate) named alone: counted apart
@@ -114,10 +123,10 @@ r = subprocess.run([sys.executable, os.path.join(src, "scripts", "twin_matrix.py
 if r.returncode != 0:
     sys.exit(f"FAIL: twin_matrix.py --summarize: {r.returncode}\n{r.stdout}\n{r.stderr}")
 m = json.load(open(os.path.join(d, "out", "matrix.json")))
-want = {"effect_twins": 7, "no_gap_effect_twins_with_limits": 4, "truth_ruled_out": 2, "top1": 1, "truth_chosen_first": 2, "strength_within_25pc": 1,
-        "interval_covers_truth": 1, "found_other_candidate": 1, "other_candidate_within_25pc": 1,
+want = {"effect_twins": 8, "no_gap_effect_twins_with_limits": 4, "truth_ruled_out": 2, "top1": 2, "truth_chosen_first": 3, "strength_within_25pc": 2,
+        "interval_covers_truth": 2, "found_other_candidate": 1, "other_candidate_within_25pc": 1,
         "nulls_and_outside": 2, "confident_wrong": 1, "median_held_out_shrink": 0.8,
-        "wall_s": 700.0 + 8 * 3.0}
+        "wall_s": 700.0 + 9 * 3.0}
 bad = {k: (m.get(k), v) for k, v in want.items() if m.get(k) != v}
 if bad:
     sys.exit(f"FAIL: matrix.json (got, want): {bad}")
@@ -125,7 +134,8 @@ md = open(os.path.join(d, "out", "matrix.md")).read()
 for needle in ["| absorption-right | absorption | 0.02 |", "0.022 [0.01, 0.03]", "| 700 s |",
                "| null-called-effect | none |", "no_gap (allowed to 0.1)", "no_gap (out from 0.003)",
                "no_gap (not ruled out, rate free)", "no_gap (out from 0.03, at rate 30)",
-               "whose truth the table's limits rule out: 2/4"]:
+               "whose truth the table's limits rule out: 2/4",
+               "| effect; more seeds unlikely at 4, from about 6 | absorption (evaporation) |"]:
     if needle not in md:
         sys.exit(f"FAIL: matrix.md lacks {needle!r}")
 shutil.rmtree(d)  # kept on a failure, for the post-mortem
