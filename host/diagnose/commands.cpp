@@ -112,18 +112,22 @@ class Impl : public study::Commands {
  private:
   // After the files are read (their errors come first), before any run: --batch, or the device's default.
   void choose_batch() {
-    std::string why;
+    std::string why, why_jobs;
     try {
       o_.batch = resolve_batch(batch_, o_.device, &why);
+      o_.jobs = int(resolve_jobs(jobs_, o_.device, &why_jobs));
     } catch (const std::runtime_error& e) {
       throw DiagnoseError(std::string("--device: ") + e.what());
     }
-    if (!o_.quiet) std::printf("%s\n", why.c_str());
+    if (!o_.quiet) std::printf("%s; %s\n", why.c_str(), why_jobs.c_str());
   }
   void add_common(CLI::App* c) {
     c->add_option("--out", o_.out, "output directory")->required();
     c->add_option("--store", o_.store, "run store to use and share (a study directory; default OUT/store)");
-    c->add_option("--jobs", o_.jobs, "runs at a time (default 1)");
+    c->add_option("--jobs", jobs_,
+                  "runs at a time (default: one per CPU core, up to " + std::to_string(kCpuAutoJobsMax) +
+                      ", on a CPU device such as lavapipe; 1 on a GPU)")
+        ->check(CLI::PositiveNumber);
     c->add_option("--batch", batch_,
                   "runs handed to one process as ensembles (default: 1 on a CPU device such as lavapipe, " +
                       std::to_string(kGpuAutoBatch) + " on a GPU; docs/ensembles.md)")
@@ -137,6 +141,7 @@ class Impl : public study::Commands {
   std::string file_, observations_;
   int replicates_ = 0;   // 0: the file's
   int escalate_ = -1;    // -1: the file's
+  size_t jobs_ = 0;      // 0: by device (resolve_jobs)
   int probe_seeds_ = 0;  // 0: the file's
   size_t batch_ = 0;     // 0: auto (auto_batch.h)
   DiagnoseOptions o_;
