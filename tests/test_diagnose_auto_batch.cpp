@@ -1,6 +1,6 @@
-// `diagnose --batch`, `twin --batch` and their `--jobs` default by device (diagnose/auto_batch.h): one run
-// per process on a CPU device (lavapipe), ensembles of kGpuAutoBatch on a GPU. An explicit --batch is kept as
-// given and never looks up a device; a device that does not exist is an error naming it.
+// `diagnose --batch` and `twin --batch` default by device (diagnose/auto_batch.h): one run per process on a
+// CPU device (lavapipe), ensembles of kGpuAutoBatch on a GPU. An explicit --batch is kept as given and never
+// looks up a device; a device that does not exist is an error naming it.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -38,21 +38,4 @@ TEST(DiagnoseAutoBatch, OneRunPerProcessOnACpuDeviceEnsemblesOnAGpu) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("no-such-device-xyz"), std::string::npos) << e.what();
   }
-}
-
-// `--jobs` by device (auto_jobs): one process per core on a CPU device, up to kCpuAutoJobsMax; one on a GPU.
-TEST(DiagnoseAutoBatch, OneJobPerCoreOnACpuDeviceOneOnAGpu) {
-  EXPECT_EQ(auto_jobs(true, 2), 2u);
-  EXPECT_EQ(auto_jobs(true, 1), 1u);
-  EXPECT_EQ(auto_jobs(true, 0), 1u) << "cores unknown";
-  EXPECT_EQ(auto_jobs(true, 64), kCpuAutoJobsMax);
-  EXPECT_EQ(auto_jobs(false, 16), 1u);
-  std::string why;
-  EXPECT_EQ(resolve_jobs(3, "no-such-device-xyz", &why), 3u) << "an explicit --jobs looks nothing up";
-  EXPECT_NE(why.find("3 runs at a time (--jobs)"), std::string::npos) << why;
-  const size_t k = resolve_jobs(0, "cpu", &why);
-  EXPECT_GE(k, 1u);
-  EXPECT_LE(k, kCpuAutoJobsMax);
-  EXPECT_NE(why.find("(auto: one per CPU core"), std::string::npos) << why;
-  EXPECT_THROW(resolve_jobs(0, "no-such-device-xyz", &why), std::runtime_error);
 }

@@ -1,4 +1,4 @@
-// The defaults of `diagnose --batch`, `twin --batch` and their `--jobs` (0 = auto). The batch: how many runs
+// The default of `diagnose --batch` and `twin --batch` (0 = auto): how many runs
 // of a stage one process steps together as an ensemble (docs/ensembles.md). Batching never changes a run
 // (each is bitwise what it is alone), only the wall time, and the two kinds of device answer in opposite
 // ways. On a GPU a small drum is bound by ~100 us of dispatches and round trips per step, whatever its size:
@@ -10,6 +10,8 @@
 
 #include <cstddef>
 #include <string>
+
+#include "study/parallel.h"
 
 namespace wetdem::diagnose {
 
@@ -23,17 +25,6 @@ size_t auto_batch(const std::string& device, std::string* why = nullptr);
 // The batch the user asked for, or auto_batch's when `asked` is 0. Pure for asked > 0.
 size_t resolve_batch(size_t asked, const std::string& device, std::string* why = nullptr);
 
-// The default of `diagnose --jobs` and `twin --jobs` (0 = auto): processes at a time. On a CPU device one per
-// core, up to kCpuAutoJobsMax: lavapipe spreads each dispatch over every core, but a small drum's passes
-// leave them idle between dispatches, and two flowing-model runs at once on 2 cores gave 1.34x one run alone,
-// their four threads on two cores costing <= 3 % (docs/benchmark.md, "Lavapipe's threads and --jobs 2"). On a
-// GPU 1: the batch (an ensemble per process) does that work. Like the batch it never changes a run, only the
-// wall time. `cores`: the machine's (std::thread::hardware_concurrency; 0 when unknown counts as 1).
-inline constexpr size_t kCpuAutoJobsMax = 8;
-size_t auto_jobs(bool cpu_device, unsigned cores);
-
-// The jobs the user asked for, or auto_jobs's for `device` and this machine when `asked` is 0; `why` gets a
-// line for the log. Pure for asked > 0; else throws std::runtime_error as auto_batch.
-size_t resolve_jobs(size_t asked, const std::string& device, std::string* why = nullptr);
+// `--jobs`' default by device: study/parallel.h (study::resolve_jobs).
 
 }  // namespace wetdem::diagnose

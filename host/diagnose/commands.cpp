@@ -115,7 +115,7 @@ class Impl : public study::Commands {
     std::string why, why_jobs;
     try {
       o_.batch = resolve_batch(batch_, o_.device, &why);
-      o_.jobs = int(resolve_jobs(jobs_, o_.device, &why_jobs));
+      o_.jobs = int(study::resolve_jobs(jobs_, o_.device, &why_jobs));
     } catch (const std::runtime_error& e) {
       throw DiagnoseError(std::string("--device: ") + e.what());
     }
@@ -125,7 +125,8 @@ class Impl : public study::Commands {
     c->add_option("--out", o_.out, "output directory")->required();
     c->add_option("--store", o_.store, "run store to use and share (a study directory; default OUT/store)");
     c->add_option("--jobs", jobs_,
-                  "runs at a time (default: one per CPU core, up to " + std::to_string(kCpuAutoJobsMax) +
+                  "runs at a time (default: one per CPU core, up to " +
+                      std::to_string(study::kCpuAutoJobsMax) +
                       ", on a CPU device such as lavapipe; 1 on a GPU)")
         ->check(CLI::PositiveNumber);
     c->add_option("--batch", batch_,

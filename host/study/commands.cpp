@@ -14,6 +14,7 @@
 #include "study/calibrate.h"
 #include "study/collect.h"
 #include "study/executor.h"
+#include "study/parallel.h"
 #include "study/probe.h"
 #include "study/prune.h"
 #include "study/refine.h"
@@ -73,7 +74,10 @@ class Impl : public Commands {
     run_->add_option("study", file_, "study file (TOML)")->required();
     run_->footer("Example: wetdem study run assets/studies/micro/micro.toml --out studies/micro");
     run_->add_option("--out", dir_, "study directory (default studies/<name>)");
-    run_->add_option("--jobs", jobs_, "runs at a time (default 1: one per GPU; lavapipe uses every core)");
+    run_->add_option("--jobs", jobs_,
+                     "runs at a time (default: one per CPU core, up to " + std::to_string(kCpuAutoJobsMax) +
+                         ", on a CPU device such as lavapipe; 1 on a GPU)")
+        ->check(CLI::PositiveNumber);
     run_->add_option("--device", device_, "device for every run (index, name substring, gpu, cpu)");
     run_->add_option("--batch", batch_,
                      "hand up to K runs to one process, stepped together as ensembles (docs/ensembles.md; "
@@ -143,7 +147,8 @@ class Impl : public Commands {
     cal_->add_option("--fit", co_.fit, "fitted axes (default: the study's [observations].fit)");
     cal_->add_option("--refine", refine_,
                      "add and run the K most promising new fit values, then calibrate again");
-    cal_->add_option("--jobs", jobs_, "runs at a time for --refine");
+    cal_->add_option("--jobs", jobs_, "runs at a time for --refine (default as study run --jobs)")
+        ->check(CLI::PositiveNumber);
     cal_->add_option("--device", device_, "device for --refine runs");
   }
 
@@ -173,6 +178,19 @@ class Impl : public Commands {
   }
 
  private:
+  // --jobs, or one per core on a CPU device and 1 on a GPU (parallel.h); the log says which.
+  int jobs_of_device() {
+    std::string why;
+    size_t k = 0;
+    try {
+      k = resolve_jobs(jobs_, device_, &why);
+    } catch (const std::runtime_error& e) {
+      throw StudyError(std::string("--device: ") + e.what());
+    }
+    if (!quiet_) std::printf("%s\n", why.c_str());
+    jobs_ = k;
+    return int(k);
+  }
   int plan() {
     const StudySpec s = parse_study_file(file_);
     const std::vector<PlannedRun> runs = expand(s);
@@ -382,7 +400,7 @@ class Impl : public Commands {
     print_other_version_runs(dir, runs);
     app::install_stop_signals(request_study_interrupt);
     ExecOptions eo;
-    eo.jobs = jobs_;
+    eo.jobs = jobs_of_device();
     eo.batch = batch_;
     eo.device = device_;
     eo.retry_failed = retry_;
@@ -392,7 +410,7 @@ class Impl : public Commands {
     // Overhead: wall time of the study not spent inside the runs' own timed loops (their wall_time_s), i.e.
     // planning, process and device start-up, set-up and bookkeeping. With N jobs the runs overlap: divide by
     // N.
-    const double outside = r.wall_s - r.run_wall_s / double(std::max(1, jobs_));
+    const double outside = r.wall_s - r.run_wall_s / double(std::max<size_t>(1, jobs_));
     std::printf(
         "study %s: %zu runs, %zu already complete, %zu computed now, %zu failed, %zu stopped; wall %.1f s, "
         "inside run processes %.1f s, inside the runs (their wall_time_s) %.1f s: overhead %.1f s "
@@ -485,7 +503,7 @@ class Impl : public Commands {
       app::install_stop_signals(request_study_interrupt);
       RefineOptions ro;
       ro.k = refine_;
-      ro.jobs = jobs_;
+      ro.jobs = jobs_of_device();
       ro.device = device_;
       ro.calibrate = co_;
       const std::string added = refine(dir_, ro);
@@ -506,7 +524,7 @@ class Impl : public Commands {
   double throughput_ = 0, budget_ = 0;
   uint64_t probe_steps_ = 200;
   bool probe_ = false;
-  int jobs_ = 1;
+  size_t jobs_ = 0;  // 0: by device (parallel.h)
   size_t index_ = 0, refine_ = 0, batch_ = 1;
   std::vector<size_t> indices_;
   std::vector<std::string> reuse_;

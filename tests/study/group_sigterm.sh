@@ -4,7 +4,8 @@
 # its next step boundary and write its checkpoint (app/run/stop_signals.h): before the fix, the second signal
 # ended it by default and the batch resumed from its last periodic checkpoint (on an H200 that lost ~160,000 steps
 # of a 5-run PP2 l = 5 batch, docs/paper.md). Here there is no periodic checkpoint, so a resume from step > 0 can
-# only come from the checkpoint written on the signal.
+# only come from the checkpoint written on the signal. `--jobs 1` keeps the two runs in one process (on a CPU device
+# `study run` would start one process per core).
 # Usage: group_sigterm.sh WETDEM_BINARY SOURCE_DIR
 set -eu
 WETDEM=$1
@@ -22,7 +23,7 @@ replicates = 2
 "output.checkpoint_interval" = 1000000
 "output.snapshot_interval" = "0 s"
 TOML
-setsid "$WETDEM" study run "$D/s.toml" --out "$D/st" --batch 2 --no-collect > "$D/out.log" 2>&1 &
+setsid "$WETDEM" study run "$D/s.toml" --out "$D/st" --batch 2 --jobs 1 --no-collect > "$D/out.log" 2>&1 &
 pid=$!
 # Stop it once the batch is stepping (the run log says the drum turns), well before its end.
 for _ in $(seq 600); do
