@@ -442,7 +442,7 @@ def measure_cmd(a, i, d, k, twin_file, obs, last, store, wetdem, script):
     return ([sys.executable, here] if not script else ["python3", os.path.relpath(here)]) + [
         twin_file, obs, last, "--out", os.path.join(d, f"observations_m{k}.csv"), "--store", store,
         "--wetdem", wetdem, "--noise-seed", str(900 + 10 * i + k), "--record", os.path.join(d, "measured.json"),
-        "--jobs", str(a.jobs)] + (["--batch", str(a.batch)] if a.batch else [])
+        ] + (["--jobs", str(a.jobs)] if a.jobs else []) + (["--batch", str(a.batch)] if a.batch else [])
 
 
 def round_diag_cmd(diag_cmd, d, k):
@@ -475,7 +475,8 @@ def main():
     ap.add_argument("matrix", help="matrix file (TOML): diagnosis, twin_base, [[twin]]")
     ap.add_argument("--wetdem", default="build/host/wetdem")
     ap.add_argument("--out", required=True)
-    ap.add_argument("--jobs", type=int, default=1)
+    ap.add_argument("--jobs", type=int, default=None,
+                    help="runs at a time per call (default: wetdem's, one per core on lavapipe, 1 on a GPU)")
     ap.add_argument("--batch", type=int, help="runs per process (wetdem's default when not given: 1 on a CPU "
                     "device, 16 on a GPU)")
     ap.add_argument("--only", nargs="*", help="run only these twins (names)")
@@ -540,7 +541,8 @@ def main():
         tf = os.path.join(d, "twin.toml")
         bd = os.path.relpath(base_dir, d) if a.script else base_dir
         open(tf, "w").write(twin_text(base, bd, [1000 + 10 * i, 1001 + 10 * i], 500 + i, overrides))
-        common = ["--store", store, "--jobs", str(a.jobs), "--quiet"] + (["--batch", str(a.batch)] if a.batch else [])
+        common = (["--store", store, "--quiet"] + (["--jobs", str(a.jobs)] if a.jobs else [])
+                  + (["--batch", str(a.batch)] if a.batch else []))
         twin_cmd = [a.wetdem, "twin", tf, "--out", os.path.join(d, "twin")] + common
         # The diagnosis sees the observations only (truth.json stays in the twin folder).
         rep = ["--replicates", str(a.replicates)] if a.replicates else []

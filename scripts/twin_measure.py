@@ -143,7 +143,8 @@ def main():
     ap.add_argument("--record", metavar="FILE",
                     help="also record what was measured in FILE (JSON: one entry per output table, replaced when "
                          "the same table is written again)")
-    ap.add_argument("--jobs", type=int, default=1)
+    ap.add_argument("--jobs", type=int, default=None,
+                    help="runs at a time (default: wetdem's, one per core on lavapipe, 1 on a GPU)")
     ap.add_argument("--batch", type=int)
     a = ap.parse_args()
 
@@ -242,8 +243,8 @@ def main():
         tf = os.path.join(work, "twin.toml")
         body = re.sub(r"^seeds\s*=.*$", f"seeds = {seeds + more}", text, count=1, flags=re.M)
         open(tf, "w").write(twin_for(body, points, noise, a.noise_seed + k - 1))
-        cmd = [a.wetdem, "twin", tf, "--out", os.path.join(work, "twin"), "--store", a.store, "--jobs", str(a.jobs),
-               "--quiet"] + (["--batch", str(a.batch)] if a.batch else [])
+        cmd = ([a.wetdem, "twin", tf, "--out", os.path.join(work, "twin"), "--store", a.store, "--quiet"]
+               + (["--jobs", str(a.jobs)] if a.jobs else []) + (["--batch", str(a.batch)] if a.batch else []))
         r = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         if r.returncode != 0:
             sys.exit(f"wetdem twin failed ({r.returncode}; its files: {work}):\n{r.stdout}")
