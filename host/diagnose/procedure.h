@@ -163,7 +163,7 @@ struct TieOutlook {
   std::string effect;    // the tied candidate (against the chosen one)
   bool known = false;    // both have fresh runs: the separation below was estimated
   double at_more = 0.0;  // predicted_separation at R' seeds
-  double exact = 0.0;    // ... with exact models (R' → ∞): the most any number of seeds could show
+  double exact = 0.0;    // ... with exact models (R' → ∞); not a bound (cells below 0 weigh more)
   double margin = 0.0;   // the fresh tie margin at R' (fresh_tie_margin, the luck scaled by R/R')
   int seeds_needed = 0;  // the fewest seeds per condition (up to kMostSeeds) at which the separation reaches
                          // the margin there; 0: none
