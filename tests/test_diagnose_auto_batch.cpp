@@ -39,3 +39,12 @@ TEST(DiagnoseAutoBatch, OneRunPerProcessOnACpuDeviceEnsemblesOnAGpu) {
     EXPECT_NE(std::string(e.what()).find("no-such-device-xyz"), std::string::npos) << e.what();
   }
 }
+
+// `diagnose` and `twin` resolve --batch and --jobs from one study::DeviceKind (one Vulkan context).
+TEST(DiagnoseAutoBatch, SharesOneDeviceLookupWithJobs) {
+  wetdem::study::DeviceKind kind("cpu");
+  std::string why;
+  EXPECT_EQ(resolve_batch(0, kind, &why), 1u);
+  EXPECT_NE(why.find(kind.name()), std::string::npos) << why;
+  EXPECT_GE(wetdem::study::resolve_jobs(0, kind), 1u);
+}

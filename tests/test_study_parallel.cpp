@@ -4,6 +4,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <thread>
 
 #include "study/parallel.h"
 
@@ -23,4 +24,17 @@ TEST(StudyParallel, OneJobPerCoreOnACpuDeviceOneOnAGpu) {
   EXPECT_LE(k, kCpuAutoJobsMax);
   EXPECT_NE(why.find("(auto: one per CPU core"), std::string::npos) << why;
   EXPECT_THROW(resolve_jobs(0, "no-such-device-xyz", &why), std::runtime_error);
+}
+
+// The device is looked up once, when a default first needs it, and never for explicit values.
+TEST(StudyParallel, DeviceKindIsLearntOnFirstUse) {
+  DeviceKind missing("no-such-device-xyz");
+  EXPECT_EQ(resolve_jobs(2, missing), 2u) << "an explicit --jobs looks nothing up";
+  EXPECT_THROW(missing.cpu(), std::runtime_error);
+  DeviceKind cpu("cpu");
+  EXPECT_TRUE(cpu.cpu());
+  EXPECT_FALSE(cpu.name().empty());
+  std::string why;
+  EXPECT_EQ(resolve_jobs(0, cpu, &why), auto_jobs(true, std::thread::hardware_concurrency()));
+  EXPECT_NE(why.find("(auto: one per CPU core"), std::string::npos) << why;
 }

@@ -20,9 +20,10 @@ inline constexpr size_t kGpuAutoBatch = 16;  // a diagnosis stage's runs are typ
 // The batch for `device` (as --device: empty = $WETDEM_DEVICE or the best device): 1 on a CPU device,
 // kGpuAutoBatch on any other. `why` (if given) gets a line for the log: "16 runs per process (auto: NVIDIA
 // H200 is a GPU)". Throws std::runtime_error (from the Vulkan context) when no such device exists.
-size_t auto_batch(const std::string& device, std::string* why = nullptr);
+size_t auto_batch(study::DeviceKind& device, std::string* why = nullptr);
 
 // The batch the user asked for, or auto_batch's when `asked` is 0. Pure for asked > 0.
+size_t resolve_batch(size_t asked, study::DeviceKind& device, std::string* why = nullptr);
 size_t resolve_batch(size_t asked, const std::string& device, std::string* why = nullptr);
 
 // `--jobs`' default by device: study/parallel.h (study::resolve_jobs).

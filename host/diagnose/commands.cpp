@@ -114,8 +114,9 @@ class Impl : public study::Commands {
   void choose_batch() {
     std::string why, why_jobs;
     try {
-      o_.batch = resolve_batch(batch_, o_.device, &why);
-      o_.jobs = int(study::resolve_jobs(jobs_, o_.device, &why_jobs));
+      study::DeviceKind kind(o_.device);  // one Vulkan context for both defaults
+      o_.batch = resolve_batch(batch_, kind, &why);
+      o_.jobs = int(study::resolve_jobs(jobs_, kind, &why_jobs));
     } catch (const std::runtime_error& e) {
       throw DiagnoseError(std::string("--device: ") + e.what());
     }

@@ -14,16 +14,28 @@ size_t auto_jobs(bool cpu_device, unsigned cores) {
   return std::min<size_t>(kCpuAutoJobsMax, std::max(1u, cores));
 }
 
+const DeviceKind::Known& DeviceKind::learn() {
+  if (!known_) {
+    vk::ContextOptions co;
+    co.device = device_;
+    co.quiet = true;
+    const vk::Context ctx(co);  // only to learn which device the runs will get; no pipeline is built
+    known_ = Known{ctx.info().type == VK_PHYSICAL_DEVICE_TYPE_CPU, ctx.info().name};
+  }
+  return *known_;
+}
+
 size_t resolve_jobs(size_t asked, const std::string& device, std::string* why) {
+  DeviceKind kind(device);
+  return resolve_jobs(asked, kind, why);
+}
+
+size_t resolve_jobs(size_t asked, DeviceKind& device, std::string* why) {
   if (asked > 0) {
     if (why) *why = fmt::format("{} run{} at a time (--jobs)", asked, asked == 1 ? "" : "s");
     return asked;
   }
-  vk::ContextOptions co;
-  co.device = device;
-  co.quiet = true;
-  const vk::Context ctx(co);
-  const bool cpu = ctx.info().type == VK_PHYSICAL_DEVICE_TYPE_CPU;
+  const bool cpu = device.cpu();
   const unsigned cores = std::thread::hardware_concurrency();
   const size_t k = auto_jobs(cpu, cores);
   if (why)
@@ -33,7 +45,7 @@ size_t resolve_jobs(size_t asked, const std::string& device, std::string* why) {
                : fmt::format(
                      "1 run at a time (auto: {} is a GPU, where the batch runs them together; --jobs N "
                      "to choose)",
-                     ctx.info().name);
+                     device.name());
   return k;
 }
 
