@@ -7,7 +7,9 @@ scores), and optionally something else the truth differs in (coarse-graining, PS
 the candidates. When that other difference is itself a candidate (l = 4 is `scale` at 0.2), `also_effect` and
 `also_strength` name it: the twin then withholds two candidates, and a diagnosis that names the other one is
 counted apart (neither a hit on the named truth nor a confident wrong answer). For every twin the script
-writes a twin file with truth seeds and a noise seed of its own, runs `wetdem twin` and `wetdem diagnose`
+writes a twin file with truth seeds and a noise seed of its own (the i-th twin: seeds truth_seeds_from + 10 i
+and + 10 i + 1, noise seed noise_seed_from + i; top-level keys, 1000 and 500 by default, so a second matrix of
+unseen twins draws other seeds), runs `wetdem twin` and `wetdem diagnose`
 (the diagnosis never sees truth.json), all through one shared run store, and writes OUT/matrix.json, OUT/matrix.md and OUT/matrix.png:
   - the confusion matrix (truth -> outcome: the chosen effect for `effect`/`partial`, else the verdict);
   - identified (top-1): the truth is named (`effect` or `partial`; first, or as the second effect fitted on
@@ -508,6 +510,16 @@ def main():
     if not os.path.isfile(base_path):
         sys.exit(f"{a.twin_base or a.matrix}: twin_base: no such file {base_path}")
     base, base_dir = open(base_path).read(), os.path.dirname(base_path)
+    for k in spec:
+        if k not in ("diagnosis", "twin_base", "twin", "truth_seeds_from", "noise_seed_from"):
+            sys.exit(f"{a.matrix}: unknown key {k} (diagnosis, twin_base, truth_seeds_from, noise_seed_from, "
+                     "[[twin]])")
+    seed_from = {}
+    for k, default in (("truth_seeds_from", 1000), ("noise_seed_from", 500)):
+        v = spec.get(k, default)
+        if isinstance(v, bool) or not isinstance(v, int) or v < 0:
+            sys.exit(f"{a.matrix}: {k}: a non-negative integer, not {v!r}")
+        seed_from[k] = v
     names = [t["name"] for t in spec["twin"]]
     if len(set(names)) != len(names):
         sys.exit(f"{a.matrix}: twin names must be unique")
@@ -540,7 +552,9 @@ def main():
         overrides.update(t.get("perturb", {}))
         tf = os.path.join(d, "twin.toml")
         bd = os.path.relpath(base_dir, d) if a.script else base_dir
-        open(tf, "w").write(twin_text(base, bd, [1000 + 10 * i, 1001 + 10 * i], 500 + i, overrides))
+        open(tf, "w").write(twin_text(base, bd, [seed_from["truth_seeds_from"] + 10 * i,
+                                                      seed_from["truth_seeds_from"] + 10 * i + 1],
+                                        seed_from["noise_seed_from"] + i, overrides))
         common = (["--store", store, "--quiet"] + (["--jobs", str(a.jobs)] if a.jobs else [])
                   + (["--batch", str(a.batch)] if a.batch else []))
         twin_cmd = [a.wetdem, "twin", tf, "--out", os.path.join(d, "twin")] + common

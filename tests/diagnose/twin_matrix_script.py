@@ -120,5 +120,28 @@ if '"drum.rpm" = 120' not in twin_file or '"effects.cohesion.energy" = "0.02 J/m
 r = sh(matrix + ["--out", os.path.join(root, "out3"), "--script", "run3.sh", "--twin-base", "nope.toml"], ok=False)
 if r.returncode == 0 or "nope.toml" not in r.stderr:
     fail(f"a missing --twin-base: exit {r.returncode}, {r.stderr!r}")
+
+# Default seeds: the i-th twin gets truth seeds 1000 + 10 i, + 1 and noise seed 500 + i. truth_seeds_from and
+# noise_seed_from move them (a second matrix of unseen twins); anything but a non-negative integer is refused.
+def seeds_of(out, name):
+    t = open(os.path.join(root, out, name, "twin.toml")).read()
+    return re.search(r"^seeds = \[(.*)\]$", t, re.M).group(1), re.search(r"^noise_seed = (\d+)$", t, re.M).group(1)
+
+
+if seeds_of("out", "null-1") != ("1010, 1011", "501"):
+    fail(f"default seeds of the second twin: {seeds_of('out', 'null-1')}")
+base_matrix = open(os.path.join(root, "m", "matrix.toml")).read()
+open(os.path.join(root, "m", "m2.toml"), "w").write("truth_seeds_from = 3000\nnoise_seed_from = 70\n" + base_matrix)
+m2 = [sys.executable, os.path.join(src, "scripts", "twin_matrix.py"), os.path.join(root, "m", "m2.toml")]
+sh(m2 + ["--out", os.path.join(root, "out4"), "--script", "run4.sh"])
+if seeds_of("out4", "cohesion-strong") != ("3000, 3001", "70") or seeds_of("out4", "null-1") != ("3010, 3011", "71"):
+    fail(f"seeds from the matrix's keys: {seeds_of('out4', 'cohesion-strong')}, {seeds_of('out4', 'null-1')}")
+for bad, why in (("truth_seeds_from = -1\n", "truth_seeds_from"), ("noise_seed_from = 1.5\n", "noise_seed_from"),
+                 ("seed_from = 3\n", "unknown key seed_from")):
+    open(os.path.join(root, "m", "m3.toml"), "w").write(bad + base_matrix)
+    r = sh([sys.executable, os.path.join(src, "scripts", "twin_matrix.py"), os.path.join(root, "m", "m3.toml"),
+            "--out", os.path.join(root, "out5"), "--script", "run5.sh"], ok=False)
+    if r.returncode == 0 or why not in r.stderr:
+        fail(f"{bad.strip()}: exit {r.returncode}, {r.stderr!r}")
 shutil.rmtree(root)
 print("twin matrix script: OK")
