@@ -64,6 +64,25 @@ TEST(DiagnoseFresh, AReFitIsDroppedOnlyWhenItsFreshRunsAreWorseByMoreThanTheLuck
   EXPECT_EQ(best_fresh_round({}, 140.0, 0.0), kNone) << "no round ran";
 }
 
+// Within the margin the point goes to the strength whose fresh runs match better when the verdict reads the
+// same on it. cohesion 0.012 J/m² (fresh twins, 7 Dec 2026): 0.0123 gave 86.4, the re-fit's 0.0204 105.4,
+// both confirming with cells left: 0.0123 is kept. null-2: cohesion 0.00105 gave 78.3 and would confirm, the
+// re-fit's 109.7 does not: the re-fit's runs decide. A better round that would clear the last cells, a worse
+// one, a failed one, or a failed re-fit (best_fresh_round's case) are not picked; of two eligible the least.
+TEST(DiagnoseFresh, WithinTheLuckThePointGoesToTheBetterMatchIfTheVerdictReadsTheSame) {
+  const FreshOutcome refit_partial{105.4, true, true};
+  EXPECT_EQ(closer_fresh_round({{86.4, true, true}}, refit_partial), 0u) << "cohesion 0.012";
+  EXPECT_EQ(closer_fresh_round({{78.3, true, true}}, {109.7, false, true}), kNone) << "null-2";
+  EXPECT_EQ(closer_fresh_round({{80.0, true, false}}, refit_partial), kNone) << "it alone leaves no cell";
+  EXPECT_EQ(closer_fresh_round({{120.1, true, true}}, refit_partial), kNone) << "the re-fit matches better";
+  EXPECT_EQ(closer_fresh_round({{105.4, true, true}}, refit_partial), kNone) << "a tie keeps the re-fit";
+  EXPECT_EQ(closer_fresh_round({{std::nan(""), false, false}}, refit_partial), kNone) << "a failed round";
+  EXPECT_EQ(closer_fresh_round({{86.4, true, true}}, {std::nan(""), false, false}), kNone) << "failed re-fit";
+  EXPECT_EQ(closer_fresh_round({{99.0, true, true}, {70.0, true, false}, {90.0, true, true}}, refit_partial),
+            2u);
+  EXPECT_EQ(closer_fresh_round({}, refit_partial), kNone) << "no round ran";
+}
+
 // The strengths the fresh runs cannot tell from the kept one stay in its interval: viscous-strong with 120
 // rpm rows, R = 4, P = 2 kept 0.03 [0.017, 0.054] (χ² 115.2); 0.1 gave 99.3, luck 23.4, so the interval
 // reaches the truth. A strength worse by more than the margin, one already inside, and a failed one change

@@ -158,14 +158,25 @@ struct Round {
 };
 
 // A re-fit is a proposal. Its fresh runs and those of the strength it left were made on the same fresh seeds,
-// but differ by the seed luck as well (best_fresh_round, verdict.h): the earlier strength is restored only
-// when it is better by more than that luck, and the strengths the fresh runs cannot tell apart all stay in
-// the interval. Why a re-fit can move the wrong way: the fit's χ² carries the emulator's SE (fit.cpp) and is
-// pulled onto the noisiest knots; the fresh knot, merged from R + P seeds, is the least noisy, so the pull
-// moves the fit off it. (viscous-strong with 120 rpm rows, R = 4, P = 2: fitted at 0.1, the truth; re-fitted
-// to 0.03, whose fresh χ² was 115.2 against 99.3 at 0.1, with a seed luck of 23.4: both stay in the
-// interval. On null-2, cohesion's 0.001 gave 72.4 and the re-fit's 0.003 117.3, luck 56.9: restoring the
-// better of two draws without the margin turned an `unexplained` null into `partial`.)
+// but differ by the seed luck as well (best_fresh_round, verdict.h): the earlier strength is restored when it
+// is better by more than that luck, or by less when the verdict reads the same on it (closer_fresh_round),
+// and the strengths the fresh runs cannot tell apart all stay in the interval. Why a re-fit can move the
+// wrong way: the fit's χ² carries the emulator's SE (fit.cpp) and is pulled onto the noisiest knots; the
+// fresh knot, merged from R + P seeds, is the least noisy, so the pull moves the fit off it. (viscous-strong
+// with 120 rpm rows, R = 4, P = 2: fitted at 0.1, the truth; re-fitted to 0.03, whose fresh χ² was 115.2
+// against 99.3 at 0.1, with a seed luck of 23.4: both stay in the interval. On null-2, cohesion's 0.001
+// gave 72.4 and the re-fit's 0.003 117.3, luck 56.9: restoring the better of two draws without the margin
+// turned an `unexplained` null into `partial`.) What a fresh check would decide, against its own round's
+// control (fresh_confirms, as shrink_from does below).
+FreshOutcome outcome_of(const Procedure& p, const FreshCheck& f, const FreshCheck& control, double luck) {
+  const double before = control.after.empty() ? chi2_of(p.gaps) : chi2_of(control.gaps_after);
+  FreshOutcome o;
+  o.chi2 = fresh_chi2(f);
+  o.confirms = std::isfinite(o.chi2) && fresh_confirms(before, o.chi2, p.d.rule, luck);
+  o.gap = has_gap(f.gaps_after, p.d.rule.table_level);
+  return o;
+}
+
 void settle_rounds(Procedure& p, std::vector<Round>& rounds) {
   if (rounds.empty()) return;
   const double margin = std::max(p.d.rule.min_drop, seed_luck(p));
@@ -191,6 +202,41 @@ void settle_rounds(Procedure& p, std::vector<Round>& rounds) {
     p.fresh = std::move(r.fresh);
     p.null_fresh = std::move(r.null_fresh);
     p.fitted = std::move(r.fitted);
+  } else if (std::isfinite(last)) {
+    // Within the margin: the point goes to the strength whose fresh runs match better, if the verdict
+    // would read the same either way (closer_fresh_round, verdict.h).
+    const double luck = seed_luck(p);
+    std::vector<FreshOutcome> outs;
+    for (size_t i = 0; i < rounds.size(); ++i)
+      outs.push_back(outcome_of(p, checks[i], rounds[i].null_fresh, luck));
+    const FreshOutcome now = outcome_of(p, checks.back(), p.null_fresh, luck);
+    const FreshCheck& l = checks.back();
+    if (const size_t near = closer_fresh_round(outs, now); near != kNone) {
+      p.notes.push_back(fmt::format(
+          "confirmation: {} at {:.3g} (the re-fit) gives χ² {:.1f} on the fresh seeds against {:.1f} for {} "
+          "at {:.3g} on the same seeds; within min_drop = {:g} or the model's own seed luck ({:.1f}), and "
+          "the verdict reads the same on either, so the fit stays at {} {:.3g}, whose fresh runs match "
+          "better",
+          l.effect, l.strength, last, x[near], checks[near].effect, checks[near].strength, p.d.rule.min_drop,
+          margin, checks[near].effect, checks[near].strength));
+      Round& r = rounds[near];
+      p.verdict = std::move(r.verdict);
+      p.fresh = std::move(r.fresh);
+      p.null_fresh = std::move(r.null_fresh);
+      p.fitted = std::move(r.fitted);
+    } else {
+      for (size_t i = 0; i < outs.size(); ++i)
+        if (std::isfinite(outs[i].chi2) && outs[i].chi2 < last)
+          p.notes.push_back(fmt::format(
+              "confirmation: {} at {:.3g} matches the fresh seeds better than the re-fit's {:.3g} (χ² {:.1f} "
+              "against {:.1f}), but the verdict would not read the same on it ({}), and the better of two "
+              "draws is no confirmation: the re-fit's runs decide",
+              checks[i].effect, checks[i].strength, l.strength, outs[i].chi2, last,
+              outs[i].confirms != now.confirms
+                  ? (outs[i].confirms ? "it alone would confirm the effect" : "it alone would not confirm it")
+                  : (outs[i].gap ? "it leaves significant cells, the re-fit none"
+                                 : "it leaves no significant cell, the re-fit some")));
+    }
   }
   if (p.verdict.ranking.empty()) return;
   Candidate& now = p.verdict.ranking.front();

@@ -275,6 +275,18 @@ size_t best_fresh_round(const std::vector<double>& round_chi2, double last_chi2,
   return round_chi2[pick] < last_chi2 - std::max(0.0, margin) ? pick : kNone;
 }
 
+size_t closer_fresh_round(const std::vector<FreshOutcome>& rounds, const FreshOutcome& last) {
+  if (!std::isfinite(last.chi2)) return kNone;  // best_fresh_round already restores any round that ran
+  size_t pick = kNone;
+  for (size_t i = 0; i < rounds.size(); ++i) {
+    const FreshOutcome& r = rounds[i];
+    if (!std::isfinite(r.chi2) || !(r.chi2 < last.chi2) || r.confirms != last.confirms || r.gap != last.gap)
+      continue;
+    if (pick == kNone || r.chi2 < rounds[pick].chi2) pick = i;
+  }
+  return pick;
+}
+
 std::vector<double> widen_to_fresh_ties(double& lo, double& hi, double kept_chi2,
                                         const std::vector<std::pair<double, double>>& others, double margin) {
   std::vector<double> reached;

@@ -3,6 +3,7 @@
 // gap or part of it. Pure statistics.
 #pragma once
 
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -255,6 +256,25 @@ size_t confirmed_instead(double chi2_before, const std::vector<double>& fresh_ch
 // and beats the last by more than `margin` (min_drop or the luck, the larger); else npos: the last re-fit is
 // kept. A round that ran beats a last one that failed.
 size_t best_fresh_round(const std::vector<double>& round_chi2, double last_chi2, double margin);
+
+// What one fresh check decides: its χ² (NaN: the runs failed), whether it confirms the effect against the
+// control on the same seeds (fresh_confirms, with the luck), and whether cells stay significant after it.
+struct FreshOutcome {
+  double chi2 = std::numeric_limits<double>::quiet_NaN();
+  bool confirms = false;
+  bool gap = false;
+};
+
+// Within the margin, where best_fresh_round keeps the re-fit, the point still goes to the strength whose
+// fresh runs match the table better, when that changes nothing the verdict would say: the round with the
+// least χ² below the last's among those with the last's outcome (the same confirmation, cells left or none),
+// or kNone. Why: in seven re-fits of the truth's own effect on flowing twins, the lower fresh χ² of a re-fit
+// and of the strength it left named the one nearer the truth every time, while the margin alone kept the
+// farther one in three (docs/validation.md, "The point of a re-fit", 7 Dec 2026): cohesion 0.012 J/m² was
+// fitted at 0.0123 (χ² 86.4) and re-fitted to 0.0204 (105.4, luck 47.8). The outcome must match because the
+// better of two draws is no confirmation: null-2's cohesion at 0.00105 (78.3) would confirm where the
+// re-fit's runs (109.7) do not.
+size_t closer_fresh_round(const std::vector<FreshOutcome>& rounds, const FreshOutcome& last);
 
 // After best_fresh_round: the other strengths the rounds ran for the kept effect, with their fresh χ² (NaN:
 // failed), that the fresh runs cannot tell from the kept one (χ² not above kept_chi2 + margin). The interval
