@@ -272,8 +272,8 @@ struct FreshOutcome {
 // and of the strength it left named the one nearer the truth every time, while the margin alone kept the
 // farther one in three (docs/validation.md, "The point of a re-fit", 7 Dec 2026): cohesion 0.012 J/m² was
 // fitted at 0.0123 (χ² 86.4) and re-fitted to 0.0204 (105.4, luck 47.8). The outcome must match because the
-// better of two draws is no confirmation: null-2's cohesion at 0.00105 (78.3) would confirm where the
-// re-fit's runs (109.7) do not.
+// better of two draws is no confirmation: the verdict never rests on the pick (null-2: 78.3 at 0.00105
+// against the re-fit's 109.7, `unexplained` on either).
 size_t closer_fresh_round(const std::vector<FreshOutcome>& rounds, const FreshOutcome& last);
 
 // After best_fresh_round: the other strengths the rounds ran for the kept effect, with their fresh χ² (NaN:
