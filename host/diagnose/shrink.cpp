@@ -154,20 +154,23 @@ struct Round {
   Verdict verdict;
   std::vector<FreshCheck> fresh;
   FreshCheck null_fresh;
-  std::vector<CandidateRuns> fitted;
 };
 
-// A re-fit is a proposal. Its fresh runs and those of the strength it left were made on the same fresh seeds,
-// but differ by the seed luck as well (best_fresh_round, verdict.h): the earlier strength is restored when it
-// is better by more than that luck, or by less when the verdict reads the same on it (closer_fresh_round),
-// and the strengths the fresh runs cannot tell apart all stay in the interval. Why a re-fit can move the
-// wrong way: the fit's χ² carries the emulator's SE (fit.cpp) and is pulled onto the noisiest knots; the
-// fresh knot, merged from R + P seeds, is the least noisy, so the pull moves the fit off it. (viscous-strong
-// with 120 rpm rows, R = 4, P = 2: fitted at 0.1, the truth; re-fitted to 0.03, whose fresh χ² was 115.2
-// against 99.3 at 0.1, with a seed luck of 23.4: both stay in the interval. On null-2, cohesion's 0.001
-// gave 72.4 and the re-fit's 0.003 117.3, luck 56.9: restoring the better of two draws without the margin
-// turned an `unexplained` null into `partial`.) What a fresh check would decide, against its own round's
-// control (fresh_confirms, as shrink_from does below).
+// Back to the verdict a re-fit started from. The point moves; the data stay: the emulators keep the fresh
+// knots the rounds added, which the stages after read (a second effect is fitted on top of them;
+// second_e2e.sh: restored without its knot, spread left the pair `partial` where with it the pair closes the
+// gap).
+void restore(Procedure& p, Round& r) {
+  p.verdict = std::move(r.verdict);
+  p.fresh = std::move(r.fresh);
+  p.null_fresh = std::move(r.null_fresh);
+  if (!p.verdict.ranking.empty())
+    if (CandidateRuns* cr = runs_of(p, p.verdict.ranking.front().effect))
+      settle_limit(*cr, p.verdict.ranking.front());
+}
+
+// What a fresh check would decide, against its own round's control (fresh_confirms, as shrink_from does
+// below).
 FreshOutcome outcome_of(const Procedure& p, const FreshCheck& f, const FreshCheck& control, double luck) {
   const double before = control.after.empty() ? chi2_of(p.gaps) : chi2_of(control.gaps_after);
   FreshOutcome o;
@@ -177,6 +180,16 @@ FreshOutcome outcome_of(const Procedure& p, const FreshCheck& f, const FreshChec
   return o;
 }
 
+// A re-fit is a proposal. Its fresh runs and those of the strength it left were made on the same fresh seeds,
+// but differ by the seed luck as well (best_fresh_round, verdict.h): the earlier strength is restored when it
+// is better by more than that luck, or by less when the verdict reads the same on it (closer_fresh_round),
+// and the strengths the fresh runs cannot tell apart all stay in the interval. Why a re-fit can move the
+// wrong way: the fit's χ² carries the emulator's SE (fit.cpp) and is pulled onto the noisiest knots; the
+// fresh knot, merged from R + P seeds, is the least noisy, so the pull moves the fit off it. (viscous-strong
+// with 120 rpm rows, R = 4, P = 2: fitted at 0.1, the truth; re-fitted to 0.03, whose fresh χ² was 115.2
+// against 99.3 at 0.1, with a seed luck of 23.4. On null-2, cohesion's 0.001 gave 72.4 and the re-fit's
+// 0.003 117.3, luck 56.9: restoring the better of two draws without the margin turned an `unexplained` null
+// into `partial`, hence the same-outcome condition.)
 void settle_rounds(Procedure& p, std::vector<Round>& rounds) {
   if (rounds.empty()) return;
   const double margin = std::max(p.d.rule.min_drop, seed_luck(p));
@@ -197,11 +210,7 @@ void settle_rounds(Procedure& p, std::vector<Round>& rounds) {
         l.effect, l.strength, std::isfinite(last) ? fmt::format("{:.1f}", last) : "none (failed)", x[pick],
         checks[pick].effect, checks[pick].strength, p.d.rule.min_drop, margin, checks[pick].effect,
         checks[pick].strength));
-    Round& r = rounds[pick];
-    p.verdict = std::move(r.verdict);
-    p.fresh = std::move(r.fresh);
-    p.null_fresh = std::move(r.null_fresh);
-    p.fitted = std::move(r.fitted);
+    restore(p, rounds[pick]);
   } else if (std::isfinite(last)) {
     // Within the margin: the point goes to the strength whose fresh runs match better, if the verdict
     // would read the same either way (closer_fresh_round, verdict.h).
@@ -219,11 +228,7 @@ void settle_rounds(Procedure& p, std::vector<Round>& rounds) {
           "better",
           l.effect, l.strength, last, x[near], checks[near].effect, checks[near].strength, p.d.rule.min_drop,
           margin, checks[near].effect, checks[near].strength));
-      Round& r = rounds[near];
-      p.verdict = std::move(r.verdict);
-      p.fresh = std::move(r.fresh);
-      p.null_fresh = std::move(r.null_fresh);
-      p.fitted = std::move(r.fitted);
+      restore(p, rounds[near]);
     } else {
       for (size_t i = 0; i < outs.size(); ++i)
         if (std::isfinite(outs[i].chi2) && outs[i].chi2 < last)
@@ -295,7 +300,7 @@ void shrink_from(Procedure& p, bool may_retry_lead) {
     if (!chosen.failure.empty() || !has_gap(chosen.gaps_after, p.d.rule.table_level)) break;
     const Candidate* c = ranked(p, chosen.effect);
     if (!c) break;
-    rounds.push_back({p.verdict, p.fresh, p.null_fresh, p.fitted});
+    rounds.push_back({p.verdict, p.fresh, p.null_fresh});
     add_fresh_knot(p, chosen, *c);
     const std::string before = chosen.effect;
     const double s_before = chosen.strength, shape_before = chosen.shape;
