@@ -215,9 +215,12 @@ void settle_rounds(Procedure& p, std::vector<Round>& rounds) {
     // Within the margin: the point goes to the strength whose fresh runs match better, if the verdict
     // would read the same either way (closer_fresh_round, verdict.h).
     const double luck = seed_luck(p);
+    // Only the same effect's rounds: which effect is named is the verdict's to say, not the point's.
     std::vector<FreshOutcome> outs;
     for (size_t i = 0; i < rounds.size(); ++i)
-      outs.push_back(outcome_of(p, checks[i], rounds[i].null_fresh, luck));
+      outs.push_back(checks[i].effect == checks.back().effect
+                         ? outcome_of(p, checks[i], rounds[i].null_fresh, luck)
+                         : FreshOutcome{});  // NaN: never picked
     const FreshOutcome now = outcome_of(p, checks.back(), p.null_fresh, luck);
     const FreshCheck& l = checks.back();
     if (const size_t near = closer_fresh_round(outs, now); near != kNone) {
