@@ -169,10 +169,16 @@ void restore(Procedure& p, Round& r) {
       settle_limit(*cr, p.verdict.ranking.front());
 }
 
+// The χ² a fresh check is judged against: the control's on the same fresh seeds, or the calibrated model's on
+// its own seeds when the control's runs failed.
+double control_chi2(const Procedure& p, const FreshCheck& control) {
+  return control.after.empty() ? chi2_of(p.gaps) : chi2_of(control.gaps_after);
+}
+
 // What a fresh check would decide, against its own round's control (fresh_confirms, as shrink_from does
 // below).
 FreshOutcome outcome_of(const Procedure& p, const FreshCheck& f, const FreshCheck& control, double luck) {
-  const double before = control.after.empty() ? chi2_of(p.gaps) : chi2_of(control.gaps_after);
+  const double before = control_chi2(p, control);
   FreshOutcome o;
   o.chi2 = fresh_chi2(f);
   o.confirms = std::isfinite(o.chi2) && fresh_confirms(before, o.chi2, p.d.rule, luck);
@@ -355,7 +361,7 @@ void shrink_from(Procedure& p, bool may_retry_lead) {
   // Against the model without the effect on the same fresh seeds (the calibrated model's own seeds when those
   // runs failed).
   const bool control = !p.null_fresh.after.empty();
-  const double before = control ? chi2_of(p.null_fresh.gaps_after) : chi2_of(p.gaps);
+  const double before = control_chi2(p, p.null_fresh);
   if (!fresh_confirms(before, chi2_of(chosen.gaps_after), p.d.rule, p.verdict.seed_luck))
     promote_confirmed(p, before);
   const FreshCheck& first = p.fresh.front();  // the chosen one, or the tie promote_confirmed named
