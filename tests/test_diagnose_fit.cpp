@@ -38,6 +38,27 @@ TEST(DiagnoseVerdict, IntervalWidensWithTheScatterTheFitLeaves) {
   EXPECT_FALSE(tight.open_lo || tight.open_hi);
 }
 
+// A fit so tight that χ² leaves its Δχ² band within one step of the dense grid: the interval is still the
+// refined minimum's, never the grid point beside it (cohesion-strong on the flowing table had [0.0161116,
+// 0.0161116] around 0.0161127 before the widening).
+TEST(DiagnoseVerdict, TheDeltaChi2IntervalHoldsItsOwnPoint) {
+  const Response r = linear("cohesion", {1e-3, 3e-3, 1e-2}, kSlope, 30.0, 1e-5);  // knots all but exact
+  const std::vector<Prediction> base(5, Prediction{30.0, 0.0});
+  const Emulator em(base, r);
+  for (const double s : {2.0e-3, 4.567e-3, 7.7e-3}) {  // between the dense grid's points
+    const double u = std::log10(s) - (std::log10(1e-3) - 1.0);
+    std::vector<double> y;
+    for (size_t k = 0; k < 5; ++k) y.push_back(30.0 + kSlope[k] * u);
+    const StrengthFit f = fit_strength(cells_at(kPhi, y, 1e-4), em);
+    EXPECT_NEAR(f.strength, s, 1e-3 * s);
+    EXPECT_LE(f.lo, f.strength) << s;
+    EXPECT_GE(f.hi, f.strength) << s;
+    EXPECT_LT(f.hi / f.lo, 1.02) << "a tight fit keeps a tight interval";
+    EXPECT_DOUBLE_EQ(f.chi2_lo, f.lo);
+    EXPECT_DOUBLE_EQ(f.chi2_hi, f.hi);
+  }
+}
+
 // A truth stronger than every probe: the fit sits at the top (open interval), next_edge_knot extends the
 // range by the probes' ratio, and stops at the physical limit, saying so.
 TEST(DiagnoseVerdict, EdgeOfTheProbesExtendsWithinThePhysicalRange) {

@@ -93,8 +93,10 @@ StrengthFit fit_strength(const std::vector<Cell>& cells, const Emulator& em,
   int i_lo = best, i_hi = best;
   while (i_lo > 0 && g[size_t(i_lo - 1)] <= m.c + f.delta) --i_lo;
   while (i_hi < kGrid - 1 && g[size_t(i_hi + 1)] <= m.c + f.delta) ++i_hi;
-  f.lo = std::pow(10.0, a + h * i_lo);
-  f.hi = std::pow(10.0, a + h * i_hi);
+  // The grid's points within delta, and the refined minimum itself: a fit so tight that χ² leaves the band
+  // within one grid step (0.004 decades) would otherwise be the grid point beside its own strength.
+  f.lo = std::min(std::pow(10.0, a + h * i_lo), f.strength);
+  f.hi = std::max(std::pow(10.0, a + h * i_hi), f.strength);
   f.open_lo = i_lo == 0;
   f.open_hi = i_hi == kGrid - 1;
   f.chi2_lo = f.lo;
