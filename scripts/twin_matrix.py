@@ -320,14 +320,21 @@ def plot(rows, path):
                 # about the effect the twin was built for; counted apart in the summary.
                 ax.add_patch(plt.Rectangle((k - 0.45, i - 0.45), 0.9, 0.9, fill=False, ec="tab:orange", lw=2,
                                            ls="--"))
+            if any((r["truth"] or "none") == truths[i] and outcome(r) == cols[k] and r["truth"] in r["tied"]
+                   for r in rows):
+                # Another candidate named first and the truth tied with it: in the reported set, not first.
+                ax.add_patch(plt.Rectangle((k - 0.4, i - 0.4), 0.8, 0.8, fill=False, ec="tab:green", lw=1.5,
+                                           ls=":"))
     ax.set_xticks(range(len(cols)), cols, rotation=30, ha="right")
     ax.set_yticks(range(len(truths)), truths)
     ax.set_xlabel("diagnosis outcome (the chosen effect for effect/partial)")
     ax.set_ylabel("withheld truth (twin)")
     others = any(r.get("also") and outcome(r) == r["also"] for r in rows)
+    tied = any(r["truth"] and r["truth"] != outcome(r) and r["truth"] in r["tied"] for r in rows)
+    notes = (["dashed orange: the twin's other withheld difference, itself a candidate, named"] if others else []) + (
+        ["dotted green: the truth tied with the effect named first"] if tied else [])
     ax.set_title("Twin matrix: withheld effect vs diagnosis (green: a right answer"
-                 + ("; dashed orange: the twin's\nother withheld difference, itself a candidate, named)" if others
-                    else ")"))
+                 + "".join(";\n" + n for n in notes) + ")")
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
