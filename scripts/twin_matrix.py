@@ -292,6 +292,26 @@ def confusion(rows):
     return md, truths, cols
 
 
+def cell_marks(rows, truths, cols):
+    """The plot's marks, {(truth index, column index): set of marks}, decided once for the cells and the title:
+    "right" (the truth named, or no_gap/unexplained for a null or an outside effect), "other" (the twin's other
+    withheld difference, itself a candidate, named: right about the data, not about the effect the twin was
+    built for; counted apart in the summary) and "tied" (another candidate named first and the truth tied with
+    it: in the reported set, not first)."""
+    marks = {}
+    for i, t in enumerate(truths):
+        for k, c in enumerate(cols):
+            if t == c or (t in ("none", "outside") and c in ("no_gap", "unexplained")):
+                marks.setdefault((i, k), set()).add("right")
+    for r in rows:
+        i, k = truths.index(r["truth"] or "none"), cols.index(outcome(r))
+        if r.get("also") and outcome(r) == r["also"] and "right" not in marks.get((i, k), ()):
+            marks.setdefault((i, k), set()).add("other")
+        if r["truth"] and r["truth"] != outcome(r) and r["truth"] in r["tied"]:
+            marks.setdefault((i, k), set()).add("tied")
+    return marks
+
+
 def plot(rows, path):
     try:
         import matplotlib
@@ -304,6 +324,7 @@ def plot(rows, path):
         return
     _, truths, cols = confusion(rows)
     m = [[sum(1 for r in rows if (r["truth"] or "none") == t and outcome(r) == c) for c in cols] for t in truths]
+    marks = cell_marks(rows, truths, cols)
     fig, ax = plt.subplots(figsize=(1.1 * len(cols) + 2, 0.6 * len(truths) + 1.8))
     top = max(2, max(max(x) for x in m))
     ax.imshow(m, cmap="Blues", vmin=0, vmax=top)
@@ -312,27 +333,21 @@ def plot(rows, path):
             if x:
                 ax.text(k, i, str(x), ha="center", va="center", color="white" if x > top / 2 else "black",
                         fontsize=12)
-            if truths[i] == cols[k] or (truths[i] in ("none", "outside") and cols[k] in ("no_gap", "unexplained")):
-                ax.add_patch(plt.Rectangle((k - 0.5, i - 0.5), 1, 1, fill=False, ec="tab:green", lw=2))
-            elif any((r["truth"] or "none") == truths[i] and outcome(r) == cols[k] and r.get("also") == cols[k]
-                     for r in rows):
-                # The twin's other withheld difference (itself a candidate) named: right about the data, not
-                # about the effect the twin was built for; counted apart in the summary.
-                ax.add_patch(plt.Rectangle((k - 0.45, i - 0.45), 0.9, 0.9, fill=False, ec="tab:orange", lw=2,
-                                           ls="--"))
-            if any((r["truth"] or "none") == truths[i] and outcome(r) == cols[k] and r["truth"] in r["tied"]
-                   for r in rows):
-                # Another candidate named first and the truth tied with it: in the reported set, not first.
-                ax.add_patch(plt.Rectangle((k - 0.4, i - 0.4), 0.8, 0.8, fill=False, ec="tab:green", lw=1.5,
-                                           ls=":"))
+    for (i, k), kinds in marks.items():
+        if "right" in kinds:
+            ax.add_patch(plt.Rectangle((k - 0.5, i - 0.5), 1, 1, fill=False, ec="tab:green", lw=2))
+        if "other" in kinds:
+            ax.add_patch(plt.Rectangle((k - 0.45, i - 0.45), 0.9, 0.9, fill=False, ec="tab:orange", lw=2, ls="--"))
+        if "tied" in kinds:
+            ax.add_patch(plt.Rectangle((k - 0.4, i - 0.4), 0.8, 0.8, fill=False, ec="tab:green", lw=1.5, ls=":"))
     ax.set_xticks(range(len(cols)), cols, rotation=30, ha="right")
     ax.set_yticks(range(len(truths)), truths)
     ax.set_xlabel("diagnosis outcome (the chosen effect for effect/partial)")
     ax.set_ylabel("withheld truth (twin)")
-    others = any(r.get("also") and outcome(r) == r["also"] for r in rows)
-    tied = any(r["truth"] and r["truth"] != outcome(r) and r["truth"] in r["tied"] for r in rows)
-    notes = (["dashed orange: the twin's other withheld difference, itself a candidate, named"] if others else []) + (
-        ["dotted green: the truth tied with the effect named first"] if tied else [])
+    kinds = set().union(*marks.values()) if marks else set()
+    notes = (["dashed orange: the twin's other withheld difference, itself a candidate, named"]
+             if "other" in kinds else []) + (
+        ["dotted green: the truth tied with the effect named first"] if "tied" in kinds else [])
     ax.set_title("Twin matrix: withheld effect vs diagnosis (green: a right answer"
                  + "".join(";\n" + n for n in notes) + ")")
     fig.tight_layout()

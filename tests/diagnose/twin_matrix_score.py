@@ -3,6 +3,7 @@
 are known: what counts as identified, what is a confident wrong answer, the strength and interval scores, and
 the cost column (cost.json from the computing call, not a re-evaluation's ~0 s).
 usage: twin_matrix_score.py SOURCE_DIR"""
+import importlib.util
 import json
 import os
 import shutil
@@ -138,5 +139,30 @@ for needle in ["| absorption-right | absorption | 0.02 |", "0.022 [0.01, 0.03]",
                "| effect; more seeds unlikely at 4, from about 6 | absorption (evaporation) |"]:
     if needle not in md:
         sys.exit(f"FAIL: matrix.md lacks {needle!r}")
+
+# The plot's marks (cell_marks: one decision for the cells and the title's notes), on rows whose marks are
+# known: a right answer, the other withheld difference named, and a truth tied behind the effect named first.
+spec = importlib.util.spec_from_file_location("twin_matrix", os.path.join(src, "scripts", "twin_matrix.py"))
+tm = importlib.util.module_from_spec(spec)
+spec.loader.exec_module(tm)
+
+
+def row(truth, verdict, effect=None, tied=(), also=None):
+    return {"truth": truth, "verdict": verdict, "effect": effect, "tied": list(tied), "also": also, "second": None}
+
+
+rows = [row("spread", "effect", "spread"), row("spread", "effect", "evaporation", tied=["spread", "absorption"]),
+        row("hysteresis", "effect", "scale", also="scale"), row(None, "no_gap"),
+        row("cohesion", "effect", "spread", tied=["viscous"])]
+_, truths, cols = tm.confusion(rows)
+marks = {(truths[i], cols[k]): kinds for (i, k), kinds in tm.cell_marks(rows, truths, cols).items()}
+got = {cell: kinds for cell, kinds in marks.items() if kinds != {"right"} or cell[0] == cell[1]
+       or cell[0] == "none"}
+want_marks = {("spread", "spread"): {"right"}, ("spread", "evaporation"): {"tied"},
+              ("hysteresis", "hysteresis"): {"right"}, ("hysteresis", "scale"): {"other"},
+              ("none", "no_gap"): {"right"}, ("none", "unexplained"): {"right"}, ("cohesion", "cohesion"): {"right"}}
+if got != want_marks:
+    sys.exit(f"FAIL: cell_marks (got, want):\n{got}\n{want_marks}")
+
 shutil.rmtree(d)  # kept on a failure, for the post-mortem
 print("twin matrix scores: OK")
