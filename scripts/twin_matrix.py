@@ -16,7 +16,8 @@ unseen twins draws other seeds), runs `wetdem twin` and `wetdem diagnose`
     top) and nothing the twin did not withhold is named, over the effect twins; apart, over the twins whose
     truth the table can show at all (signal: the noiseless truth moves some cell by >= 3 sigma);
   - the median held-out shrink over the correctly identified twins;
-  - strength: the fitted strength within +-25 % of the truth, and the interval covering it, over those twins;
+  - strength: the fitted strength within +-25 % of the truth, and the interval covering it (the reported 1-SE one,
+    and apart the one at 2 SE), over those twins;
   - nulls and outside effects: any `effect` verdict is a confident wrong answer (`partial` is hedged);
   - the device and the wall time: each twin's cost is that of the call that computed its runs (OUT/<twin>/
     cost.json: wall, twin runs included, runs computed, the diagnosis's stages), so a re-evaluation from the
@@ -140,11 +141,16 @@ def row_of(d, t):
             "second_interval_open": next((x.get("strength_interval_open") for x in
                                           (j.get("second") or {}).get("ranking") or []
                                           if x["effect"] == (j.get("second") or {}).get("effect")), None),
+            "second_interval_2se": next((x.get("strength_interval_2se") for x in
+                                         (j.get("second") or {}).get("ranking") or []
+                                         if x["effect"] == (j.get("second") or {}).get("effect")), None),
             # The pair's share of the null's held-out chi2 (the first effect's shrink and the second's on top).
             "second_shrink_total": (j.get("second") or {}).get("held_out_shrink_total"),
             "strength": best["strength"] if best else None,
             "interval": best["strength_interval"] if best else None,
             "interval_open": best.get("strength_interval_open") if best else None,
+            # The interval at two standard errors (absent from a diagnosis.json before 7 Dec 2026).
+            "interval_2se": best.get("strength_interval_2se") if best else None,
             "held_out_shrink": j["held_out_shrink"], "held_out_gap_shrink": j.get("held_out_gap_shrink"),
             "runs_computed": j.get("runs_computed"), "signal": signal(d, first),  # the twin's own table
             # --measure-next: the measurements made on the twin at the reports' request, and the first verdict.
@@ -369,6 +375,7 @@ def summarize(rows, wall, device, out_dir, spec_path):
         if r["effect"] != r["truth"]:
             r["strength"], r["interval"] = r.get("second_strength"), r.get("second_interval")
             r["interval_open"] = r.get("second_interval_open")
+            r["interval_2se"] = r.get("second_interval_2se")
         if r.get("second") and r.get("second_shrink_total") is not None:  # the named pair's shrink
             r["held_out_shrink"] = r["second_shrink_total"]
     shrinks = [r["held_out_shrink"] for r in right if r["held_out_shrink"] is not None]
@@ -376,8 +383,12 @@ def summarize(rows, wall, device, out_dir, spec_path):
     gap_shrinks = [r["held_out_gap_shrink"] for r in right if r.get("held_out_gap_shrink") is not None]
     within = [r for r in right if r["strength"] and r["truth_strength"]
               and abs(r["strength"] / r["truth_strength"] - 1) <= 0.25]
-    covered = [r for r in right if r["interval"] and r["truth_strength"]
-               and r["interval"][0] * (1 - 1e-9) <= r["truth_strength"] <= r["interval"][1] * (1 + 1e-9)]
+    def covers(iv, r):
+        return iv and r["truth_strength"] and iv[0] * (1 - 1e-9) <= r["truth_strength"] <= iv[1] * (1 + 1e-9)
+
+    covered = [r for r in right if covers(r["interval"], r)]
+    with_2se = [r for r in right if r.get("interval_2se")]
+    covered_2se = [r for r in with_2se if covers(r["interval_2se"], r)]
     # The twin's other withheld difference, itself a candidate, found instead of the named truth.
     other = [r for r in eff if r not in right and r.get("also") and r["verdict"] in ("effect", "partial")
              and r["effect"] == r["also"]]
@@ -400,6 +411,7 @@ def summarize(rows, wall, device, out_dir, spec_path):
            "median_held_out_shrink": statistics.median(shrinks) if shrinks else None,
            "median_held_out_gap_shrink": statistics.median(gap_shrinks) if gap_shrinks else None,
            "strength_within_25pc": len(within), "interval_covers_truth": len(covered),
+           "interval_2se_reported": len(with_2se), "interval_2se_covers_truth": len(covered_2se),
            "named_first_or_second": len(named), "both_withheld_named": len(both),
            "found_other_candidate": len(other), "other_candidate_within_25pc": len(other_within),
            "nulls_and_outside": len(quiet), "confident_wrong": len(confident_wrong),
@@ -446,7 +458,8 @@ def summarize(rows, wall, device, out_dir, spec_path):
         f"shrink {'-' if not shrinks else f'{100 * statistics.median(shrinks):.0f} %'} over the {n} identified "
         f"(of the gap above the noise floor: {'-' if not gap_shrinks else f'{100 * statistics.median(gap_shrinks):.0f} %'}); "
         f"fitted strength within ±25 % of the truth for {len(within)}/{n}, interval covering the truth for "
-        f"{len(covered)}/{n}; "
+        f"{len(covered)}/{n}"
+        + (f" (at 2 SE: {len(covered_2se)}/{len(with_2se)})" if with_2se else "") + "; "
         + (f"the twin's other withheld difference, itself a candidate, named instead: {len(other)}/"
            f"{sum(1 for r in eff if r.get('also'))} (its strength within ±25 % for {len(other_within)}), both "
            f"withheld differences named: {len(both)}; "

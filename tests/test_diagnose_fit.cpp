@@ -59,6 +59,51 @@ TEST(DiagnoseVerdict, TheDeltaChi2IntervalHoldsItsOwnPoint) {
   }
 }
 
+// The interval at 2 SE (set_two_se_interval) against the analytic Δχ² = 4Δ interval of a χ² that is exactly
+// quadratic in log10 strength (a linear response, exact knots): its ends lie twice as far from the minimum as
+// the Δ ones, v* ± 2 √(Δ/A) with A = Σ slope²/σ². Near the strongest probe it is cut there and open; an open
+// side stays open; it always holds the reported interval.
+TEST(DiagnoseVerdict, TheTwoSeIntervalIsTheDeltaChi2IntervalAtFourDelta) {
+  const Response r = linear("evaporation", {0.01, 0.1, 1.0}, kSlope, 30.0, 0.0);
+  const std::vector<Prediction> base(5, Prediction{30.0, 0.0});
+  const Emulator em(base, r);
+  const double anchor = std::log10(0.01) - 1.0, sigma = 0.5;
+  const double jitter[] = {+0.3, -0.2, +0.4, -0.3, +0.1};
+  for (const double s : {0.03, 0.2, 0.7}) {
+    std::vector<double> y;
+    for (size_t k = 0; k < 5; ++k) y.push_back(30.0 + kSlope[k] * (std::log10(s) - anchor) + jitter[k]);
+    double sy = 0, ss = 0;
+    for (size_t k = 0; k < 5; ++k) sy += kSlope[k] * (y[k] - 30.0), ss += kSlope[k] * kSlope[k];
+    const double v_star = sy / ss, curvature = ss / (sigma * sigma);
+    double chi2_min = 0;
+    for (size_t k = 0; k < 5; ++k) chi2_min += std::pow((y[k] - 30.0 - kSlope[k] * v_star) / sigma, 2);
+    const double delta = std::max(1.0, chi2_min / 4.0), half = std::sqrt(delta / curvature);
+    StrengthFit f = fit_strength(cells_at(kPhi, y, sigma), em);
+    ASSERT_NEAR(std::log10(f.strength), anchor + v_star, 1e-3) << s;
+    set_two_se_interval(f, em.u_lo(), em.u_hi());
+    EXPECT_LE(f.lo2, f.lo) << s;
+    EXPECT_GE(f.hi2, f.hi) << s;
+    // The Δ ends are points of fit.cpp's dense grid (401 over [u_lo, u_hi]): doubled, two steps.
+    const double grid = 2.0 * (em.u_hi() - em.u_lo()) / 400.0;
+    EXPECT_NEAR(std::log10(f.lo2), anchor + v_star - 2 * half, grid) << s;
+    EXPECT_FALSE(f.open_lo2) << s;
+    if (anchor + v_star + 2 * half < em.u_hi()) {
+      EXPECT_NEAR(std::log10(f.hi2), anchor + v_star + 2 * half, grid) << s;
+      EXPECT_FALSE(f.open_hi2) << s;
+    } else {  // 0.7: past the strongest probe at 2 SE (not at 1 SE): cut there, open
+      EXPECT_FALSE(f.open_hi) << s;
+      EXPECT_DOUBLE_EQ(f.hi2, 1.0) << s;
+      EXPECT_TRUE(f.open_hi2) << s;
+    }
+  }
+  StrengthFit open;  // "0.3 and above": the open side stays open at its own end
+  open.strength = 0.5, open.lo = 0.3, open.hi = 1.0, open.open_hi = true;
+  set_two_se_interval(open, em.u_lo(), em.u_hi());
+  EXPECT_TRUE(open.open_hi2);
+  EXPECT_DOUBLE_EQ(open.hi2, 1.0);
+  EXPECT_NEAR(open.lo2, 0.5 * 0.36, 1e-12) << "log10 distance doubled: 0.5 / (0.5/0.3)^2";
+}
+
 // A truth stronger than every probe: the fit sits at the top (open interval), next_edge_knot extends the
 // range by the probes' ratio, and stops at the physical limit, saying so.
 TEST(DiagnoseVerdict, EdgeOfTheProbesExtendsWithinThePhysicalRange) {

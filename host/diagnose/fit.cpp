@@ -152,6 +152,17 @@ void widen_by_emulator_noise(StrengthFit& f, const std::vector<Cell>& cells, con
   widen_to(f, se, em.u_lo(), em.u_hi());
 }
 
+void set_two_se_interval(StrengthFit& f, double u_lo, double u_hi) {
+  constexpr double kTol = 1e-9;
+  const double u = std::log10(f.strength);
+  const double a = u - 2.0 * (u - std::log10(f.lo)), b = u + 2.0 * (std::log10(f.hi) - u);
+  // It always holds the reported interval (the profile's members may reach past this member's range).
+  f.lo2 = std::min(f.lo, std::pow(10.0, std::max(u_lo, a)));
+  f.hi2 = std::max(f.hi, std::pow(10.0, std::min(u_hi, b)));
+  f.open_lo2 = f.open_lo || a <= u_lo + kTol;
+  f.open_hi2 = f.open_hi || b >= u_hi - kTol;
+}
+
 ProfileFit fit_profile(const std::vector<Cell>& cells, const std::vector<Emulator>& ems,
                        const std::vector<size_t>& idx) {
   if (ems.empty()) throw std::invalid_argument("fit_profile: one emulator per member, at least one");

@@ -32,6 +32,10 @@ struct StrengthFit {
   // The other members of the family (shapes, refit settings) whose χ² comes within `delta` of the minimum
   // somewhere: the interval spans their strengths there too (widen_by_profile; 0: none, or not computed).
   size_t profile_members = 0;
+  // The interval at twice its width (set_two_se_interval): about 95 % where the reported one is about 68 %
+  // (one standard error). 0, 0 until set.
+  double lo2 = 0.0, hi2 = 0.0;
+  bool open_lo2 = false, open_hi2 = false;
 };
 
 // Weighted least squares of the strength against the cells `idx` (all when empty): χ²(u) on a dense grid over
@@ -103,6 +107,16 @@ std::vector<double> loco_strengths(const std::vector<Cell>& cells, const std::ve
 // and u ± se; a side that passes an end of the probed range is open there.
 void widen_by_condition_jackknife(StrengthFit& f, const std::vector<double>& loco_strengths, double u_lo,
                                   double u_hi);
+
+// The reported interval at two standard errors: each side's distance from the fit in log10 doubled, bounded
+// by the probed range [u_lo, u_hi] and open where it reaches it (an open side stays open). Every part of the
+// reported interval is one standard error wide: the Δχ² interval (for χ² quadratic in u, Δχ² = 4Δ lies twice
+// as far from the minimum as Δ), the jackknife's and the emulator's u ± se, and the profile's members within
+// Δ; doubling the union doubles each part. The reported interval stays the 1-SE one (the matrix's coverage
+// target); this one says how far a truth may still lie when the fit sits on a single-seed knot, whose noise
+// the 1-SE interval knows only through the emulator's redraws (the strong-cohesion twins' truths at 1.04
+// and 1.5 SE, docs/twin_matrix_flowing.md).
+void set_two_se_interval(StrengthFit& f, double u_lo, double u_hi);
 
 // Widens a fit's interval by the noise of the runs behind the emulator. The Δχ² interval counts the knots'
 // SE in every cell's variance, but its curvature takes the emulator's slope between two knots as exact; with

@@ -137,6 +137,20 @@ std::string refit_phrase(const Report& r, size_t j) {
   return to;
 }
 
+namespace {
+
+// The interval at two standard errors (fit.h, set_two_se_interval), after the reported one.
+std::string two_se_text(const StrengthFit& f) {
+  // Not set (a fit outside decide), or nothing determined at one standard error already.
+  if (f.lo2 <= 0 || (f.open_lo && f.open_hi)) return "";
+  if (f.open_lo2 && f.open_hi2) return "; at 2 SE any strength probed";
+  if (f.open_hi2) return fmt::format("; at 2 SE {:.3g} and above", f.lo2);
+  if (f.open_lo2) return fmt::format("; at 2 SE {:.3g} and below", f.hi2);
+  return fmt::format("; at 2 SE {:.3g}-{:.3g}", f.lo2, f.hi2);
+}
+
+}  // namespace
+
 std::string strength_text(const Candidate& c, const CandidateRuns* runs) {
   const StrengthFit& f = c.fit;
   std::string shape;
@@ -155,6 +169,7 @@ std::string strength_text(const Candidate& c, const CandidateRuns* runs) {
   // The interval spans the other shapes where they fit as well (widen_by_profile): say so beside the shape.
   if (!shape.empty() && f.profile_members > 0)
     interval += fmt::format(", over every {} that fits as well", effect_spec(c.effect).shape);
+  interval += two_se_text(f);
   return fmt::format("{:.3g}{} ({})", f.strength, shape, interval);
 }
 
@@ -282,6 +297,8 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
               {"strength", c.fit.strength},
               {"strength_interval", {c.fit.lo, c.fit.hi}},
               {"strength_interval_open", {c.fit.open_lo, c.fit.open_hi}},
+              {"strength_interval_2se", {c.fit.lo2, c.fit.hi2}},
+              {"strength_interval_2se_open", {c.fit.open_lo2, c.fit.open_hi2}},
               {"strength_interval_delta_chi2", c.fit.delta},
               {"strength_interval_chi2", {c.fit.chi2_lo, c.fit.chi2_hi}},
               {"strength_jackknife_se_log10", c.fit.jackknife_se_log10},
@@ -493,7 +510,9 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
       "the model's own seed luck ({:.1f}), whichever is more; a candidate the probes cannot show is never "
       "named first on its held-out score; cells significant by Benjamini-Hochberg at {}. Intervals: Δχ² = "
       "max(1, χ²_min/(n − "
-      "1)), widened to the fit ± the jackknife over conditions' standard error when that is wider.\n\n",
+      "1)), widened to the fit ± the standard errors of the jackknife over conditions and of the emulator's "
+      "redraws where they are wider; at 2 SE: "
+      "each side's distance from the fit in log10 doubled.\n\n",
       r.spec->rule.ratio, r.spec->rule.min_drop, r.verdict.null_loco, r.verdict.floor,
       100 * r.spec->rule.table_level, r.spec->rule.tie_delta, r.spec->rule.tie_noise, r.spec->rule.tie_draws,
       r.spec->rule.min_drop, r.verdict.seed_luck, r.spec->rule.q);

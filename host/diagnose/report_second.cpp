@@ -51,6 +51,8 @@ nlohmann::json second_json(const Report& r) {
                             {"strength", c.fit.strength},
                             {"strength_interval", {c.fit.lo, c.fit.hi}},
                             {"strength_interval_open", {c.fit.open_lo, c.fit.open_hi}},
+                            {"strength_interval_2se", {c.fit.lo2, c.fit.hi2}},
+                            {"strength_interval_2se_open", {c.fit.open_lo2, c.fit.open_hi2}},
                             {"strength_meaning", effect_spec(c.effect).strength},
                             {"probed", cr ? cr->members.front().strengths : std::vector<double>{}},
                             {"notes", cr ? cr->notes : std::vector<std::string>{}},

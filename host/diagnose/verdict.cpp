@@ -107,6 +107,7 @@ Verdict decide(const std::vector<Cell>& cells, const std::vector<std::vector<Pre
     widen_by_profile(c.fit, cells, fam.ems, f.member);
     widen_by_condition_jackknife(c.fit, fold_strengths, fam.ems[f.member].u_lo(), fam.ems[f.member].u_hi());
     widen_by_emulator_noise(c.fit, cells, fam.ems[f.member]);
+    set_two_se_interval(c.fit, fam.ems[f.member].u_lo(), fam.ems[f.member].u_hi());
     c.member = f.member;
     c.refit = fam.refit_of[f.member];
     c.shape = fam.shape_of[f.member];

@@ -19,6 +19,9 @@ echo "withheld spread: $(J "$D/ds/diagnosis.json" 'j["verdict"], j["effect"], ro
 expect "$D/ds/diagnosis.json" 'j["verdict"] == "effect"' "verdict is not effect" "$D/ds/report.md"
 expect "$D/ds/diagnosis.json" 'j["effect"] == "spread"' "wrong effect" "$D/ds/report.md"
 expect "$D/ds/diagnosis.json" 'j["held_out_shrink"] >= 0.5' "shrink < 0.5"
+# The interval at 2 SE (fit.h, set_two_se_interval) holds the reported one and the report's text quotes it.
+expect "$D/ds/diagnosis.json" 'all(r["strength_interval_2se"][0] <= r["strength_interval"][0] <= r["strength"] <= r["strength_interval"][1] <= r["strength_interval_2se"][1] for r in j["ranking"]) and any("at 2 SE" in r["text"] for r in j["ranking"])' \
+  "the 2-SE interval does not hold the reported one, or no text quotes it" "$D/ds/report.md"
 # Where the time went (driver.cpp): the stages account for every run computed, and their walls add to at most
 # the whole (the table reading before the first stage is the rest).
 expect "$D/ds/diagnosis.json" 'sum(s["runs_computed"] for s in j["stages"]) == j["runs_computed"] > 0' \
