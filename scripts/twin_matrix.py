@@ -144,6 +144,9 @@ def row_of(d, t):
             "second_interval_2se": next((x.get("strength_interval_2se") for x in
                                          (j.get("second") or {}).get("ranking") or []
                                          if x["effect"] == (j.get("second") or {}).get("effect")), None),
+            "second_interval_2se_open": next((x.get("strength_interval_2se_open") for x in
+                                              (j.get("second") or {}).get("ranking") or []
+                                              if x["effect"] == (j.get("second") or {}).get("effect")), None),
             # The pair's share of the null's held-out chi2 (the first effect's shrink and the second's on top).
             "second_shrink_total": (j.get("second") or {}).get("held_out_shrink_total"),
             "strength": best["strength"] if best else None,
@@ -151,6 +154,7 @@ def row_of(d, t):
             "interval_open": best.get("strength_interval_open") if best else None,
             # The interval at two standard errors (absent from a diagnosis.json before 7 Dec 2026).
             "interval_2se": best.get("strength_interval_2se") if best else None,
+            "interval_2se_open": best.get("strength_interval_2se_open") if best else None,
             "held_out_shrink": j["held_out_shrink"], "held_out_gap_shrink": j.get("held_out_gap_shrink"),
             "runs_computed": j.get("runs_computed"), "signal": signal(d, first),  # the twin's own table
             # --measure-next: the measurements made on the twin at the reports' request, and the first verdict.
@@ -375,7 +379,7 @@ def summarize(rows, wall, device, out_dir, spec_path):
         if r["effect"] != r["truth"]:
             r["strength"], r["interval"] = r.get("second_strength"), r.get("second_interval")
             r["interval_open"] = r.get("second_interval_open")
-            r["interval_2se"] = r.get("second_interval_2se")
+            r["interval_2se"], r["interval_2se_open"] = r.get("second_interval_2se"), r.get("second_interval_2se_open")
         if r.get("second") and r.get("second_shrink_total") is not None:  # the named pair's shrink
             r["held_out_shrink"] = r["second_shrink_total"]
     shrinks = [r["held_out_shrink"] for r in right if r["held_out_shrink"] is not None]
@@ -427,6 +431,9 @@ def summarize(rows, wall, device, out_dir, spec_path):
             lo, hi = r["interval"]
             op = r["interval_open"] or [False, False]
             fit = f"{r['strength']:.3g} [{'≤ ' if op[0] else ''}{lo:.3g}, {hi:.3g}{' ≤' if op[1] else ''}]"
+            if r.get("interval_2se") and list(r["interval_2se"]) != list(r["interval"]):
+                (lo2, hi2), op2 = r["interval_2se"], r.get("interval_2se_open") or [False, False]
+                fit += f" (2 SE [{'≤ ' if op2[0] else ''}{lo2:.3g}, {hi2:.3g}{' ≤' if op2[1] else ''}])"
         ts = "" if r["truth_strength"] is None else f"{r['truth_strength']:.3g}"
         chosen = (r["effect"] or "-") + (f" ({', '.join(r['tied'])})" if r["tied"] else "")
         if r.get("second"):

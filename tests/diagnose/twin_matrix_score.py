@@ -145,6 +145,7 @@ for needle in ["| absorption-right | absorption | 0.02 |", "0.022 [0.01, 0.03]",
                "| null-called-effect | none |", "no_gap (allowed to 0.1)", "no_gap (out from 0.003)",
                "no_gap (not ruled out, rate free)", "no_gap (out from 0.03, at rate 30)",
                "whose truth the table's limits rule out: 2/4", "interval covering the truth for 2/3 (at 2 SE: 1/1)",
+               "0.022 [0.021, 0.03] (2 SE [0.015, 0.04])",
                "| effect; more seeds unlikely at 4, from about 6 | absorption (evaporation) |"]:
     if needle not in md:
         sys.exit(f"FAIL: matrix.md lacks {needle!r}")
