@@ -201,6 +201,9 @@ def main():
             rows = [r for r in rows if not (same_condition(r, full) and r["observable"] == observable)]
             print(f"replaced: {observable} at {condition}, to be made {repeats} times")
         todo.append((full, observable, sigma, repeats))
+    # A column a later measurement added: the earlier ones are at the model's own value there, as the table's rows
+    # (a twin needs the same condition keys at every point).
+    todo = [({k: full[k] if k in full else known[k] for k in keys}, o, sg, rep) for full, o, sg, rep in todo]
     for s in skipped:
         print(f"not measured: {s}")
     if not todo:

@@ -45,6 +45,8 @@ if args[0] == "twin":
     points = t.get("points") or [dict(zip(t["conditions"], v)) for v in itertools.product(*t["conditions"].values())]
     t["points"] = points
     keys = list(t["points"][0].keys())
+    if any(set(p) != set(keys) for p in points):  # as wetdem twin refuses it
+        sys.exit("wetdem: error: [[points]]: every point needs the same condition keys as the first")
     with open(os.path.join(out, "observations.csv"), "w") as f:
         f.write(",".join(keys) + ",observable,value,sigma,n,note\n")
         for p in t["points"]:
@@ -157,6 +159,16 @@ if lines[0] != "liquid.content,drum.rpm,run.duration,observable,value,sigma,n,no
         or lines[1] != '"0 %","30","3 s",aor_deg_mean,33.7,1.0,2,twin' \
         or lines[-1] != '"10 %","30","12 s",aor_deg_mean,0.6,1.0,2,measured next':
     fail(f"the new column:\n{open(out).read()}")
+
+# 3b. The same new column asked by a later measurement only: the earlier one is made at the model's 3 s too
+# (stop 85: a tie's assay and a reach's 12 s run in one round made a twin whose points had different keys).
+text, out = measure(diagnosis(asked("liquid.content=20 %", "liquid_free_fraction", 0.02),
+                              asked("liquid.content=10 %, run.duration=12 s", "aor_deg_mean")), "mixed")
+lines = open(out).read().splitlines()
+if lines[0] != "liquid.content,drum.rpm,run.duration,observable,value,sigma,n,note" \
+        or '"20 %","30","3 s",liquid_free_fraction,0.7,0.02,2,measured next' not in lines \
+        or lines[-1] != '"10 %","30","12 s",aor_deg_mean,0.6,1.0,2,measured next':
+    fail(f"a new column asked by the later measurement:\n{text}\n{open(out).read()}")
 
 # 4. A measurement made 4 times: 4 times the truth's seeds (n = 8 runs), the instrument's noise / 2; in the table
 # already, the row is replaced by the new mean.
