@@ -112,6 +112,9 @@ def row_of(d, t):
     upto = int(sub[len("diagnosis_m"):]) if sub != "diagnosis" else 0
     measured = [m for e in rounds if int(re.search(r"_m(\d+)", e["table"]).group(1)) <= upto for m in e["measured"]]
     best = next((r for r in j.get("ranking") or [] if r["effect"] == j["effect"]), None)
+    # The second effect's own fit in its round's ranking (empty when there is none).
+    second = j.get("second") or {}
+    second_fit = next((x for x in second.get("ranking") or [] if x["effect"] == second.get("effect")), {})
     # After a no_gap: what the table rules out of the truth's candidate (diagnosis.md, stage 8b).
     # The default shape's row comes first. A sink whose truth rate was run is judged against that rate's row
     # (the report claims it); at another rate, against the limit with the rate free (limits_free_shape: ruled
@@ -134,21 +137,14 @@ def row_of(d, t):
             "tied": j.get("tied") or [],
             # A second effect fitted on top of the first when that one explained the gap only in part
             # (diagnosis.md, "A second effect"): named by `effect` and `partial` verdicts.
-            "second": (j.get("second") or {}).get("effect"),
-            "second_strength": (j.get("second") or {}).get("strength"),
-            "second_interval": next((x.get("strength_interval") for x in (j.get("second") or {}).get("ranking") or []
-                                     if x["effect"] == (j.get("second") or {}).get("effect")), None),
-            "second_interval_open": next((x.get("strength_interval_open") for x in
-                                          (j.get("second") or {}).get("ranking") or []
-                                          if x["effect"] == (j.get("second") or {}).get("effect")), None),
-            "second_interval_2se": next((x.get("strength_interval_2se") for x in
-                                         (j.get("second") or {}).get("ranking") or []
-                                         if x["effect"] == (j.get("second") or {}).get("effect")), None),
-            "second_interval_2se_open": next((x.get("strength_interval_2se_open") for x in
-                                              (j.get("second") or {}).get("ranking") or []
-                                              if x["effect"] == (j.get("second") or {}).get("effect")), None),
+            "second": second.get("effect"),
+            "second_strength": second.get("strength"),
+            "second_interval": second_fit.get("strength_interval"),
+            "second_interval_open": second_fit.get("strength_interval_open"),
+            "second_interval_2se": second_fit.get("strength_interval_2se"),
+            "second_interval_2se_open": second_fit.get("strength_interval_2se_open"),
             # The pair's share of the null's held-out chi2 (the first effect's shrink and the second's on top).
-            "second_shrink_total": (j.get("second") or {}).get("held_out_shrink_total"),
+            "second_shrink_total": second.get("held_out_shrink_total"),
             "strength": best["strength"] if best else None,
             "interval": best["strength_interval"] if best else None,
             "interval_open": best.get("strength_interval_open") if best else None,
@@ -365,6 +361,12 @@ def plot(rows, path):
     plt.close(fig)
 
 
+def bracket(interval, open_ends):
+    """An interval as the tables write it: [lo, hi], with "≤" on a side open past the probed range."""
+    (lo, hi), op = interval, open_ends or [False, False]
+    return f"[{'≤ ' if op[0] else ''}{lo:.3g}, {hi:.3g}{' ≤' if op[1] else ''}]"
+
+
 def summarize(rows, wall, device, out_dir, spec_path):
     eff = [r for r in rows if is_effect_twin(r)]
     # Identified: the truth is named (first, or as the second effect on top) and nothing the twin did not
@@ -428,12 +430,9 @@ def summarize(rows, wall, device, out_dir, spec_path):
         s = r["held_out_shrink"]
         fit = ""
         if r["strength"] is not None and r["interval"]:
-            lo, hi = r["interval"]
-            op = r["interval_open"] or [False, False]
-            fit = f"{r['strength']:.3g} [{'≤ ' if op[0] else ''}{lo:.3g}, {hi:.3g}{' ≤' if op[1] else ''}]"
+            fit = f"{r['strength']:.3g} {bracket(r['interval'], r['interval_open'])}"
             if r.get("interval_2se") and list(r["interval_2se"]) != list(r["interval"]):
-                (lo2, hi2), op2 = r["interval_2se"], r.get("interval_2se_open") or [False, False]
-                fit += f" (2 SE [{'≤ ' if op2[0] else ''}{lo2:.3g}, {hi2:.3g}{' ≤' if op2[1] else ''}])"
+                fit += f" (2 SE {bracket(r['interval_2se'], r.get('interval_2se_open'))})"
         ts = "" if r["truth_strength"] is None else f"{r['truth_strength']:.3g}"
         chosen = (r["effect"] or "-") + (f" ({', '.join(r['tied'])})" if r["tied"] else "")
         if r.get("second"):
