@@ -76,7 +76,8 @@ Family CandidateRuns::family(const std::vector<std::vector<Prediction>>& baselin
 }
 
 Procedure::Procedure(const DiagnosisSpec& d_, const DiagnoseOptions& o_)
-    : d(d_),
+    : spec_(d_),
+      d(spec_),
       o(o_),
       tab(d_.observations.empty()
               ? throw DiagnoseError(d_.path + ": observations: no table (give `observations` in the file or "
@@ -96,13 +97,24 @@ Procedure::Procedure(const DiagnosisSpec& d_, const DiagnoseOptions& o_)
   for (const RefitSetting& r : settings) models.push_back(model_facts(d, r));
   const ModelFacts& model = models.front();
   check_producible(tab, !model.has_plates);
+  // An assay the table measures now (a report asked for it, and the laboratory added its rows: the file is
+  // run again as it was) is one of the table's observables: its rows are observations with their own σ, and a
+  // new measurement of it carries the table's σ (measurement_noise.h), not the file's.
+  for (auto it = spec_.assays.begin(); it != spec_.assays.end();) {
+    const std::string& obs = it->first;
+    if (std::none_of(tab.cells.begin(), tab.cells.end(),
+                     [&](const Cell& c) { return c.observable == obs; })) {
+      ++it;
+      continue;
+    }
+    notes.push_back(
+        fmt::format("[assays] {}: the observation table measures it now; its rows are observations "
+                    "like the others, and a new measurement of it carries their σ, not the "
+                    "file's {:g}",
+                    obs, it->second));
+    it = spec_.assays.erase(it);
+  }
   for (const auto& [obs, sd] : d.assays) {
-    for (const Cell& c : tab.cells)
-      if (c.observable == obs)
-        throw DiagnoseError(fmt::format(
-            "{}: [assays] {}: the observation table {} already measures it (its noise comes from there): "
-            "remove it from [assays]",
-            d.path, obs, tab.path));
     if (find_observable(obs)->needs_plates && !model.has_plates)
       throw DiagnoseError(fmt::format(
           "{}: [assays] {}: the model cannot produce it: it is a periodic slice, which has no end plates",

@@ -197,7 +197,13 @@ struct Escalation {
 class Procedure {
  public:
   Procedure(const DiagnosisSpec& d, const DiagnoseOptions& o);
+  Procedure(const Procedure&) = delete;  // d refers to this object's own spec
 
+ private:
+  // The file's spec, less the [assays] the table measures now (the constructor; notes says which).
+  DiagnosisSpec spec_;
+
+ public:
   const DiagnosisSpec& d;
   const DiagnoseOptions& o;
   Table tab;
