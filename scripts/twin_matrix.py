@@ -385,8 +385,12 @@ def summarize(rows, wall, device, out_dir, spec_path):
         if r.get("second") and r.get("second_shrink_total") is not None:  # the named pair's shrink
             r["held_out_shrink"] = r["second_shrink_total"]
     shrinks = [r["held_out_shrink"] for r in right if r["held_out_shrink"] is not None]
-    # The share of the gap (the null's held-out χ² above its noise floor) the chosen effect removes.
-    gap_shrinks = [r["held_out_gap_shrink"] for r in right if r.get("held_out_gap_shrink") is not None]
+    # The share of the gap (the null's held-out χ² above its noise floor) the chosen effect removes, at most all
+    # of it: above 1 the held-out χ² fell below the floor, which is estimated from the baseline's cells
+    # (verdict.h); those are counted apart.
+    gap_raw = [r["held_out_gap_shrink"] for r in right if r.get("held_out_gap_shrink") is not None]
+    gap_shrinks = [min(1.0, g) for g in gap_raw]
+    below_floor = sum(1 for g in gap_raw if g >= 1.0)
     within = [r for r in right if r["strength"] and r["truth_strength"]
               and abs(r["strength"] / r["truth_strength"] - 1) <= 0.25]
     def covers(iv, r):
@@ -416,6 +420,7 @@ def summarize(rows, wall, device, out_dir, spec_path):
            "in_reported_set": sum(1 for r in eff if r["effect"] == r["truth"] or r["truth"] in r["tied"]),
            "median_held_out_shrink": statistics.median(shrinks) if shrinks else None,
            "median_held_out_gap_shrink": statistics.median(gap_shrinks) if gap_shrinks else None,
+           "held_out_below_floor": below_floor,
            "strength_within_25pc": len(within), "interval_covers_truth": len(covered),
            "interval_2se_reported": len(with_2se), "interval_2se_covers_truth": len(covered_2se),
            "named_first_or_second": len(named), "both_withheld_named": len(both),
@@ -462,7 +467,8 @@ def summarize(rows, wall, device, out_dir, spec_path):
         f"reported set, chosen or tied: {out['in_reported_set']}), {len(right_visible)}/{len(visible)} of those "
         f"whose truth moves a cell by >= 3 sigma without noise (signal max z); median held-out "
         f"shrink {'-' if not shrinks else f'{100 * statistics.median(shrinks):.0f} %'} over the {n} identified "
-        f"(of the gap above the noise floor: {'-' if not gap_shrinks else f'{100 * statistics.median(gap_shrinks):.0f} %'}); "
+        f"(of the gap above the noise floor: {'-' if not gap_shrinks else f'{100 * statistics.median(gap_shrinks):.0f} %'}"
+        + (f", all of it for {below_floor}" if below_floor else "") + "); "
         f"fitted strength within ±25 % of the truth for {len(within)}/{n}, interval covering the truth for "
         f"{len(covered)}/{n}"
         + (f" (at 2 SE: {len(covered_2se)}/{len(with_2se)})" if with_2se else "") + "; "

@@ -20,6 +20,20 @@ TEST(DiagnoseParagraph, UnexplainedNamesALeadOnlyWhenTheBestCandidateHelps) {
   EXPECT_NE(none.find("outside the candidates"), std::string::npos) << none;
 }
 
+// A lead whose held-out χ² fell below the noise floor (a share of the gap above 1: the floor is estimated
+// from the baseline's cells, the held-out score from the emulator's wider predictions) removes "all the gap",
+// not "128 % of the gap"; short of the rule only through the drop (min_drop).
+TEST(DiagnoseParagraph, ALeadBelowTheNoiseFloorRemovesAllTheGap) {
+  const std::string lead = verdict_paragraph(unexplained(1.28));
+  EXPECT_NE(lead.find("removes all the gap above the noise floor in the held-out predictions"),
+            std::string::npos)
+      << lead;
+  EXPECT_EQ(lead.find("128 %"), std::string::npos) << lead;
+  const std::string at = verdict_paragraph(unexplained(0.999));
+  EXPECT_NE(at.find("removes 100 % of the gap"), std::string::npos)
+      << "a share under 1 keeps its number: " << at;
+}
+
 // A lead that passes the held-out rule but that its own probes cannot show (the micro twin with cohesion
 // 0.06 J/m²: 1.4 held out against the model's 14.1, probes at most 2.6 σ) is not named for that reason, and
 // the paragraph says so instead of "short of the rule".

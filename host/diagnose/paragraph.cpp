@@ -157,6 +157,13 @@ std::string limit_sentence(const Report& r, const std::string& e) {
 }
 
 // Names as code in a sentence: "`a`", "`a` and `b`", "`a`, `b` and `c`" ("" for none).
+// The share of the gap a candidate removes held out (verdict.h, held_out_gap_shrink). Above 1 its held-out χ²
+// fell below the noise floor, which is estimated from the baseline's own cells (not from the emulator's wider
+// predictions): "all the gap", not "120 % of the gap".
+std::string gap_removed(double share) {
+  return share >= 1.0 ? "all the gap above the noise floor" : fmt::format("{:.0f} % of the gap", 100 * share);
+}
+
 std::string code_list(const std::vector<std::string>& v) {
   std::string s;
   for (size_t i = 0; i < v.size(); ++i)
@@ -525,14 +532,15 @@ std::string verdict_core(const Report& r) {
     }
     return fmt::format(
         "**Gap not explained (a lead: `{}`).** The model departs from the observations {}. The best "
-        "candidate, `{}` ({}), removes {:.0f} % of the gap in the held-out predictions (at {} "
+        "candidate, `{}` ({}), removes {} in the held-out predictions (at {} "
         "= {:.3g}; held-out χ² {:.1f} against the model's {:.1f}, noise floor {:.1f}), short of the rule: "
         "{:.0f} % of the gap and a drop of {:g}. The data point to it but do not single it out. To decide, "
         "measure more conditions where its fingerprint is strongest, or repeat the measurements to shrink "
         "their error bars.{}",
-        c.effect, departs, c.effect, effect_spec(c.effect).fingerprint, 100 * r.verdict.held_out_gap_shrink,
-        effect_spec(c.effect).strength, c.fit.strength, c.loco, r.verdict.null_loco, r.verdict.floor,
-        100 * (1.0 - ratio), r.spec->rule.min_drop, null_refit_sentence(r));
+        c.effect, departs, c.effect, effect_spec(c.effect).fingerprint,
+        gap_removed(r.verdict.held_out_gap_shrink), effect_spec(c.effect).strength, c.fit.strength, c.loco,
+        r.verdict.null_loco, r.verdict.floor, 100 * (1.0 - ratio), r.spec->rule.min_drop,
+        null_refit_sentence(r));
   }
   std::string best = r.verdict.ranking.empty()
                          ? "none was fitted"

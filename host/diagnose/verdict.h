@@ -104,8 +104,10 @@ struct Verdict {
   size_t null_refit = 0;         // the null's refit setting fitted on all cells (0 without refit)
   double held_out_shrink = 0.0;  // 1 - LOCO_best / LOCO_null (the left-out predictions)
   double floor = 0.0;            // noise_floor() of the null's held-out χ²
-  double held_out_gap_shrink =
-      0.0;  // (LOCO_null - LOCO_best) / (LOCO_null - floor): of the gap, not the noise
+  // (LOCO_null - LOCO_best) / (LOCO_null - floor): of the gap, not the noise. Above 1 when the best's
+  // held-out χ² falls below the floor, an estimate from the baseline's cells that knows nothing of the
+  // emulator's wider predictions (docs/diagnosis.md, "The noise floor"); the report then says "all the gap".
+  double held_out_gap_shrink = 0.0;
   // The chosen effect passed the rule, but its fresh-seed runs did not lower χ² over the cells by min_drop
   // (fresh_confirms): the verdict became "unexplained" and says so.
   bool fresh_rejected = false;
