@@ -107,11 +107,7 @@ Procedure::Procedure(const DiagnosisSpec& d_, const DiagnoseOptions& o_)
       ++it;
       continue;
     }
-    notes.push_back(
-        fmt::format("[assays] {}: the observation table measures it now; its rows are observations "
-                    "like the others, and a new measurement of it carries their σ, not the "
-                    "file's {:g}",
-                    obs, it->second));
+    assays_in_table.push_back(obs);
     it = spec_.assays.erase(it);
   }
   for (const auto& [obs, sd] : d.assays) {

@@ -200,7 +200,7 @@ class Procedure {
   Procedure(const Procedure&) = delete;  // d refers to this object's own spec
 
  private:
-  // The file's spec, less the [assays] the table measures now (the constructor; notes says which).
+  // The file's spec, less the [assays] the table measures now (the constructor; assays_in_table says which).
   DiagnosisSpec spec_;
 
  public:
@@ -241,8 +241,10 @@ class Procedure {
   std::vector<std::string> confirmed_on_fresh;  // of them, named first in a tie once their fresh runs
                                                 // confirmed them (fresh_ties.cpp, order_tie_by_evidence)
   std::vector<std::string> notes;               // failed runs, cut ranges, what could not be probed
-  Escalation escalation;                        // from = 0: this is the only pass
-  MoreSeeds more_seeds;                         // to = 0: the verdict was decided (more_seeds.h)
+  std::vector<std::string>
+      assays_in_table;    // [assays] the table measures now: its observables (d lacks them)
+  Escalation escalation;  // from = 0: this is the only pass
+  MoreSeeds more_seeds;   // to = 0: the verdict was decided (more_seeds.h)
 
   // The effect (none: "") at strength s, refit setting j, shape value (NaN: the effect's default shape).
   Variant variant(const std::string& effect, double s, size_t j = 0,

@@ -107,6 +107,7 @@ Report make_report(const Procedure& p, double wall_s, std::vector<StageCost> sta
                            p.more_seeds.to != 0 && !p.more_seeds.worth();
   r.notes.insert(r.notes.end(), p.second.notes.begin(), p.second.notes.end());
   r.not_measured = p.tab.not_measured;
+  r.assays_in_table = p.assays_in_table;
   r.runs = p.book.runs();
   r.computed = p.book.computed();
   r.device = p.book.device();
@@ -405,6 +406,7 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
   j["confirmed_on_fresh"] = r.confirmed_on_fresh;
   j["notes"] = r.notes;
   j["not_measured"] = r.not_measured;
+  j["assays_in_table"] = r.assays_in_table;
   j["runs"] = r.runs;
   j["runs_computed"] = r.computed;
   j["store"] = r.store;
@@ -452,6 +454,12 @@ nlohmann::json write_report(const std::string& dir, const Report& r, bool figure
                         chosen->gaps_after[k].significant ? " (still significant)" : "");
     md += "\n";
   }
+  for (const std::string& a : r.assays_in_table)
+    md += fmt::format(
+        "\n`{}` was an assay of the diagnosis file ([assays]) and the table measures it now: its rows are "
+        "observations like the others, fitted with their own σ, and a new measurement of it carries the "
+        "table's σ, not the file's.\n",
+        a);
   if (!r.not_measured.empty()) {
     md += "\nRows of the table that say a quantity was not measured (left out): ";
     for (const std::string& s : r.not_measured) md += s + "; ";

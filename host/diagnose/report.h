@@ -48,6 +48,7 @@ struct Report {
                                                    // fresh runs that confirm them against the control
   std::vector<std::string> notes;                  // failed runs, cut ranges
   std::vector<std::string> not_measured;           // table rows that say a quantity was not measured
+  std::vector<std::string> assays_in_table;        // [assays] of the file that the table measures now
   size_t runs = 0, computed = 0;
   std::string device, store;
   double wall_s = 0.0;

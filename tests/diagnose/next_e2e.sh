@@ -52,4 +52,23 @@ expect_text "$D/d/report.md" "## Measurements to make next" "the report has no c
 /usr/bin/python3 "$SRC/scripts/plot_diagnosis.py" "$D/d" > "$D/plot.log" 2>&1 || { cat "$D/plot.log"; echo "FAIL: plot_diagnosis.py"; exit 1; }
 [ -s "$D/d/figures/next_experiment.png" ] || { echo "FAIL: no figures/next_experiment.png for a tie"; exit 1; }
 [ -s "$D/d/figures/reach.png" ] || { echo "FAIL: no figures/reach.png (what the table can see)"; exit 1; }
+# The laboratory makes the assay (the twin's own value and noise at the table's conditions: the same runs) and
+# runs the same file on the table with its rows: the assay is one of the table's observables from then on (the
+# report says so), not an error that stops the measuring loop (scripts/twin_measure.py).
+sed -e "s|^case = .*|case = \"$SRC/assets/diagnosis/micro/model.toml\"|" -e '/^\[noise\]/a aor_deg_std = 0.5' \
+  "$SRC/tests/diagnose/twin_evaporation_ci.toml" > "$D/twin_assay.toml"
+wd twin "$D/twin_assay.toml" --out "$D/ta" --store "$S" --quiet
+{ cat "$D/t/observations.csv"; grep ',aor_deg_std,' "$D/ta/observations.csv"; } > "$D/obs_assay.csv"
+[ "$(grep -c ',aor_deg_std,' "$D/obs_assay.csv")" = 3 ] || { echo "FAIL: the assay's rows (3 contents)"; cat "$D/obs_assay.csv"; exit 1; }
+wd diagnose "$SRC/tests/diagnose/micro_next_ci.toml" --observations "$D/obs_assay.csv" --out "$D/d2" --store "$S" \
+  --quiet --no-figures
+echo "with the assay's rows: $(J "$D/d2/diagnosis.json" 'j["verdict"], j["effect"], j["tied"]')"
+expect "$D/d2/diagnosis.json" "any(c['observable'] == 'aor_deg_std' for c in j['cells'])" \
+  "the assay's rows did not enter the table's cells"
+expect "$D/d2/diagnosis.json" "not any(q['assay'] for q in j['next_experiment']['proposals'])" \
+  "a table observable still proposed as an assay"
+expect "$D/d2/diagnosis.json" "j['assays_in_table'] == ['aor_deg_std']" \
+  "diagnosis.json does not say the assay is in the table now" "$D/d2/report.md"
+expect_text "$D/d2/report.md" "aor_deg_std. was an assay of the diagnosis file (.assays.) and the table measures it now" \
+  "the report does not say the assay is in the table now"
 echo "next-experiment e2e: $(($(date +%s) - t0)) s"
