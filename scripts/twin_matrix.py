@@ -20,8 +20,9 @@ unseen twins draws other seeds), runs `wetdem twin` and `wetdem diagnose`
     and apart the one at 2 SE), over those twins;
   - nulls and outside effects: any `effect` verdict is a confident wrong answer (`partial` is hedged);
   - the device and the wall time: each twin's cost is that of the call that computed its runs (OUT/<twin>/
-    cost.json: wall, twin runs included, runs computed, the diagnosis's stages), so a re-evaluation from the
-    store (seconds) does not overwrite it; the matrix's wall is their sum.
+    cost.json: wall, twin runs included, runs computed, the diagnosis's stages; each --measure-next round's in
+    cost_m<k>.json, its measurements included), so a re-evaluation from the store (seconds) does not overwrite
+    it; a twin's cost sums its rounds up to the one reported, and the matrix's wall is the twins' sum.
 
   /usr/bin/python3 scripts/twin_matrix.py assets/diagnosis/flowing/matrix.toml --out matrix --jobs 2 --batch 4
 
@@ -158,7 +159,7 @@ def row_of(d, t):
             "first_tied": first.get("tied") or [],
             # An undecided verdict: whether more seeds could decide it (diagnosis.md, stage 6c).
             "more_seeds": more_seeds_text(j.get("more_seeds")),
-            "wall_s": cost_of(d, j)["wall_s"], "device": j["device"]}
+            "wall_s": cost_of(d, j, upto)["wall_s"], "device": j["device"]}
 
 
 def more_seeds_text(m):
@@ -174,22 +175,31 @@ def more_seeds_text(m):
         f", from about {min(n for n in need if n is not None)}" if any(n is not None for n in need) else "")
 
 
-def cost_of(d, j):
+def cost_of(d, j, upto=0):
     """What the twin cost when its runs were computed: OUT/<twin>/cost.json, kept from the call that computed the
-    most runs (a re-evaluation from the store computes none and reads ~0 s), else this diagnosis's wall."""
+    most runs (a re-evaluation from the store computes none and reads ~0 s), else this diagnosis's wall; plus
+    each --measure-next round up to the reported one (cost_m<k>.json: its measurements and its diagnosis)."""
     path = os.path.join(d, "cost.json")
-    if os.path.exists(path):
-        return json.load(open(path))
-    return {"wall_s": j.get("wall_s"), "runs_computed": j.get("runs_computed")}
+    c = dict(json.load(open(path))) if os.path.exists(path) else {"wall_s": j.get("wall_s"),
+                                                                  "runs_computed": j.get("runs_computed")}
+    for k in range(1, upto + 1):
+        pk = os.path.join(d, f"cost_m{k}.json")
+        if os.path.exists(pk):
+            r = json.load(open(pk))
+            c["wall_s"] = (c.get("wall_s") or 0) + (r.get("wall_s") or 0)
+            c["runs_computed"] = (c.get("runs_computed") or 0) + (r.get("runs_computed") or 0)
+    return c
 
 
-def record_cost(d, wall_s):
-    """After a call that ran the twin and the diagnosis: its wall time (the twin's runs included) and the runs the
-    diagnosis computed, unless an earlier call computed more."""
-    j = json.load(open(os.path.join(d, "diagnosis", "diagnosis.json")))
+def record_cost(d, wall_s, k=0):
+    """After a call that ran the twin and the diagnosis (k = 0: cost.json), or round k of --measure-next
+    (cost_m<k>.json): its wall time (the twin's runs or the measurements included) and the runs the diagnosis
+    computed, unless an earlier call computed more."""
+    sub = "diagnosis" if k == 0 else f"diagnosis_m{k}"
+    j = json.load(open(os.path.join(d, sub, "diagnosis.json")))
     new = {"wall_s": wall_s, "runs_computed": j.get("runs_computed") or 0, "stages": j.get("stages"),
            "device": j.get("device")}
-    path = os.path.join(d, "cost.json")
+    path = os.path.join(d, "cost.json" if k == 0 else f"cost_m{k}.json")
     if os.path.exists(path) and (json.load(open(path)).get("runs_computed") or 0) >= new["runs_computed"]:
         return
     with open(path, "w") as f:
@@ -206,11 +216,13 @@ def script_rounds(a, i, name, d, twin_file, diag_cmd, store):
         m = measure_cmd(a, i, d, k, twin_file, obs, last, store, "$WETDEM", True)
         diag = os.path.join(d, f"diagnosis_m{k}", "diagnosis.json")
         out.append(f"""if ((more)) && [[ ! -f {shlex.quote(diag)} ]]; then
+  t0=$(date +%s)
   {qm(m)} >{shlex.quote(os.path.join(d, f"measure_m{k}.log"))} 2>&1
   rc=$?
   if ((rc == 3)); then more=0
   elif ((rc != 0)); then fail {name} measure
   else {q(round_diag_cmd(diag_cmd, d, k))} >{shlex.quote(os.path.join(d, f"diagnose_m{k}.log"))} 2>&1 || fail {name} diagnose
+    cost {shlex.quote(d)} $(($(date +%s) - t0)) {k}
   fi
 fi""")
         obs, last = os.path.join(d, f"observations_m{k}.csv"), os.path.join(d, f"diagnosis_m{k}")
@@ -243,13 +255,15 @@ set -uo pipefail
 WETDEM=${WETDEM:-build/host/wetdem}
 start=$(date +%s)
 fail() { echo "$1: wetdem $2 failed (see its log)"; exit 1; }
-# cost DIR WALL: DIR/cost.json as twin_matrix.py's record_cost writes it.
+# cost DIR WALL [K]: DIR/cost.json (round K of --measure-next: DIR/cost_mK.json from DIR/diagnosis_mK) as
+# twin_matrix.py's record_cost writes it.
 cost() {
-  local n old=-1
-  n=$(grep -m1 -o '"runs_computed": *[0-9]*' "$1/diagnosis/diagnosis.json" | grep -o '[0-9]*$' || echo 0)
-  [[ -f $1/cost.json ]] && old=$(grep -m1 -o '"runs_computed": *[0-9]*' "$1/cost.json" | grep -o '[0-9]*$' || echo 0)
+  local n old=-1 sub=diagnosis c=cost.json
+  [[ -n ${3:-} ]] && sub=diagnosis_m$3 c=cost_m$3.json
+  n=$(grep -m1 -o '"runs_computed": *[0-9]*' "$1/$sub/diagnosis.json" | grep -o '[0-9]*$' || echo 0)
+  [[ -f $1/$c ]] && old=$(grep -m1 -o '"runs_computed": *[0-9]*' "$1/$c" | grep -o '[0-9]*$' || echo 0)
   ((old >= n)) && return 0
-  printf '{"wall_s": %s, "runs_computed": %s, "stages": null, "device": null}\\n' "$2" "$n" >"$1/cost.json"
+  printf '{"wall_s": %s, "runs_computed": %s, "stages": null, "device": null}\\n' "$2" "$n" >"$1/$c"
 }
 """
     with open(path, "w") as f:
@@ -507,6 +521,7 @@ def measure_rounds(a, i, d, twin_file, diag_cmd, store):
     table with those rows; OUT/<twin>/diagnosis_m<k>/, OUT/<twin>/measured.json (what was measured)."""
     obs, last = diag_cmd[diag_cmd.index("--observations") + 1], os.path.join(d, "diagnosis")
     for k in range(1, a.measure_next + 1):
+        t_round = time.time()
         cmd = measure_cmd(a, i, d, k, twin_file, obs, last, store, a.wetdem, False)
         log = os.path.join(d, f"measure_m{k}.log")
         with open(log, "w") as f:
@@ -516,6 +531,7 @@ def measure_rounds(a, i, d, twin_file, diag_cmd, store):
         if r.returncode != 0:
             sys.exit(f"failed ({r.returncode}): {' '.join(cmd)} (see {log})")
         run(round_diag_cmd(diag_cmd, d, k), os.path.join(d, f"diagnose_m{k}.log"))
+        record_cost(d, time.time() - t_round, k)
         obs, last = os.path.join(d, f"observations_m{k}.csv"), os.path.join(d, f"diagnosis_m{k}")
 
 

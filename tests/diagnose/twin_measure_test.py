@@ -251,6 +251,15 @@ for mode in ("here", "script"):
     if rec != [{"table": "observations_m1.csv",
                 "measured": ["liquid_free_fraction at liquid.content=20 %, drum.rpm=30"]}]:
         fail(f"{mode}: measured.json: {rec}")
+    # The round's cost (its measurements and its diagnosis) is the twin's as well: cost_m1.json beside cost.json,
+    # summed in the matrix's wall.
+    costs = [os.path.join(tw, c) for c in ("cost.json", "cost_m1.json")]
+    if not all(os.path.exists(c) for c in costs):
+        fail(f"{mode}: no cost.json and cost_m1.json: {os.listdir(tw)}")
+    c0, c1 = (json.load(open(c)) for c in costs)
+    mj = json.load(open(os.path.join(out, "matrix.json")))
+    if c1["runs_computed"] != 1 or abs(mj["wall_s"] - (c0["wall_s"] + c1["wall_s"])) > 1e-9:
+        fail(f"{mode}: the matrix's wall {mj['wall_s']} is not the first call's {c0} and the round's {c1}")
     md = open(os.path.join(out, "matrix.md")).read()
     if "after measuring liquid_free_fraction at liquid.content=20 %" not in md:
         fail(f"{mode}: matrix.md does not say what was measured:\n{md}")
