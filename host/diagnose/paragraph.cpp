@@ -156,7 +156,6 @@ std::string limit_sentence(const Report& r, const std::string& e) {
   return "";
 }
 
-// Names as code in a sentence: "`a`", "`a` and `b`", "`a`, `b` and `c`" ("" for none).
 // The share of the gap a candidate removes held out (verdict.h, held_out_gap_shrink). Above 1 its held-out χ²
 // fell below the noise floor, which is estimated from the baseline's own cells (not from the emulator's wider
 // predictions): "all the gap", not "120 % of the gap".
@@ -164,6 +163,7 @@ std::string gap_removed(double share) {
   return share >= 1.0 ? "all the gap above the noise floor" : fmt::format("{:.0f} % of the gap", 100 * share);
 }
 
+// Names as code in a sentence: "`a`", "`a` and `b`", "`a`, `b` and `c`" ("" for none).
 std::string code_list(const std::vector<std::string>& v) {
   std::string s;
   for (size_t i = 0; i < v.size(); ++i)

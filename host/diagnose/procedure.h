@@ -241,8 +241,8 @@ class Procedure {
   std::vector<std::string> confirmed_on_fresh;  // of them, named first in a tie once their fresh runs
                                                 // confirmed them (fresh_ties.cpp, order_tie_by_evidence)
   std::vector<std::string> notes;               // failed runs, cut ranges, what could not be probed
-  std::vector<std::string>
-      assays_in_table;    // [assays] the table measures now: its observables (d lacks them)
+  // [assays] of the file that the table measures now: its observables (d lacks them)
+  std::vector<std::string> assays_in_table;
   Escalation escalation;  // from = 0: this is the only pass
   MoreSeeds more_seeds;   // to = 0: the verdict was decided (more_seeds.h)
 
