@@ -43,6 +43,11 @@ import time
 import tomllib
 
 
+def load_json(path):
+    with open(path) as f:
+        return json.load(f)
+
+
 def run(cmd, log):
     with open(log, "w") as f:
         r = subprocess.run(cmd, stdout=f, stderr=subprocess.STDOUT)
@@ -77,7 +82,7 @@ def signal(d, j):
     path = os.path.join(d, "twin", "truth.json")
     if not os.path.exists(path):
         return None
-    noiseless = {(n["condition"], n["observable"]): n["mean"] for n in json.load(open(path)).get("noiseless", [])}
+    noiseless = {(n["condition"], n["observable"]): n["mean"] for n in load_json(path).get("noiseless", [])}
     zs = []
     for c in j.get("cells") or []:
         m = noiseless.get((c["condition"], c["observable"]))
@@ -106,10 +111,10 @@ SHAPE_KEYS = {"absorption": "absorption.rate"}
 
 def row_of(d, t):
     sub = last_diagnosis(d)
-    j = json.load(open(os.path.join(d, sub, "diagnosis.json")))
-    first = j if sub == "diagnosis" else json.load(open(os.path.join(d, "diagnosis", "diagnosis.json")))
+    j = load_json(os.path.join(d, sub, "diagnosis.json"))
+    first = j if sub == "diagnosis" else load_json(os.path.join(d, "diagnosis", "diagnosis.json"))
     # What was measured up to the reported round (measured.json: one entry per round's table).
-    rounds = json.load(open(os.path.join(d, "measured.json"))) if sub != "diagnosis" else []
+    rounds = load_json(os.path.join(d, "measured.json")) if sub != "diagnosis" else []
     upto = int(sub[len("diagnosis_m"):]) if sub != "diagnosis" else 0
     measured = [m for e in rounds if int(re.search(r"_m(\d+)", e["table"]).group(1)) <= upto for m in e["measured"]]
     best = next((r for r in j.get("ranking") or [] if r["effect"] == j["effect"]), None)
@@ -180,12 +185,12 @@ def cost_of(d, j, upto=0):
     most runs (a re-evaluation from the store computes none and reads ~0 s), else this diagnosis's wall; plus
     each --measure-next round up to the reported one (cost_m<k>.json: its measurements and its diagnosis)."""
     path = os.path.join(d, "cost.json")
-    c = dict(json.load(open(path))) if os.path.exists(path) else {"wall_s": j.get("wall_s"),
-                                                                  "runs_computed": j.get("runs_computed")}
+    c = load_json(path) if os.path.exists(path) else {"wall_s": j.get("wall_s"),
+                                                      "runs_computed": j.get("runs_computed")}
     for k in range(1, upto + 1):
         pk = os.path.join(d, f"cost_m{k}.json")
         if os.path.exists(pk):
-            r = json.load(open(pk))
+            r = load_json(pk)
             c["wall_s"] = (c.get("wall_s") or 0) + (r.get("wall_s") or 0)
             c["runs_computed"] = (c.get("runs_computed") or 0) + (r.get("runs_computed") or 0)
     return c
@@ -196,11 +201,11 @@ def record_cost(d, wall_s, k=0):
     (cost_m<k>.json): its wall time (the twin's runs or the measurements included) and the runs the diagnosis
     computed, unless an earlier call computed more."""
     sub = "diagnosis" if k == 0 else f"diagnosis_m{k}"
-    j = json.load(open(os.path.join(d, sub, "diagnosis.json")))
+    j = load_json(os.path.join(d, sub, "diagnosis.json"))
     new = {"wall_s": wall_s, "runs_computed": j.get("runs_computed") or 0, "stages": j.get("stages"),
            "device": j.get("device")}
     path = os.path.join(d, "cost.json" if k == 0 else f"cost_m{k}.json")
-    if os.path.exists(path) and (json.load(open(path)).get("runs_computed") or 0) >= new["runs_computed"]:
+    if os.path.exists(path) and (load_json(path).get("runs_computed") or 0) >= new["runs_computed"]:
         return
     with open(path, "w") as f:
         json.dump(new, f, indent=1)
