@@ -425,6 +425,8 @@ TEST(DiagnoseFiles, ProbesOutsideThePhysicalRangeAreRefused) {
             std::string::npos);
   EXPECT_NE(err("[shapes]\ncohesion = [1, 2]\n").find("no second parameter"), std::string::npos);
   EXPECT_NE(err("max_cost = 0.5\n").find("max_cost"), std::string::npos);
+  EXPECT_NE(err("max_froude = 1.5\n").find("max_froude: a number in (0, 1]"), std::string::npos);
+  EXPECT_NE(err("max_froude = 0\n").find("max_froude"), std::string::npos);
   EXPECT_NE(err("[verdict]\ntable_level = 1\n").find("verdict.table_level: in [0, 1)"), std::string::npos);
   EXPECT_NE(err("[verdict]\nheld_out = \"aic\"\n")
                 .find("verdict.held_out: \"chi2\" or \"log_density\", not \"aic\""),
@@ -437,6 +439,7 @@ TEST(DiagnoseFiles, ProbesOutsideThePhysicalRangeAreRefused) {
       "case = \"" + kMicroStudyCase +
           "\"\n[shapes]\nabsorption = [1, 10]\n[verdict]\ntie_delta = 3\ntable_level = 0\ntie_noise = 0\n"));
   EXPECT_EQ(ok.shapes.at("absorption"), (std::vector<double>{1, 10}));
+  EXPECT_EQ(ok.max_froude, 0.5) << "the default";
   EXPECT_EQ(ok.rule.tie_delta, 3.0);
   EXPECT_EQ(ok.rule.tie_noise, 0.0) << "0 turns the held-out noise margin off";
   EXPECT_EQ(ok.rule.tie_draws, VerdictRule{}.tie_draws);

@@ -1,8 +1,10 @@
 // The next experiment (next_experiment.h), on its pure parts: the conditions proposed beyond and between the
 // table's, the merge of a second base's conditions, and the order of the proposals (a condition the table
 // already has first unless a new one is clearly better), and the separation left once each model re-fits.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -50,6 +52,47 @@ TEST(DiagnoseVerdict, NextExperimentProposesConditionsBeyondTheTable) {
   EXPECT_EQ(both[p.size()].label, "drum.rpm=60, liquid.content=5 %");
   EXPECT_EQ(both[p.size() + 1].label, "drum.rpm=15, liquid.content=5 %");
   EXPECT_EQ(merge_conditions(p, p, 3).size(), p.size()) << "nothing twice";
+}
+
+// A drum speed beyond the table stays where a laboratory measures a free surface: at most max_froude
+// (Fr = ω²R/g). The 60 mm drum's critical speed (Fr = 1) is 42.3/√D rpm = 172.7 rpm; after a 120 rpm row
+// the steps past (180 and 240 rpm) centrifuge and are not proposed, the midpoints are.
+TEST(DiagnoseVerdict, NextExperimentProposesNoDrumSpeedPastTheFroudeLimit) {
+  constexpr double kRpm = 2.0 * 3.14159265358979323846 / 60.0;
+  EXPECT_NEAR(max_drum_omega(0.03, 1.0) / kRpm, 42.3 / std::sqrt(0.06), 0.1);
+  EXPECT_NEAR(max_drum_omega(0.03, 0.5) / kRpm, 122.1, 0.1);
+  EXPECT_TRUE(std::isinf(max_drum_omega(0.0, 0.5))) << "no radius, no limit";
+  auto cond = [&](double rpm) {
+    Condition c;
+    const std::string w = fmt::format("{:g}", rpm);
+    c.values = {{"drum.rpm", w, w, rpm * kRpm}};
+    c.label = "drum.rpm=" + w;
+    return c;
+  };
+  const std::vector<Condition> table = {cond(30), cond(60), cond(120)};
+  const auto labels = [](const std::vector<Condition>& cs) {
+    std::vector<std::string> l;
+    for (const Condition& c : cs) l.push_back(c.label);
+    return l;
+  };
+  const std::vector<std::string> free = labels(propose_conditions(table, table[2], 30.0, 3.0, 10));
+  EXPECT_EQ(free, (std::vector<std::string>{"drum.rpm=180", "drum.rpm=120, run.duration=12 s", "drum.rpm=240",
+                                            "drum.rpm=45", "drum.rpm=90"}));
+  const std::vector<std::string> capped =
+      labels(propose_conditions(table, table[2], 30.0, 3.0, 10, max_drum_omega(0.03, 0.5)));
+  EXPECT_EQ(capped,
+            (std::vector<std::string>{"drum.rpm=120, run.duration=12 s", "drum.rpm=45", "drum.rpm=90"}));
+  // Without a speed key the model's speed doubled, unless that passes the limit; halved always.
+  Condition c10;
+  c10.values = {{"liquid.content", "10 %", "\"10 %\"", 0.10}};
+  c10.label = "liquid.content=10 %";
+  Condition c5 = c10;
+  c5.values[0] = {"liquid.content", "5 %", "\"5 %\"", 0.05};
+  c5.label = "liquid.content=5 %";
+  const std::vector<std::string> fast =
+      labels(propose_conditions({c5, c10}, c10, 100.0, 3.0, 10, max_drum_omega(0.03, 0.5)));
+  EXPECT_EQ(std::count(fast.begin(), fast.end(), "drum.rpm=200, liquid.content=10 %"), 0);
+  EXPECT_EQ(std::count(fast.begin(), fast.end(), "drum.rpm=50, liquid.content=10 %"), 1);
 }
 
 // The next experiment's order: a condition of the table wins unless a new one separates the pair by more than

@@ -19,6 +19,8 @@ struct ModelFacts {
   double plates_mu_r = 0.0;
   double rpm = 0.0;         // drum speed (the next experiment proposes others)
   double duration_s = 0.0;  // rotation time of a run (and longer runs)
+  double drum_radius_m =
+      0.0;  // the drum's inner radius: the Froude number of a speed the next experiment proposes
 };
 
 struct EffectSpec {

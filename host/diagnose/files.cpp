@@ -112,7 +112,8 @@ DiagnosisSpec parse_diagnosis_file(const std::string& path_in, const std::string
                   "shapes",
                   "verdict",
                   "refit",
-                  "refit_values"});
+                  "refit_values",
+                  "max_froude"});
   DiagnosisSpec d;
   d.path = path;
   d.name = root["name"].value_or(fs::path(path).stem().string());
@@ -220,6 +221,14 @@ DiagnosisSpec parse_diagnosis_file(const std::string& path_in, const std::string
     if (!r || *r < 0 || *r > 20)
       throw DiagnoseError(fmt::format("{}: next_conditions: an integer in [0, 20]", path));
     d.next_conditions = size_t(*r);
+  }
+  if (root.contains("max_froude")) {
+    const auto r = root["max_froude"].value<double>();
+    if (!r || !(*r > 0) || !(*r <= 1))
+      throw DiagnoseError(fmt::format(
+          "{}: max_froude: a number in (0, 1] (the drum's Froude number ω²R/g; at 1 the bed centrifuges)",
+          path));
+    d.max_froude = *r;
   }
   if (root.contains("next_refit")) {
     const auto r = root["next_refit"].value<int64_t>();

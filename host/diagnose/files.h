@@ -36,6 +36,11 @@ struct DiagnosisSpec {
   int confirm = 1;       // re-fits of the chosen effect with its fresh runs as a knot (0-3, shrink.h)
   double max_cost = 10;  // a run needing more than this many times a baseline run's particle-steps is not run
   size_t next_conditions = 8;  // conditions the next-experiment stage may propose and run (0: none)
+  // The fastest drum a proposal beyond the table may ask for, as a Froude number ω²R/g (next_experiment.h,
+  // max_drum_omega): at 1 the bed centrifuges; past ~0.1 it cataracts (Mellmann, Powder Technol. 118 (2001)
+  // 251), and from half the critical speed's Froude number on, the surface a camera fits and the AoR it
+  // gives lose their meaning. The 60 mm flowing drum: 122 rpm.
+  double max_froude = 0.5;
   // Of them, the best conditions at which both tied models also run at every strength they were probed at,
   // so that each can re-fit to the other's value there (next_experiment.h, refit_rise; 0: none).
   size_t next_refit = 3;

@@ -81,8 +81,9 @@ void run_bound_experiment(Procedure& p) {
       for (size_t ci = 0; ci < p.tab.conditions.size(); ++ci)
         if (p.tab.conditions[ci].label == b.proposals[k].condition) base = ci;
     }
-  std::vector<Condition> props = propose_conditions(p.tab.conditions, p.tab.conditions[base], p.models[0].rpm,
-                                                    p.models[0].duration_s, p.d.next_conditions);
+  std::vector<Condition> props =
+      propose_conditions(p.tab.conditions, p.tab.conditions[base], p.models[0].rpm, p.models[0].duration_s,
+                         p.d.next_conditions, max_drum_omega(p.models[0].drum_radius_m, p.d.max_froude));
   const Variant va = p.variant(b.effect, b.closed, b.refit, b.shape);
   const Variant vb = p.variant(b.effect, b.open, b.refit, b.shape);
   std::vector<Condition> wanted;

@@ -230,12 +230,24 @@ void add_refit_separations(Procedure& p, const FreshCheck& a, const FreshCheck& 
 
 }  // namespace
 
+double max_drum_omega(double drum_radius_m, double max_froude) {
+  constexpr double kG = 9.81;  // m/s², as the case's gravity
+  if (!(drum_radius_m > 0) || !(max_froude > 0)) return std::numeric_limits<double>::infinity();
+  return std::sqrt(max_froude * kG / drum_radius_m);  // Fr = ω²R/g
+}
+
 std::vector<Condition> propose_conditions(const std::vector<Condition>& table, const Condition& base,
-                                          double model_rpm, double model_duration_s, size_t max) {
+                                          double model_rpm, double model_duration_s, size_t max,
+                                          double max_omega) {
   std::vector<Condition> beyond, further, between;
   std::set<std::string> keys;
   for (const Condition& c : table)
     for (const auto& v : c.values) keys.insert(v.key);
+  // A drum speed key (drum.rpm, drum.rotation...: its SI value is ω in rad/s, study_file.cpp's si_of_key).
+  const auto speed_key = [](const std::string& key) {
+    const std::string leaf = key.substr(key.rfind('.') == std::string::npos ? 0 : key.rfind('.') + 1);
+    return leaf == "rpm" || leaf.rfind("rotation", 0) == 0;
+  };
   for (const std::string& key : keys) {
     // The measured values (SI) and the unit the table writes them in (from a value with SI != 0).
     std::map<double, std::string> vals;
@@ -252,17 +264,23 @@ std::vector<Condition> propose_conditions(const std::vector<Condition>& table, c
     std::vector<double> si;
     for (const auto& [x, w] : vals) si.push_back(x);
     const auto written = [&](double x) { return fmt::format("{:.4g}{}", x * per_si, unit); };
+    // A speed past max_omega is not a measurement a laboratory makes (the 60 mm drum at 240 rpm centrifuges;
+    // absorption-0.05-at-10's second round proposed it, docs/twin_matrix_flowing.md).
+    const auto add = [&](std::vector<Condition>& to, double x) {
+      if (!(speed_key(key) && x > max_omega)) to.push_back(with_value(base, key, written(x)));
+    };
     const double step = si.back() - si[si.size() - 2];
-    beyond.push_back(with_value(base, key, written(si.back() + step)));
+    add(beyond, si.back() + step);
     // Two steps past: a fingerprint that grows with the key may part two models only there, and a pair of
     // measurements one and two steps past lets the re-fit see the trend (evaporation-strong: 15 % then 20 %).
-    further.push_back(with_value(base, key, written(si.back() + 2.0 * step)));
-    for (size_t i = 0; i + 1 < si.size(); ++i)
-      between.push_back(with_value(base, key, written(0.5 * (si[i] + si[i + 1]))));
+    add(further, si.back() + 2.0 * step);
+    for (size_t i = 0; i + 1 < si.size(); ++i) add(between, 0.5 * (si[i] + si[i + 1]));
   }
   std::vector<Condition> out = beyond;
   if (!keys.count("drum.rpm") && model_rpm > 0) {
-    out.push_back(with_value(base, "drum.rpm", fmt::format("{:.4g}", 2.0 * model_rpm)));
+    constexpr double kRpm = 2.0 * 3.14159265358979323846 / 60.0;  // rad/s per rpm
+    if (2.0 * model_rpm * kRpm <= max_omega)
+      out.push_back(with_value(base, "drum.rpm", fmt::format("{:.4g}", 2.0 * model_rpm)));
     out.push_back(with_value(base, "drum.rpm", fmt::format("{:.4g}", 0.5 * model_rpm)));
   }
   // Four times as long, not twice: what tells a saturating sink (pore absorption) from a steady one
@@ -438,16 +456,18 @@ void run_next_experiment(Procedure& p) {
       p.next.proposals.push_back(q);
     }
   // Beyond the table (measure_beyond).
+  const double max_omega = max_drum_omega(p.models[0].drum_radius_m, p.d.max_froude);
   std::vector<Condition> props = propose_conditions(p.tab.conditions, p.tab.conditions[base], p.models[0].rpm,
-                                                    p.models[0].duration_s, p.d.next_conditions);
+                                                    p.models[0].duration_s, p.d.next_conditions, max_omega);
   // When an assay moved the base, the table's own observables are also tried around their own best
   // condition (half as many conditions): a laboratory that cannot make the assay still gets the best
   // measurement it can make beyond the table.
   if (camera_base != base)
-    props = merge_conditions(props,
-                             propose_conditions(p.tab.conditions, p.tab.conditions[camera_base],
-                                                p.models[0].rpm, p.models[0].duration_s, p.d.next_conditions),
-                             (p.d.next_conditions + 1) / 2);
+    props =
+        merge_conditions(props,
+                         propose_conditions(p.tab.conditions, p.tab.conditions[camera_base], p.models[0].rpm,
+                                            p.models[0].duration_s, p.d.next_conditions, max_omega),
+                         (p.d.next_conditions + 1) / 2);
   std::vector<Condition> wanted;
   const std::vector<Proposal> beyond = measure_beyond(p, va, vb, noise, props, wanted, "next experiment");
   p.next.proposals.insert(p.next.proposals.end(), beyond.begin(), beyond.end());

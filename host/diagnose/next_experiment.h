@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cmath>
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
@@ -23,9 +24,15 @@ void run_next_experiment(Procedure& p);
 // for each condition key of the table one step past its largest value; the drum speed x2 and x1/2 and the run
 // x4 longer when they are not condition keys; each key two steps past its largest; the midpoints between its
 // measured values. A step is the gap between the two largest values. Values are written in the unit the
-// table uses for the key. Pure (tests).
+// table uses for the key. A drum speed above `max_omega` (rad/s) is not proposed. Pure (tests).
 std::vector<Condition> propose_conditions(const std::vector<Condition>& table, const Condition& base,
-                                          double model_rpm, double model_duration_s, size_t max);
+                                          double model_rpm, double model_duration_s, size_t max,
+                                          double max_omega = std::numeric_limits<double>::infinity());
+
+// The fastest drum speed (rad/s) whose Froude number ω²R/g stays within `max_froude` (DiagnosisSpec): a
+// laboratory measures AoR and surface flow in a bed with a free surface, not one thrown about or centrifuged.
+// Infinite when the radius is unknown (<= 0).
+double max_drum_omega(double drum_radius_m, double max_froude);
 
 // Orders the proposals best first: those with a refit separation by it, before those without (they were not
 // among the best by separation, which bounds the refit separation up to the probes' noise). A condition the

@@ -269,7 +269,8 @@ void run_beyond(Procedure& p) {
     if (r.visible || r.strongest <= 0) continue;
     const Variant v = p.variant(r.effect, r.strongest);
     for (Condition& c : propose_conditions(p.tab.conditions, p.tab.conditions[p.tab.cell_condition[r.cell]],
-                                           p.models[0].rpm, p.models[0].duration_s, p.d.reach_conditions)) {
+                                           p.models[0].rpm, p.models[0].duration_s, p.d.reach_conditions,
+                                           max_drum_omega(p.models[0].drum_radius_m, p.d.max_froude))) {
       try {
         p.book.want(c, none, p.probe_seeds);
         p.book.want(c, v, p.probe_seeds);

@@ -48,6 +48,7 @@ ModelFacts model_facts(const DiagnosisSpec& d, const RefitSetting& r) {
   m.plates_mu_r = base.plates.mu_r;
   m.rpm = base.drum.omega * 60.0 / (2.0 * 3.14159265358979323846);
   m.duration_s = base.run.duration;
+  m.drum_radius_m = 0.5 * base.drum.diameter;
   return m;
 }
 
