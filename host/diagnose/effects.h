@@ -19,8 +19,8 @@ struct ModelFacts {
   double plates_mu_r = 0.0;
   double rpm = 0.0;         // drum speed (the next experiment proposes others)
   double duration_s = 0.0;  // rotation time of a run (and longer runs)
-  double drum_radius_m =
-      0.0;  // the drum's inner radius: the Froude number of a speed the next experiment proposes
+  // The drum's inner radius: the Froude number ω²R/g of a speed the next experiment proposes.
+  double drum_radius_m = 0.0;
 };
 
 struct EffectSpec {
