@@ -1,6 +1,7 @@
 #include "diagnose/next_experiment.h"
 
 #include <fmt/format.h>
+#include <glm/geometric.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -14,6 +15,7 @@
 #include "diagnose/fit.h"
 #include "diagnose/shrink.h"
 #include "diagnose/where.h"
+#include "wetdem/params.h"
 
 namespace wetdem::diagnose {
 
@@ -231,9 +233,9 @@ void add_refit_separations(Procedure& p, const FreshCheck& a, const FreshCheck& 
 }  // namespace
 
 double max_drum_omega(double drum_radius_m, double max_froude) {
-  constexpr double kG = 9.81;  // m/s², as the case's gravity
   if (!(drum_radius_m > 0) || !(max_froude > 0)) return std::numeric_limits<double>::infinity();
-  return std::sqrt(max_froude * kG / drum_radius_m);  // Fr = ω²R/g
+  const double g = glm::length(SimParams{}.gravity);  // the engine's gravity (no case key sets it)
+  return std::sqrt(max_froude * g / drum_radius_m);   // Fr = ω²R/g
 }
 
 std::vector<Condition> propose_conditions(const std::vector<Condition>& table, const Condition& base,
