@@ -252,7 +252,28 @@ fi
 """
 
 
-def write_script(path, twins):
+def check_twin(wetdem, name, twin_file, log):
+    """wetdem twin --check: the twin's file and the case at each of its conditions, nothing run."""
+    with open(log, "w") as f:
+        r = subprocess.run([wetdem, "twin", twin_file, "--check"], stdout=f, stderr=subprocess.STDOUT)
+    if r.returncode != 0:
+        why = [ln for ln in open(log).read().splitlines() if ln.strip()]
+        sys.exit(f"{name}: the twin cannot run ({why[-1] if why else f'exit {r.returncode}'}; {log}); "
+                 "nothing was run")
+
+
+def script_checks(todo):
+    """The script's first block: every twin not done before checked (wetdem twin --check) before any runs."""
+    q = lambda c: shlex.quote(c)
+    out = ["\n# Every twin's file and the case at each of its conditions checked before the first run.\n"]
+    for _, t, d, tf, _, _ in todo:
+        out.append(f"[[ -f {q(os.path.join(d, 'diagnosis', 'diagnosis.json'))} ]] || "
+                   f"\"$WETDEM\" twin {q(tf)} --check >{q(os.path.join(d, 'check.log'))} 2>&1 || "
+                   f"fail {t['name']} 'twin --check'\n")
+    return "".join(out)
+
+
+def write_script(path, twins, checks=""):
     head = """#!/bin/bash
 # Written by scripts/twin_matrix.py --script: the twins of a validation matrix, run from the project root with
 # the wetdem binary in $WETDEM. A twin whose diagnosis.json exists is skipped (runs resume through the store).
@@ -272,7 +293,7 @@ cost() {
 }
 """
     with open(path, "w") as f:
-        f.write(head + "".join(twins))
+        f.write(head + checks + "".join(twins))
     os.chmod(path, 0o755)
 
 
@@ -608,14 +629,14 @@ def main():
     t0 = time.time()
     rows = []
     lines = []
+    todo = []  # (i, twin, its folder, its file, the twin call, the diagnosis call), checked before any runs
     for i, t in enumerate(spec["twin"]):
         d = os.path.join(a.out, t["name"])
         if a.summarize or (a.only and t["name"] not in a.only):
             if not a.script and os.path.exists(os.path.join(d, "diagnosis", "diagnosis.json")):
-                rows.append(row_of(d, t))
+                rows.append((i, row_of(d, t)))
             continue
         os.makedirs(d, exist_ok=True)
-        t_twin = time.time()
         overrides = dict(t.get("truth", {}))
         overrides.update(t.get("perturb", {}))
         tf = os.path.join(d, "twin.toml")
@@ -631,23 +652,30 @@ def main():
         rep += ["--probe-seeds", str(a.probe_seeds)] if a.probe_seeds else []
         diag_cmd = [a.wetdem, "diagnose", diagnosis, "--observations", os.path.join(d, "twin", "observations.csv"),
                     "--out", os.path.join(d, "diagnosis")] + rep + common
-        if a.script:
+        todo.append((i, t, d, tf, twin_cmd, diag_cmd))
+    if a.script:
+        for i, t, d, tf, twin_cmd, diag_cmd in todo:
             lines.append(script_twin(t["name"], d, twin_cmd, diag_cmd))
             if a.measure_next:  # the rounds go with their twin's block
                 lines[-1] += script_rounds(a, i, t["name"], d, tf, diag_cmd, store)
-            continue
+        write_script(a.script, lines, script_checks(todo))
+        print(f"{a.script}: {len(lines)} twins; run it from the project root (WETDEM=path/to/wetdem bash "
+              f"{a.script}), then: {sys.argv[0]} {a.matrix} --out {a.out} --summarize")
+        return
+    # Every twin's file and the case at each of its conditions are checked before the first run: a twin that
+    # cannot run stops the matrix now, not hours into it.
+    for i, t, d, tf, twin_cmd, diag_cmd in todo:
+        check_twin(a.wetdem, t["name"], tf, os.path.join(d, "check.log"))
+    for i, t, d, tf, twin_cmd, diag_cmd in todo:
+        t_twin = time.time()
         run(twin_cmd, os.path.join(d, "twin.log"))
         run(diag_cmd, os.path.join(d, "diagnose.log"))
         record_cost(d, time.time() - t_twin)
         measure_rounds(a, i, d, tf, diag_cmd, store)
-        rows.append(row_of(d, t))
-        r = rows[-1]
+        rows.append((i, row_of(d, t)))
+        r = rows[-1][1]
         print(f"{t['name']}: {r['verdict']} {r['effect'] or ''} ({time.time() - t0:.0f} s)", flush=True)
-    if a.script:
-        write_script(a.script, lines)
-        print(f"{a.script}: {len(lines)} twins; run it from the project root (WETDEM=path/to/wetdem bash "
-              f"{a.script}), then: {sys.argv[0]} {a.matrix} --out {a.out} --summarize")
-        return
+    rows = [r for _, r in sorted(rows, key=lambda x: x[0])]  # the matrix file's order
     # The matrix's cost: the twins' computing calls summed (cost.json), not this call's, which may only have
     # re-read the store.
     wall = sum(r["wall_s"] or 0 for r in rows)

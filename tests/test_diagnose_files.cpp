@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 
@@ -408,6 +409,53 @@ TEST(DiagnoseFiles, TwinPointsAreExplicitConditions) {
             std::string::npos)
       << dup;
   EXPECT_FALSE(fs::exists(d.p / "out" / "store" / "runs")) << "nothing may run on bad input";
+}
+
+TEST(DiagnoseFiles, TwinCheckValidatesEveryConditionAndRunsNothing) {
+  Dir d;
+  const std::string head = "case = \"" + kMicroStudyCase + "\"\nseeds = [7, 8]\n[noise]\naor_deg_mean = 1\n";
+  DiagnoseOptions o;
+  o.quiet = true;
+  o.check = true;  // wetdem twin --check
+  o.store = (d.p / "store").string();
+  const nlohmann::json j =
+      run_twin(parse_twin_file(d.write(
+                   "t.toml", head + "[conditions]\n\"liquid.content\" = [\"0 %\", \"5 %\", \"10 %\"]\n")),
+               o);
+  EXPECT_TRUE(j.value("checked", false));
+  EXPECT_EQ(j.value("conditions", 0), 3);
+  EXPECT_EQ(j.value("runs", 0), 6);
+  EXPECT_FALSE(fs::exists(d.p / "store")) << "a check writes nothing";
+  // A slice too thin for the neighbour reach at one condition: refused naming the condition, with the bound
+  // the slice must pass (twice the reach) printed as the number it is compared with.
+  const std::string thin = expect_error([&] {
+    run_twin(parse_twin_file(d.write("t.toml", head + "[conditions]\n\"drum.slice_thickness\" = [\"18 mm\", "
+                                                      "\"15 mm\"]\n")),
+             o);
+  });
+  EXPECT_NE(
+      thin.find("the condition drum.slice_thickness=15 mm (the truth's run there): drum.slice_thickness: "
+                "must exceed twice the neighbour reach"),
+      std::string::npos)
+      << thin;
+  const size_t at = thin.find("skin) = 2 x ");
+  ASSERT_NE(at, std::string::npos) << thin;
+  double reach = 0, bound = 0, got = 0;
+  ASSERT_EQ(std::sscanf(thin.c_str() + at, "skin) = 2 x %lf m = %lf m", &reach, &bound), 2) << thin;
+  const size_t g = thin.find("got ");
+  ASSERT_NE(g, std::string::npos) << thin;
+  ASSERT_EQ(std::sscanf(thin.c_str() + g, "got %lf m", &got), 1) << thin;
+  EXPECT_NEAR(bound, 2.0 * reach, 1e-3 * bound);
+  EXPECT_DOUBLE_EQ(got, 0.015);
+  EXPECT_GT(bound, got);
+  EXPECT_LT(bound, 0.018);  // the case's own slice passes
+  // The same condition written twice is found from the SI values the check resolves.
+  const std::string dup = expect_error([&] {
+    run_twin(
+        parse_twin_file(d.write("t.toml", head + "[conditions]\n\"liquid.content\" = [\"5 %\", 0.05]\n")), o);
+  });
+  EXPECT_NE(dup.find("are the same condition"), std::string::npos) << dup;
+  EXPECT_FALSE(fs::exists(d.p / "store"));
 }
 
 TEST(DiagnoseFiles, ProbesOutsideThePhysicalRangeAreRefused) {

@@ -42,13 +42,18 @@ class Impl : public study::Commands {
                      "seeds per probe knot instead of the file's `probe_seeds` (1..R, the baseline's first "
                      "seeds): more for effects that widen the run-to-run scatter")
         ->check(CLI::Range(1, 100));
-    add_common(diag_);
+    add_common(diag_, true);
     twin_ =
         cli.add_subcommand("twin", "synthetic observations from a model with a withheld effect (validation)");
     twin_->add_option("file", file_, "twin file (TOML)")->required();
+    twin_->add_flag(
+        "--check", o_.check,
+        "validate the file and the case at every condition (keys, ranges, the slice against the neighbour "
+        "reach, the observables), then stop: nothing is run or written "
+        "(--out not needed; scripts/twin_matrix.py checks every twin this way before its first run)");
     twin_->footer(
         "Example: wetdem twin assets/diagnosis/micro/twin_spread.toml --out diag/twin --store diag/store");
-    add_common(twin_);
+    add_common(twin_, false);
   }
   bool selected() const override { return diag_->parsed() || twin_->parsed(); }
   int execute() override {
@@ -90,7 +95,16 @@ class Impl : public study::Commands {
         std::printf("verdict: %s%s\nreport: %s/report.md\n", j["verdict"].get<std::string>().c_str(),
                     named.empty() ? "" : (" (" + named + ")").c_str(), o_.out.c_str());
       } else {
+        if (o_.out.empty() && !o_.check) throw DiagnoseError("--out: required (unless --check)");
         const TwinSpec t = parse_twin_file(file_);
+        if (o_.check) {
+          const nlohmann::json j = run_twin(t, o_);
+          std::printf(
+              "%s: %zu conditions, %zu truth runs: the file and the case at every condition check (nothing "
+              "run)\n",
+              file_.c_str(), j["conditions"].get<size_t>(), j["runs"].get<size_t>());
+          return 0;
+        }
         choose_batch();
         run_twin(t, o_);
         std::printf("observations: %s/observations.csv (truth apart: %s/truth.json)\n", o_.out.c_str(),
@@ -122,8 +136,10 @@ class Impl : public study::Commands {
     }
     if (!o_.quiet) std::printf("%s; %s\n", why.c_str(), why_jobs.c_str());
   }
-  void add_common(CLI::App* c) {
-    c->add_option("--out", o_.out, "output directory")->required();
+  void add_common(CLI::App* c, bool out_required) {
+    c->add_option("--out", o_.out,
+                  out_required ? "output directory" : "output directory (required unless --check)")
+        ->required(out_required);
     c->add_option("--store", o_.store, "run store to use and share (a study directory; default OUT/store)");
     c->add_option("--jobs", jobs_,
                   "runs at a time (default: one per CPU core, up to " +

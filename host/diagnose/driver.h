@@ -20,6 +20,7 @@ struct DiagnoseOptions {
   std::string exe;  // the wetdem binary for run processes; empty: in this process (tests)
   bool quiet = false;
   bool figures = true;
+  bool check = false;  // twin --check: validate the file and every condition, run nothing, write nothing
 };
 
 // Baseline, where, screen, fit, verdict, shrink, next experiment, report. Returns what diagnosis.json holds.

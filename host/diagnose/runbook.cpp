@@ -78,6 +78,15 @@ void RunBook::check(const Condition& c, const Variant& v) const {
   study::expand(spec_of(c, v, {1}));
 }
 
+void RunBook::resolve(Condition& c, const Variant& v, const std::vector<uint64_t>& seeds) const {
+  const std::vector<study::PlannedRun> planned = study::expand(spec_of(c, v, seeds));
+  if (planned.empty() || !c.si.empty()) return;
+  for (size_t i = 0; i < c.values.size(); ++i) {
+    c.values[i].si = planned.front().values[i].si;
+    c.si[c.values[i].key] = planned.front().values[i].si;
+  }
+}
+
 std::string RunBook::same_physics(const study::PlannedRun& r) {
   const std::string phys = study::run_hash(app::physics_identity(r.resolved), r.seed);
   if (const auto it = phys_to_hash_.find(phys); it != phys_to_hash_.end()) return it->second;

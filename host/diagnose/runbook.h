@@ -53,6 +53,8 @@ class RunBook {
   void want(Condition& c, const Variant& v, const std::vector<uint64_t>& seeds);
   // Resolves and validates the run of v at c as want does, without wanting it.
   void check(const Condition& c, const Variant& v) const;
+  // As check, and fills c's SI values as want does; writes nothing to the store (twin --check).
+  void resolve(Condition& c, const Variant& v, const std::vector<uint64_t>& seeds) const;
   // Runs every wanted run that is not complete. A run that fails (a probe whose bed blows up) does not stop
   // the others nor the diagnosis: it is recorded (failure()) and the stages decide what it means (a cut
   // range). A run that failed in an earlier diagnosis sharing the store is not run again and reads the same.

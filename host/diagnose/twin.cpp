@@ -110,7 +110,10 @@ nlohmann::json run_twin(const TwinSpec& t, const DiagnoseOptions& o) {
   }
   for (Condition& c : conds) {
     try {
-      book.want(c, truth, t.seeds);
+      if (o.check)
+        book.resolve(c, truth, t.seeds);  // validated as want does; the store is not touched
+      else
+        book.want(c, truth, t.seeds);
     } catch (const study::StudyError& e) {  // named as the user wrote it, not as the study's point number
       throw DiagnoseError(
           fmt::format("{}: the condition {} (the truth's run there): {}", t.path, c.label, e.reason()));
@@ -121,6 +124,8 @@ nlohmann::json run_twin(const TwinSpec& t, const DiagnoseOptions& o) {
   if (const auto same = same_condition_in_si(conds))
     throw DiagnoseError(fmt::format("{}: the conditions {} and {} are the same condition: list each once",
                                     t.path, conds[same->first].label, conds[same->second].label));
+  if (o.check)
+    return {{"checked", true}, {"conditions", conds.size()}, {"runs", conds.size() * t.seeds.size()}};
   book.run();
   if (const std::string why = book.failure(conds, truth, t.seeds); !why.empty())
     throw std::runtime_error("a truth run failed: " + why);

@@ -12,7 +12,8 @@ namespace wetdem::diagnose {
 
 // The truth runs, then observations.csv (noisy means, sigma) and, apart, truth.json. Returns truth.json.
 // Every condition is validated before any run (a case no run could make, a slice too thin for the neighbour
-// reach at some condition, an observable the model cannot produce).
+// reach at some condition, an observable the model cannot produce). With o.check it stops there: nothing is
+// run or written, and it returns {"checked": true, "conditions": N, "runs": N x seeds}.
 nlohmann::json run_twin(const TwinSpec& t, const DiagnoseOptions& o);
 
 // A measurement of `mean` with noise sd that never leaves the observable's physically possible range

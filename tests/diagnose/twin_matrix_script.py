@@ -33,7 +33,8 @@ name = "null-1"
 fake = os.path.join(root, "fake-wetdem")
 open(fake, "w").write(r'''#!/bin/bash
 echo "$*" >>calls.log
-[[ -n ${FAIL_ON:-} && "$*" == *"$FAIL_ON"* ]] && exit 3
+[[ -n ${FAIL_ON:-} && "$*" == *"$FAIL_ON"* ]] && { echo "wetdem: error: $FAIL_ON"; exit 3; }
+[[ " $* " == *" --check "* ]] && exit 0
 out=""; prev=""
 for a in "$@"; do [[ $prev == --out ]] && out=$a; prev=$a; done
 mkdir -p "$out"
@@ -80,14 +81,23 @@ sh(["bash", "-n", "run.sh"])
 if os.path.exists(os.path.join(root, "out", "null-1", "diagnosis")):
     fail("--script ran something")
 
-# A failing call stops the script and names the twin.
+# Every twin is checked (wetdem twin --check) before the first run: one that cannot run stops the script
+# before anything runs, naming the twin.
 r = sh(["bash", "run.sh"], {"WETDEM": fake, "FAIL_ON": "null-1/twin.toml"}, ok=False)
+if r.returncode == 0 or "null-1: wetdem twin --check failed" not in r.stdout:
+    fail(f"a twin that does not check: exit {r.returncode}, output {r.stdout!r}")
+if os.path.exists(os.path.join(root, "out", "cohesion-strong", "diagnosis")):
+    fail("a twin that does not check: the twins before it ran")
+# A failing call stops the script and names the twin.
+r = sh(["bash", "run.sh"], {"WETDEM": fake, "FAIL_ON": "out/null-1/twin --store"}, ok=False)
 if r.returncode == 0 or "null-1: wetdem twin failed" not in r.stdout:
     fail(f"a failing twin call: exit {r.returncode}, output {r.stdout!r}")
-# Run to the end: the first twin is skipped, the second run.
+# Run to the end: the first twin is skipped (and not checked again), the second run.
 sh(["bash", "run.sh"], {"WETDEM": fake})
 calls = open(os.path.join(root, "calls.log")).read().splitlines()
-if len(calls) != 5:  # cohesion: twin + diagnose; null-1: the failed twin, then twin + diagnose
+# the two checks, the second failing; the two checks, cohesion's twin + diagnose, null-1's failed twin; null-1's
+# check, twin + diagnose
+if len(calls) != 10 or sum(" --check" in c for c in calls) != 5:
     fail(f"calls: {calls}")
 diag = [c for c in calls if c.startswith("diagnose ")]
 for c in diag:
@@ -97,14 +107,25 @@ for c in diag:
 cost = json.load(open(os.path.join(root, "out", "null-1", "cost.json")))
 if cost["runs_computed"] != 7 or cost["wall_s"] < 0:
     fail(f"cost.json: {cost}")
-# Once more: nothing left to run.
+# Once more: nothing left to run (or check).
 r = sh(["bash", "run.sh"], {"WETDEM": fake})
-if len(open(os.path.join(root, "calls.log")).read().splitlines()) != 5 or r.stdout.count("done before") != 2:
+if len(open(os.path.join(root, "calls.log")).read().splitlines()) != 10 or r.stdout.count("done before") != 2:
     fail(f"a second run of the script ran again: {r.stdout}")
 sh(matrix + ["--out", os.path.join(root, "out"), "--summarize"])
 m = json.load(open(os.path.join(root, "out", "matrix.json")))
 if m.get("top1") != 1 or m.get("confident_wrong") != 1:
     fail(f"matrix.json from the script's folders: {m}")
+
+# Without --script the same check comes first: a twin that cannot run stops the matrix with its reason, and
+# nothing has run.
+r = sh(matrix + ["--out", os.path.join(root, "out6"), "--wetdem", fake], {"FAIL_ON": "null-1/twin.toml"}, ok=False)
+if r.returncode == 0 or "null-1: the twin cannot run (wetdem: error: null-1/twin.toml" not in r.stderr or \
+        "nothing was run" not in r.stderr or os.path.exists(os.path.join(root, "out6", "cohesion-strong", "twin")):
+    fail(f"a twin that does not check, without --script: exit {r.returncode}, {r.stderr!r}")
+sh(matrix + ["--out", os.path.join(root, "out6"), "--wetdem", fake])
+if not os.path.exists(os.path.join(root, "out6", "null-1", "diagnosis", "diagnosis.json")) or \
+        json.load(open(os.path.join(root, "out6", "matrix.json"))).get("top1") != 1:
+    fail("the matrix without --script, after its checks: the twins' diagnoses and matrix.json expected")
 
 # --twin-base: another table for every twin (its conditions, its case relative to it), the truth still applied.
 os.makedirs(os.path.join(root, "fast"))

@@ -441,9 +441,10 @@ Case read_case(const toml::table& root, const std::string& source) {
   if (c.drum.periodic_slice && !(d_largest < 0.5 * c.drum.slice_thickness))
     throw CaseError(
         "drum.slice_thickness",
-        fmt::format("must exceed twice the largest scaled particle ({:.4g} m) for the periodic image, got "
-                    "{:.4g} m",
-                    d_largest, c.drum.slice_thickness));
+        fmt::format(
+            "must exceed twice the largest scaled particle, 2 x {:.4g} m = {:.4g} m (for the periodic "
+            "image), got {:.4g} m",
+            d_largest, 2.0 * d_largest, c.drum.slice_thickness));
   if (c.liquid.viscosity > 0 && !c.liquid.on())
     c.notes.push_back(
         "liquid: viscosity acts on bridges only; it has no effect without liquid (content = 0)");

@@ -37,10 +37,12 @@ void check_reach(const Case& c) {
   const double skin = c.run.skin ? *c.run.skin : 0.3 * 0.5 * psd.d_min();
   const double reach = psd.d_max() + s_cmax + skin;
   if (!(reach < 0.5 * c.drum.slice_thickness))
-    throw CaseError("drum.slice_thickness",
-                    fmt::format("must exceed twice the neighbour reach 2 r_max + S_c,max + skin = {:.4g} m "
-                                "(largest particle of the PSD, bridge of V_max), got {:.4g} m",
-                                reach, c.drum.slice_thickness));
+    throw CaseError(
+        "drum.slice_thickness",
+        fmt::format("must exceed twice the neighbour reach, 2 (2 r_max + S_c,max + skin) = 2 x "
+                    "{:.4g} m = {:.4g} m (largest particle of the PSD, bridge of V_max), got {:.4g} m "
+                    "(a thicker slice, a PSD cut lower or a smaller V_max)",
+                    reach, 2.0 * reach, c.drum.slice_thickness));
 }
 
 ResourceEstimate estimate_resources(const Case& c) {
