@@ -269,7 +269,10 @@ TEST(DiagnoseFiles, BadObservationTablesAreRefusedBeforeAnyRun) {
     o.out = (d.p / "out").string();
     o.figures = false;
     o.quiet = true;
-    return expect_error([&] { run_diagnosis(parse_diagnosis_file(f), o); });
+    const std::string err = expect_error([&] { run_diagnosis(parse_diagnosis_file(f), o); });
+    o.check = true;  // diagnose --check refuses it with the same words
+    EXPECT_EQ(expect_error([&] { run_diagnosis(parse_diagnosis_file(f), o); }), err);
+    return err;
   };
   // One condition: no held-out check possible.
   EXPECT_NE(diagnose_with("liquid.content,observable,value,sigma\n\"5 %\",aor_deg_mean,30,1\n"
@@ -354,6 +357,25 @@ TEST(DiagnoseFiles, BadObservationTablesAreRefusedBeforeAnyRun) {
                 .cells.size(),
             2u);
   EXPECT_FALSE(fs::exists(d.p / "out" / "store" / "runs")) << "nothing may run on bad input";
+  // A good table with --check: the counts, and nothing written (not even the store's run aliases).
+  {
+    d.write("obs.csv",
+            "liquid.content,observable,value,sigma\n\"5 %\",aor_deg_mean,30,1\n"
+            "\"5 %\",f_wet_mean,0.5,0.1\n\"10 %\",aor_deg_mean,31,1\n");
+    const std::string f =
+        d.write("dc.toml", "case = \"" + kMicroStudyCase +
+                               "\"\nobservations = \"obs.csv\"\neffects = [\"cohesion\", \"spread\"]\n");
+    DiagnoseOptions o;
+    o.out = (d.p / "checked").string();
+    o.quiet = true;
+    o.check = true;
+    const nlohmann::json j = run_diagnosis(parse_diagnosis_file(f), o);
+    EXPECT_TRUE(j.value("checked", false));
+    EXPECT_EQ(j.value("conditions", 0), 2);
+    EXPECT_EQ(j.value("cells", 0), 3);
+    EXPECT_EQ(j["candidates"], nlohmann::json::array({"cohesion", "spread"}));
+    EXPECT_FALSE(fs::exists(d.p / "checked")) << "a check writes nothing";
+  }
 }
 
 // A twin's conditions as explicit points (a laboratory's table is rarely a full product).

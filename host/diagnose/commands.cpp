@@ -42,7 +42,11 @@ class Impl : public study::Commands {
                      "seeds per probe knot instead of the file's `probe_seeds` (1..R, the baseline's first "
                      "seeds): more for effects that widen the run-to-run scatter")
         ->check(CLI::Range(1, 100));
-    add_common(diag_, true);
+    diag_->add_flag(
+        "--check", o_.check,
+        "validate the file, the table and the case of the baseline and of every candidate's probes at "
+        "every condition, then stop: nothing is run or written (--out not needed)");
+    add_common(diag_);
     twin_ =
         cli.add_subcommand("twin", "synthetic observations from a model with a withheld effect (validation)");
     twin_->add_option("file", file_, "twin file (TOML)")->required();
@@ -53,12 +57,13 @@ class Impl : public study::Commands {
         "(--out not needed; scripts/twin_matrix.py checks every twin this way before its first run)");
     twin_->footer(
         "Example: wetdem twin assets/diagnosis/micro/twin_spread.toml --out diag/twin --store diag/store");
-    add_common(twin_, false);
+    add_common(twin_);
   }
   bool selected() const override { return diag_->parsed() || twin_->parsed(); }
   int execute() override {
     o_.exe = study::self_exe();
     try {
+      if (o_.out.empty() && !o_.check) throw DiagnoseError("--out: required (unless --check)");
       if (diag_->parsed()) {
         DiagnosisSpec d = parse_diagnosis_file(file_, observations_);
         if (replicates_ > 0) d.replicates = replicates_;
@@ -79,6 +84,16 @@ class Impl : public study::Commands {
                 probe_seeds_, d.replicates));
           d.probe_seeds = probe_seeds_;
         }  // the file's probe_seeds against a lower --replicates: Procedure's check
+        if (o_.check) {
+          const nlohmann::json j = run_diagnosis(d, o_);
+          std::string names;
+          for (const auto& e : j["candidates"]) names += (names.empty() ? "" : ", ") + e.get<std::string>();
+          std::printf(
+              "%s: %zu conditions, %zu cells, candidates %s: the file, the table and the case of every run "
+              "check (nothing run)\n",
+              file_.c_str(), j["conditions"].get<size_t>(), j["cells"].get<size_t>(), names.c_str());
+          return 0;
+        }
         choose_batch();
         const nlohmann::json j = run_diagnosis(d, o_);
         std::string named;  // "spread" or "spread + absorption" (a second effect on top of the first)
@@ -95,7 +110,6 @@ class Impl : public study::Commands {
         std::printf("verdict: %s%s\nreport: %s/report.md\n", j["verdict"].get<std::string>().c_str(),
                     named.empty() ? "" : (" (" + named + ")").c_str(), o_.out.c_str());
       } else {
-        if (o_.out.empty() && !o_.check) throw DiagnoseError("--out: required (unless --check)");
         const TwinSpec t = parse_twin_file(file_);
         if (o_.check) {
           const nlohmann::json j = run_twin(t, o_);
@@ -136,10 +150,8 @@ class Impl : public study::Commands {
     }
     if (!o_.quiet) std::printf("%s; %s\n", why.c_str(), why_jobs.c_str());
   }
-  void add_common(CLI::App* c, bool out_required) {
-    c->add_option("--out", o_.out,
-                  out_required ? "output directory" : "output directory (required unless --check)")
-        ->required(out_required);
+  void add_common(CLI::App* c) {
+    c->add_option("--out", o_.out, "output directory (required unless --check)");
     c->add_option("--store", o_.store, "run store to use and share (a study directory; default OUT/store)");
     c->add_option("--jobs", jobs_,
                   "runs at a time (default: one per CPU core, up to " +

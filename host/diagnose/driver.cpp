@@ -154,6 +154,11 @@ nlohmann::json run_diagnosis(const DiagnosisSpec& d, const DiagnoseOptions& o) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   };
   Procedure p(d, o);  // reads and checks the table and every run it may need; wants the baseline
+  if (o.check)
+    return {{"checked", true},
+            {"conditions", p.tab.conditions.size()},
+            {"cells", p.tab.cells.size()},
+            {"candidates", p.effects}};
   StageClock clock(p, d.name, o.quiet);
   run_to_verdict(p, clock);
   // Sequential replication: when the first pass leaves its verdict undecided (a tie kept on fresh runs, or a

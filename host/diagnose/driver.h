@@ -20,13 +20,14 @@ struct DiagnoseOptions {
   std::string exe;  // the wetdem binary for run processes; empty: in this process (tests)
   bool quiet = false;
   bool figures = true;
-  bool check = false;  // twin --check: validate the file and every condition, run nothing, write nothing
+  bool check = false;  // --check: validate the files and every run's case, run nothing, write nothing
 };
 
 // Baseline, where, screen, fit, verdict, shrink, next experiment, report. Returns what diagnosis.json holds.
 // Reads only the files D.toml names (never a twin's truth.json). Throws DiagnoseError on bad input (before
 // any run), std::runtime_error when the calibrated model itself cannot run. A probe that fails never stops
-// it: the candidate's range is cut there and the report says so.
+// it: the candidate's range is cut there and the report says so. With o.check it stops after those checks
+// (nothing run or written) and returns {"checked": true, "conditions", "cells", "candidates"}.
 nlohmann::json run_diagnosis(const DiagnosisSpec& d, const DiagnoseOptions& o);
 
 }  // namespace wetdem::diagnose

@@ -153,7 +153,14 @@ Procedure::Procedure(const DiagnosisSpec& d_, const DiagnoseOptions& o_)
             fmt::format("{}: {} ({}){}: {}", tab.path, condition_lines(tab, ci), c.label, run(), e.reason()));
       }
     };
-    checked([&] { book.want(c, variant("", 0), base_seeds); }, [] { return std::string(); });
+    checked(
+        [&] {
+          if (o.check)
+            book.resolve(c, variant("", 0), base_seeds);  // diagnose --check: the store is not touched
+          else
+            book.want(c, variant("", 0), base_seeds);
+        },
+        [] { return std::string(); });
     for (size_t j = 1; j < settings.size(); ++j)
       checked(
           [&] { book.check(c, variant("", 0, j)); },
