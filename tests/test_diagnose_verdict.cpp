@@ -97,6 +97,18 @@ TEST(DiagnoseVerdict, TieRuleAndPartial) {
   // cohesion's 100.3, is dropped by the tie margin and kept by the luck 70.6.
   EXPECT_EQ(unseen_on_fresh(100.3, 151.5, 48, VerdictRule{}), FreshJudgement::kDrop);
   EXPECT_EQ(unseen_on_fresh(100.3, 151.5, 48, VerdictRule{}, 70.6), FreshJudgement::kKeep);
+  // A tie held out that its fresh runs leave clearly worse is not named (ties_clearly_worse_on_fresh): the
+  // flowing absorption-0.03-at-30 twin at 4 seeds, absorption first at 99.4 on fresh runs, evaporation 99.3,
+  // scale 220.6 (worse than the model alone, 211.7), luck 22.6; a tie whose fresh runs failed is kept.
+  const double nan = std::nan("");
+  EXPECT_EQ(ties_clearly_worse_on_fresh(99.4, {99.3, 220.6, nan}, 48, VerdictRule{}, 22.6),
+            std::vector<size_t>{1});
+  EXPECT_TRUE(ties_clearly_worse_on_fresh(99.4, {99.4 + 22.5}, 48, VerdictRule{}, 22.6).empty())
+      << "within the model's own seed luck: still tied";
+  EXPECT_EQ(ties_clearly_worse_on_fresh(30.7, {35.0}, 48, VerdictRule{}, 0.0), std::vector<size_t>{0})
+      << "past the tie margin of 4 with no luck";
+  EXPECT_TRUE(ties_clearly_worse_on_fresh(nan, {220.6}, 48, VerdictRule{}, 22.6).empty())
+      << "the first's fresh runs failed: nothing to compare with";
 }
 
 // Two held-out scores built on noisy probes differ by the probes' noise alone (VerdictRule::tie_noise). Two

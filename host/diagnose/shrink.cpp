@@ -406,6 +406,27 @@ void shrink_from(Procedure& p, bool may_retry_lead) {
                       f.effect, f.strength, other, after, first.effect, p.verdict.seed_luck));
     }
   }
+  // A tie held out that its fresh runs leave clearly worse than the chosen one is not named beside it.
+  {
+    std::vector<const FreshCheck*> checks;
+    std::vector<double> x;
+    for (const FreshCheck& f : p.fresh)
+      if (f.effect != first.effect && listed(p.verdict.tied, f.effect))
+        checks.push_back(&f), x.push_back(fresh_chi2(f));
+    for (size_t i :
+         ties_clearly_worse_on_fresh(after, x, p.tab.cells.size(), p.d.rule, p.verdict.seed_luck)) {
+      const FreshCheck& f = *checks[i];
+      std::vector<std::string>& tied = p.verdict.tied;
+      tied.erase(std::remove(tied.begin(), tied.end(), f.effect), tied.end());
+      std::vector<std::string>& h = p.verdict.held_by_luck;
+      h.erase(std::remove(h.begin(), h.end(), f.effect), h.end());
+      p.notes.push_back(fmt::format(
+          "shrink: {} was tied held out; on fresh runs at {:.3g} its χ² is {:.1f} against {:.1f} for {} (the "
+          "model without either: {:.1f}): worse by more than the tie margin and the model's own seed luck "
+          "({:.1f}), clearly worse; not named",
+          f.effect, f.strength, x[i], after, first.effect, before, p.verdict.seed_luck));
+    }
+  }
   order_tie_by_evidence(p, before);
   // The chosen one first, then the tied ones (the next-experiment stage separates the first two).
   const std::vector<std::string>& tied = p.verdict.tied;

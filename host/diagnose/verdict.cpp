@@ -78,6 +78,15 @@ bool fresh_tie(double chi2_a, double chi2_b, size_t n, const VerdictRule& rule, 
   return chi2_b - chi2_a < fresh_tie_margin(chi2_a, n, rule, luck);
 }
 
+std::vector<size_t> ties_clearly_worse_on_fresh(double first, const std::vector<double>& tied, size_t n,
+                                                const VerdictRule& rule, double luck) {
+  std::vector<size_t> out;
+  if (!std::isfinite(first)) return out;
+  for (size_t i = 0; i < tied.size(); ++i)
+    if (std::isfinite(tied[i]) && !fresh_tie(first, tied[i], n, rule, luck)) out.push_back(i);
+  return out;
+}
+
 Verdict decide(const std::vector<Cell>& cells, const std::vector<std::vector<Prediction>>& baselines,
                const std::vector<Family>& families, const VerdictRule& rule) {
   if (baselines.empty()) throw std::invalid_argument("decide: one baseline per refit setting, at least one");
