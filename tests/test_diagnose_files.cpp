@@ -12,41 +12,15 @@
 #include "diagnose/procedure.h"
 #include "diagnose/table.h"
 #include "diagnose/twin.h"
+#include "support/diagnose_input.h"
 
 namespace fs = std::filesystem;
 using namespace wetdem::diagnose;
 
-namespace {
-
-struct Dir {
-  fs::path p;
-  Dir()
-      : p(fs::temp_directory_path() /
-          fs::path("wetdem-diag-" + std::to_string(::getpid()) + "-" +
-                   ::testing::UnitTest::GetInstance()->current_test_info()->name())) {
-    fs::remove_all(p);
-    fs::create_directories(p);
-  }
-  ~Dir() { fs::remove_all(p); }
-  std::string write(const std::string& name, const std::string& text) const {
-    std::ofstream(p / name) << text;
-    return (p / name).string();
-  }
-};
-
-const std::string kMicroStudyCase = std::string(WETDEM_SOURCE_DIR) + "/assets/studies/micro/micro_case.toml";
-
-std::string expect_error(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const DiagnoseError& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no DiagnoseError";
-  return "";
-}
-
-}  // namespace
+using wetdem::test_support::DiagnoseDir;
+using wetdem::test_support::expect_diagnose_error;
+using wetdem::test_support::kDiagnoseMicroCase;
+using wetdem::test_support::quiet_options;
 
 TEST(DiagnoseFiles, ShippedFilesParse) {
   const std::string dir = std::string(WETDEM_SOURCE_DIR) + "/assets/diagnosis/micro/";
@@ -106,18 +80,18 @@ TEST(DiagnoseFiles, ShippedFilesParse) {
     EXPECT_EQ(parse_twin_file(full + twin).condition_toml.at(0).size(), 4u) << twin;
   DiagnoseOptions o;
   o.out = (fs::temp_directory_path() / ("wetdem-diag-notable-" + std::to_string(::getpid()))).string();
-  EXPECT_NE(expect_error([&] { run_diagnosis(f, o); }).find("--observations"), std::string::npos);
+  EXPECT_NE(expect_diagnose_error([&] { run_diagnosis(f, o); }).find("--observations"), std::string::npos);
   EXPECT_FALSE(fs::exists(o.out));
 }
 
 TEST(DiagnoseFiles, BadDiagnosisFilesNameTheKey) {
-  Dir d;
+  DiagnoseDir d;
   const std::string obs =
       d.write("obs.csv", "liquid.content,observable,value,sigma\n\"5 %\",aor_deg_mean,30,1\n");
-  const std::string head = "case = \"" + kMicroStudyCase + "\"\nobservations = \"obs.csv\"\n";
+  const std::string head = "case = \"" + kDiagnoseMicroCase + "\"\nobservations = \"obs.csv\"\n";
   auto err = [&](const std::string& body) {
     const std::string f = d.write("d.toml", head + body);
-    return expect_error([&] { parse_diagnosis_file(f); });
+    return expect_diagnose_error([&] { parse_diagnosis_file(f); });
   };
   EXPECT_NE(err("effects = [\"gravity\"]\n").find("unknown effect 'gravity'"), std::string::npos);
   EXPECT_NE(err("colour = 3\n").find("colour: unknown key"), std::string::npos);
@@ -141,7 +115,7 @@ TEST(DiagnoseFiles, BadDiagnosisFilesNameTheKey) {
   d.write("obs2.csv",
           "liquid.content,observable,value,sigma\n\"0 %\",aor_deg_mean,30,1\n\"5 %\",aor_deg_mean,31,1\n");
   DiagnosisSpec ps =
-      parse_diagnosis_file(d.write("p.toml", "case = \"" + kMicroStudyCase +
+      parse_diagnosis_file(d.write("p.toml", "case = \"" + kDiagnoseMicroCase +
                                                  "\"\nobservations = \"obs2.csv\"\nreplicates = 3\n"
                                                  "probe_seeds = 2\n"));
   EXPECT_EQ(ps.probe_seeds, 2);
@@ -149,7 +123,7 @@ TEST(DiagnoseFiles, BadDiagnosisFilesNameTheKey) {
   ps.replicates = 1;
   DiagnoseOptions po;
   po.out = (fs::temp_directory_path() / ("wetdem-diag-probe-seeds-" + std::to_string(::getpid()))).string();
-  const std::string pe = expect_error([&] { run_diagnosis(ps, po); });
+  const std::string pe = expect_diagnose_error([&] { run_diagnosis(ps, po); });
   EXPECT_NE(pe.find("probe_seeds: 2 is not in [1, replicates = 1]"), std::string::npos) << pe;
   EXPECT_FALSE(fs::exists(po.out));
   EXPECT_NE(err("second_effect = 1\n").find("second_effect: true or false"), std::string::npos);
@@ -166,13 +140,13 @@ TEST(DiagnoseFiles, BadDiagnosisFilesNameTheKey) {
       err("effects = [\"cohesion\", \"spread\", \"cohesion\"]\n").find("effects: cohesion is listed twice"),
       std::string::npos);
   const std::string f =
-      d.write("d2.toml", "case = \"" + kMicroStudyCase + "\"\nobservations = \"missing.csv\"\n");
-  EXPECT_NE(expect_error([&] { parse_diagnosis_file(f); }).find("observations: no such file"),
+      d.write("d2.toml", "case = \"" + kDiagnoseMicroCase + "\"\nobservations = \"missing.csv\"\n");
+  EXPECT_NE(expect_diagnose_error([&] { parse_diagnosis_file(f); }).find("observations: no such file"),
             std::string::npos);
   // A table given on the command line replaces the file's, which then need not exist; a missing one is named.
   const std::string table = d.write("table.csv", "liquid.content,observable,value,sigma\n");
   EXPECT_EQ(parse_diagnosis_file(f, table).observations, fs::absolute(table).lexically_normal().string());
-  EXPECT_NE(expect_error([&] {
+  EXPECT_NE(expect_diagnose_error([&] {
               parse_diagnosis_file(f, (d.p / "none.csv").string());
             }).find("--observations: no such file"),
             std::string::npos);
@@ -181,14 +155,14 @@ TEST(DiagnoseFiles, BadDiagnosisFilesNameTheKey) {
 // Re-fitted parameters (refit.h): every value is resolved through the case schema when the file is read, so a
 // wrong key, a value out of its range or a clash with a candidate's own key is refused before anything runs.
 TEST(DiagnoseFiles, RefitIsCheckedAgainstTheCaseBeforeAnyRun) {
-  Dir d;
+  DiagnoseDir d;
   d.write(
       "obs.csv",
       "liquid.content,observable,value,sigma\n\"5 %\",f_wet_mean,0.8,0.02\n\"10 %\",f_wet_mean,0.9,0.02\n");
-  const std::string head = "case = \"" + kMicroStudyCase +
+  const std::string head = "case = \"" + kDiagnoseMicroCase +
                            "\"\nobservations = \"obs.csv\"\neffects = [\"spread\", \"cohesion\"]\n";
   auto parse = [&](const std::string& body) { return parse_diagnosis_file(d.write("d.toml", head + body)); };
-  auto err = [&](const std::string& body) { return expect_error([&] { parse(body); }); };
+  auto err = [&](const std::string& body) { return expect_diagnose_error([&] { parse(body); }); };
 
   // A good one: the calibrated value (1 % in the case) is setting 0 and is not repeated when listed.
   const DiagnosisSpec ok = parse(
@@ -250,28 +224,22 @@ TEST(DiagnoseFiles, RefitIsCheckedAgainstTheCaseBeforeAnyRun) {
   const std::string f = d.write("c.toml", head +
                                               "refit = [\"liquid.content\"]\n[refit_values]\n"
                                               "\"liquid.content\" = [\"3 %\"]\n");
-  DiagnoseOptions o;
-  o.out = (d.p / "out").string();
-  o.figures = false;
-  o.quiet = true;
-  EXPECT_NE(expect_error([&] { run_diagnosis(parse_diagnosis_file(f), o); }).find("is a condition"),
+  DiagnoseOptions o = quiet_options((d.p / "out").string());
+  EXPECT_NE(expect_diagnose_error([&] { run_diagnosis(parse_diagnosis_file(f), o); }).find("is a condition"),
             std::string::npos);
   EXPECT_FALSE(fs::exists(d.p / "out" / "store" / "runs")) << "nothing may run on bad input";
 }
 
 TEST(DiagnoseFiles, BadObservationTablesAreRefusedBeforeAnyRun) {
-  Dir d;
+  DiagnoseDir d;
   auto diagnose_with = [&](const std::string& csv) {
     d.write("obs.csv", csv);
     const std::string f =
-        d.write("d.toml", "case = \"" + kMicroStudyCase + "\"\nobservations = \"obs.csv\"\n");
-    DiagnoseOptions o;
-    o.out = (d.p / "out").string();
-    o.figures = false;
-    o.quiet = true;
-    const std::string err = expect_error([&] { run_diagnosis(parse_diagnosis_file(f), o); });
+        d.write("d.toml", "case = \"" + kDiagnoseMicroCase + "\"\nobservations = \"obs.csv\"\n");
+    DiagnoseOptions o = quiet_options((d.p / "out").string());
+    const std::string err = expect_diagnose_error([&] { run_diagnosis(parse_diagnosis_file(f), o); });
     o.check = true;  // diagnose --check refuses it with the same words
-    EXPECT_EQ(expect_error([&] { run_diagnosis(parse_diagnosis_file(f), o); }), err);
+    EXPECT_EQ(expect_diagnose_error([&] { run_diagnosis(parse_diagnosis_file(f), o); }), err);
     return err;
   };
   // One condition: no held-out check possible.
@@ -320,13 +288,10 @@ TEST(DiagnoseFiles, BadObservationTablesAreRefusedBeforeAnyRun) {
     d.write("obs.csv",
             "liquid.content,observable,value,sigma\n\"5 %\",aor_deg_mean,30,1\n\"10 %\",aor_deg_mean,31,1\n");
     const std::string f =
-        d.write("ds.toml", "case = \"" + kMicroStudyCase +
+        d.write("ds.toml", "case = \"" + kDiagnoseMicroCase +
                                "\"\nobservations = \"obs.csv\"\n[set]\n\"liquid.content\" = \"5 %\"\n");
-    DiagnoseOptions o;
-    o.out = (d.p / "out").string();
-    o.figures = false;
-    o.quiet = true;
-    EXPECT_NE(expect_error([&] {
+    DiagnoseOptions o = quiet_options((d.p / "out").string());
+    EXPECT_NE(expect_diagnose_error([&] {
                 run_diagnosis(parse_diagnosis_file(f), o);
               }).find("[set] liquid.content: a condition of the observation table"),
               std::string::npos);
@@ -363,7 +328,7 @@ TEST(DiagnoseFiles, BadObservationTablesAreRefusedBeforeAnyRun) {
             "liquid.content,observable,value,sigma\n\"5 %\",aor_deg_mean,30,1\n"
             "\"5 %\",f_wet_mean,0.5,0.1\n\"10 %\",aor_deg_mean,31,1\n");
     const std::string f =
-        d.write("dc.toml", "case = \"" + kMicroStudyCase +
+        d.write("dc.toml", "case = \"" + kDiagnoseMicroCase +
                                "\"\nobservations = \"obs.csv\"\neffects = [\"cohesion\", \"spread\"]\n");
     DiagnoseOptions o;
     o.out = (d.p / "checked").string();
@@ -378,113 +343,11 @@ TEST(DiagnoseFiles, BadObservationTablesAreRefusedBeforeAnyRun) {
   }
 }
 
-// A twin's conditions as explicit points (a laboratory's table is rarely a full product).
-TEST(DiagnoseFiles, TwinPointsAreExplicitConditions) {
-  Dir d;
-  const std::string head = "case = \"" + kMicroStudyCase + "\"\nseeds = [7]\n[noise]\naor_deg_mean = 1\n";
-  const TwinSpec t = parse_twin_file(
-      d.write("t.toml", head + "[[points]]\n\"liquid.content\" = \"0 %\"\n\"drum.rpm\" = 30\n"
-                               "[[points]]\n\"liquid.content\" = \"10 %\"\n\"drum.rpm\" = 60\n"));
-  ASSERT_EQ(t.points.size(), 2u);
-  EXPECT_NE(std::find(t.points[1].begin(), t.points[1].end(),
-                      std::pair<std::string, std::string>{"liquid.content", "\"10 %\""}),
-            t.points[1].end());
-  EXPECT_TRUE(t.condition_keys.empty());
-  const auto err = [&](const std::string& body) {
-    return expect_error([&] { parse_twin_file(d.write("t.toml", head + body)); });
-  };
-  EXPECT_NE(err("[[points]]\n\"liquid.content\" = \"0 %\"\n[[points]]\n\"drum.rpm\" = 60\n")
-                .find("[[points]] #2: every point needs the same condition keys"),
-            std::string::npos);
-  EXPECT_NE(err("[[points]]\n\"liquid.content\" = \"0 %\"\n").find("at least two"), std::string::npos);
-  // A truth that sets a key the conditions vary would replace every condition's value.
-  EXPECT_NE(
-      err("[truth]\n\"liquid.content\" = \"5 %\"\n[conditions]\n\"liquid.content\" = [\"0 %\", \"10 %\"]\n")
-          .find("[truth] liquid.content: the conditions vary this key"),
-      std::string::npos);
-  EXPECT_NE(err("[set]\n\"drum.rpm\" = 45\n[[points]]\n\"drum.rpm\" = 30\n[[points]]\n\"drum.rpm\" = 60\n")
-                .find("[set] drum.rpm: the conditions vary this key"),
-            std::string::npos);
-  EXPECT_NE(err("[conditions]\n\"liquid.content\" = [\"0 %\", \"5 %\"]\n[[points]]\n\"drum.rpm\" = 60\n")
-                .find("give one of them"),
-            std::string::npos);
-  // A point the case cannot express is named as written, before any truth run.
-  DiagnoseOptions o;
-  o.out = (d.p / "out").string();
-  o.quiet = true;
-  const std::string bad = expect_error([&] {
-    run_twin(parse_twin_file(d.write("t.toml", head + "[[points]]\n\"liquid.content\" = \"0 %\"\n[[points]]\n"
-                                                      "\"liquid.content\" = \"120 %\"\n")),
-             o);
-  });
-  EXPECT_NE(bad.find("t.toml: the condition liquid.content=120 % (the truth's run there): liquid.content: "
-                     "must be in [0, 1]"),
-            std::string::npos)
-      << bad;
-  // A condition listed twice would give the table two independent noisy values of one cell.
-  const std::string dup = expect_error([&] {
-    run_twin(parse_twin_file(d.write("t.toml", head + "[conditions]\n\"liquid.content\" = [\"0 %\", \"5 %\", "
-                                                      "0.05]\n")),
-             o);
-  });
-  EXPECT_NE(dup.find("the conditions liquid.content=5 % and liquid.content=0.05 are the same condition"),
-            std::string::npos)
-      << dup;
-  EXPECT_FALSE(fs::exists(d.p / "out" / "store" / "runs")) << "nothing may run on bad input";
-}
-
-TEST(DiagnoseFiles, TwinCheckValidatesEveryConditionAndRunsNothing) {
-  Dir d;
-  const std::string head = "case = \"" + kMicroStudyCase + "\"\nseeds = [7, 8]\n[noise]\naor_deg_mean = 1\n";
-  DiagnoseOptions o;
-  o.quiet = true;
-  o.check = true;  // wetdem twin --check
-  o.store = (d.p / "store").string();
-  const nlohmann::json j =
-      run_twin(parse_twin_file(d.write(
-                   "t.toml", head + "[conditions]\n\"liquid.content\" = [\"0 %\", \"5 %\", \"10 %\"]\n")),
-               o);
-  EXPECT_TRUE(j.value("checked", false));
-  EXPECT_EQ(j.value("conditions", 0), 3);
-  EXPECT_EQ(j.value("runs", 0), 6);
-  EXPECT_FALSE(fs::exists(d.p / "store")) << "a check writes nothing";
-  // A slice too thin for the neighbour reach at one condition: refused naming the condition, with the bound
-  // the slice must pass (twice the reach) printed as the number it is compared with.
-  const std::string thin = expect_error([&] {
-    run_twin(parse_twin_file(d.write("t.toml", head + "[conditions]\n\"drum.slice_thickness\" = [\"18 mm\", "
-                                                      "\"15 mm\"]\n")),
-             o);
-  });
-  EXPECT_NE(
-      thin.find("the condition drum.slice_thickness=15 mm (the truth's run there): drum.slice_thickness: "
-                "must exceed twice the neighbour reach"),
-      std::string::npos)
-      << thin;
-  const size_t at = thin.find("skin) = 2 x ");
-  ASSERT_NE(at, std::string::npos) << thin;
-  double reach = 0, bound = 0, got = 0;
-  ASSERT_EQ(std::sscanf(thin.c_str() + at, "skin) = 2 x %lf m = %lf m", &reach, &bound), 2) << thin;
-  const size_t g = thin.find("got ");
-  ASSERT_NE(g, std::string::npos) << thin;
-  ASSERT_EQ(std::sscanf(thin.c_str() + g, "got %lf m", &got), 1) << thin;
-  EXPECT_NEAR(bound, 2.0 * reach, 1e-3 * bound);
-  EXPECT_DOUBLE_EQ(got, 0.015);
-  EXPECT_GT(bound, got);
-  EXPECT_LT(bound, 0.018);  // the case's own slice passes
-  // The same condition written twice is found from the SI values the check resolves.
-  const std::string dup = expect_error([&] {
-    run_twin(
-        parse_twin_file(d.write("t.toml", head + "[conditions]\n\"liquid.content\" = [\"5 %\", 0.05]\n")), o);
-  });
-  EXPECT_NE(dup.find("are the same condition"), std::string::npos) << dup;
-  EXPECT_FALSE(fs::exists(d.p / "store"));
-}
-
 TEST(DiagnoseFiles, ProbesOutsideThePhysicalRangeAreRefused) {
-  Dir d;
+  DiagnoseDir d;
   const auto err = [&](const std::string& body) {
-    return expect_error(
-        [&] { parse_diagnosis_file(d.write("d.toml", "case = \"" + kMicroStudyCase + "\"\n" + body)); });
+    return expect_diagnose_error(
+        [&] { parse_diagnosis_file(d.write("d.toml", "case = \"" + kDiagnoseMicroCase + "\"\n" + body)); });
   };
   EXPECT_NE(
       err("[probes]\ncohesion = [0.01, 0.3]\n").find("[probes] cohesion: 0.3 is outside the physical range"),
@@ -506,7 +369,7 @@ TEST(DiagnoseFiles, ProbesOutsideThePhysicalRangeAreRefused) {
             std::string::npos);
   const DiagnosisSpec ok = parse_diagnosis_file(d.write(
       "d.toml",
-      "case = \"" + kMicroStudyCase +
+      "case = \"" + kDiagnoseMicroCase +
           "\"\n[shapes]\nabsorption = [1, 10]\n[verdict]\ntie_delta = 3\ntable_level = 0\ntie_noise = 0\n"));
   EXPECT_EQ(ok.shapes.at("absorption"), (std::vector<double>{1, 10}));
   EXPECT_EQ(ok.max_froude, 0.5) << "the default";
@@ -543,16 +406,15 @@ TEST(DiagnoseFiles, EveryEffectMapsStrengthsToCaseKeys) {
 }
 
 TEST(DiagnoseFiles, AnEffectThatCannotActIsRefusedBeforeAnyRun) {
-  Dir d;
+  DiagnoseDir d;
   d.write("obs.csv",
           "liquid.content,observable,value,sigma\n\"5 %\",aor_deg_mean,30,1\n\"10 %\",aor_deg_mean,31,1\n");
-  const std::string f = d.write(
-      "d.toml", "case = \"" + kMicroStudyCase + "\"\nobservations = \"obs.csv\"\neffects = [\"plates\"]\n");
-  DiagnoseOptions o;
-  o.out = (d.p / "out").string();
-  o.figures = false;
-  o.quiet = true;
-  EXPECT_NE(expect_error([&] { run_diagnosis(parse_diagnosis_file(f), o); }).find("'plates' cannot act here"),
+  const std::string f = d.write("d.toml", "case = \"" + kDiagnoseMicroCase +
+                                              "\"\nobservations = \"obs.csv\"\neffects = [\"plates\"]\n");
+  DiagnoseOptions o = quiet_options((d.p / "out").string());
+  EXPECT_NE(expect_diagnose_error([&] {
+              run_diagnosis(parse_diagnosis_file(f), o);
+            }).find("'plates' cannot act here"),
             std::string::npos);
   EXPECT_FALSE(fs::exists(d.p / "out" / "store" / "runs")) << "nothing may run on bad input";
 }
@@ -561,10 +423,10 @@ TEST(DiagnoseFiles, AnEffectThatCannotActIsRefusedBeforeAnyRun) {
 // laboratory can measure, with the sd of one measurement; one the table already has, or one the model cannot
 // produce, is refused before any run.
 TEST(DiagnoseFiles, AssaysAreLabMeasurementsTheTableLacks) {
-  Dir d;
+  DiagnoseDir d;
   const auto err = [&](const std::string& body) {
-    return expect_error(
-        [&] { parse_diagnosis_file(d.write("d.toml", "case = \"" + kMicroStudyCase + "\"\n" + body)); });
+    return expect_diagnose_error(
+        [&] { parse_diagnosis_file(d.write("d.toml", "case = \"" + kDiagnoseMicroCase + "\"\n" + body)); });
   };
   EXPECT_NE(err("[assays]\nmoisture = 0.01\n").find("[assays] moisture: not an observable"),
             std::string::npos);
@@ -578,26 +440,23 @@ TEST(DiagnoseFiles, AssaysAreLabMeasurementsTheTableLacks) {
   EXPECT_NE(err("assays = 0.02\n").find("[assays]: a table of observable = measurement sd"),
             std::string::npos);
   const DiagnosisSpec ok = parse_diagnosis_file(
-      d.write("d.toml", "case = \"" + kMicroStudyCase + "\"\n[assays]\nliquid_free_fraction = 0.02\n"));
+      d.write("d.toml", "case = \"" + kDiagnoseMicroCase + "\"\n[assays]\nliquid_free_fraction = 0.02\n"));
   EXPECT_EQ(ok.assays.at("liquid_free_fraction"), 0.02);
 
   // Against the table and the model (the procedure, before any run).
   d.write("obs.csv",
           "liquid.content,observable,value,sigma\n\"5 %\",aor_deg_mean,30,1\n\"10 %\",aor_deg_mean,31,1\n"
           "\"5 %\",liquid_free_fraction,0.5,0.02\n\"10 %\",liquid_free_fraction,0.6,0.02\n");
-  DiagnoseOptions o;
-  o.out = (d.p / "out").string();
-  o.figures = false;
-  o.quiet = true;
+  DiagnoseOptions o = quiet_options((d.p / "out").string());
   const auto run_err = [&](const std::string& assays) {
     const std::string f = d.write(
-        "d.toml", "case = \"" + kMicroStudyCase + "\"\nobservations = \"obs.csv\"\n[assays]\n" + assays);
-    return expect_error([&] { run_diagnosis(parse_diagnosis_file(f), o); });
+        "d.toml", "case = \"" + kDiagnoseMicroCase + "\"\nobservations = \"obs.csv\"\n[assays]\n" + assays);
+    return expect_diagnose_error([&] { run_diagnosis(parse_diagnosis_file(f), o); });
   };
   // An assay the table measures now (a report asked for it, the laboratory added its rows and runs the file
   // again) is one of the table's observables: dropped from the assays with a note, not refused.
   {
-    const Procedure p(parse_diagnosis_file(d.write("d.toml", "case = \"" + kMicroStudyCase +
+    const Procedure p(parse_diagnosis_file(d.write("d.toml", "case = \"" + kDiagnoseMicroCase +
                                                                  "\"\nobservations = \"obs.csv\"\n[assays]\n"
                                                                  "liquid_free_fraction = 0.02\n")),
                       o);

@@ -78,13 +78,22 @@ void RunBook::check(const Condition& c, const Variant& v) const {
   study::expand(spec_of(c, v, {1}));
 }
 
+namespace {
+
+// A condition's SI values from one of its planned runs, once (want and resolve).
+void fill_si(Condition& c, const study::PlannedRun& r) {
+  if (!c.si.empty()) return;
+  for (size_t i = 0; i < c.values.size(); ++i) {
+    c.values[i].si = r.values[i].si;
+    c.si[c.values[i].key] = r.values[i].si;
+  }
+}
+
+}  // namespace
+
 void RunBook::resolve(Condition& c, const Variant& v, const std::vector<uint64_t>& seeds) const {
   const std::vector<study::PlannedRun> planned = study::expand(spec_of(c, v, seeds));
-  if (planned.empty() || !c.si.empty()) return;
-  for (size_t i = 0; i < c.values.size(); ++i) {
-    c.values[i].si = planned.front().values[i].si;
-    c.si[c.values[i].key] = planned.front().values[i].si;
-  }
+  if (!planned.empty()) fill_si(c, planned.front());
 }
 
 std::string RunBook::same_physics(const study::PlannedRun& r) {
@@ -111,11 +120,7 @@ std::string RunBook::same_physics(const study::PlannedRun& r) {
 void RunBook::want(Condition& c, const Variant& v, const std::vector<uint64_t>& seeds) {
   std::vector<study::PlannedRun> planned = study::expand(spec_of(c, v, seeds));
   for (study::PlannedRun& r : planned) {
-    if (c.si.empty())
-      for (size_t i = 0; i < c.values.size(); ++i) {
-        c.values[i].si = r.values[i].si;
-        c.si[c.values[i].key] = r.values[i].si;
-      }
+    fill_si(c, r);
     const std::string key = c.label + "|" + v.label() + "|" + std::to_string(r.seed);
     if (key_to_hash_.count(key)) continue;
     // A run whose physics is an earlier one's (the same hash, or a liquid-only effect at a dry condition:

@@ -59,8 +59,8 @@ Prepared prepare_run(const Case& c) {
     if (!(reach < 0.5 * c.drum.slice_thickness))
       throw CaseError("drum.slice_thickness",
                       fmt::format("must exceed twice the neighbour reach, 2 (2 r_max + S_c,max + skin) = 2 x "
-                                  "{:.4g} m = {:.4g} m, "
-                                  "got {:.4g} m (a thicker slice, a PSD cut lower or a smaller V_max)",
+                                  "{:.4g} m = {:.4g} m, got {:.4g} m (a thicker slice, a PSD cut lower or a "
+                                  "smaller V_max)",
                                   reach, 2.0 * reach, c.drum.slice_thickness));
   }
   const size_t n = fill.radius.size();
